@@ -1,0 +1,218 @@
+"""The pure-Python reference model (benchmarks/reference_model.py) and its agreement with
+the engine.
+
+The reference is an independent implementation of docs/model.md; the engine must give
+identical T, S, C, outcome, steps and delivered for every scenario. The engine tests are
+skipped only while `multibots` cannot be imported.
+"""
+
+import importlib.util
+import math
+import pathlib
+import random
+
+import pytest
+
+_REF_PATH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "reference_model.py"
+
+
+def _load_reference():
+    spec = importlib.util.spec_from_file_location("multibots_reference_model", _REF_PATH)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+ref = _load_reference()
+
+
+def _engine():
+    """The engine's Python package; the test is skipped only if it cannot be imported."""
+    return pytest.importorskip("multibots")
+
+
+# ---------------------------------------------------------------------------------------
+# The reference alone
+# ---------------------------------------------------------------------------------------
+
+
+def _route_len(pos, loc, target):
+    points, _, _ = ref.make_route(pos, loc, target)
+    return ref.route_length(points)
+
+
+def test_worked_example_paths_and_lengths():
+    ch0 = ref.charger_id(0)
+    point, edge = ref.cell_service_point(42)
+    assert point == (325.0, 375.0)
+    assert [ref.NODE_NAMES[n] for n in edge] == ["O", "I"]
+    path = ref.node_path(ref.node_id("A"), edge[0])
+    assert "".join(ref.NODE_NAMES[n] for n in path) == "ABCDJPO"
+
+    d1 = _route_len(ref.NODE_XY[ch0], ("node", ch0), ("point", point, edge))
+    d2 = _route_len(point, ("edge", edge), ("node", ref.node_id("M")))
+    d3 = _route_len(ref.NODE_XY[ref.node_id("M")], ("node", ref.node_id("M")), ("node", ch0))
+    assert (d1, d2, d3) == (1290.0, 950.0, 540.0)
+
+
+def test_worked_example_T_726():
+    res = ref.run([42], robots=1)
+    assert res["T"] == 726
+    assert res["outcome"] == "complete"
+    assert res["steps"] == 726
+    assert res["delivered"] == 1
+    assert res["S"] == 0 and res["C"] == 0
+    assert res["distance"] == [1290.0 + 950.0 + 540.0]
+    assert res["stranded"] == []
+
+
+def _formula(d1, d2, d3, loading=10, unloading=20):
+    return math.ceil(d1 / 4) + loading + math.ceil(d2 / 4) + unloading + math.ceil(d3 / 4)
+
+
+# (cell, start, unload, D1, D2, D3), route lengths worked out by hand from the layout.
+HAND_ROUTES = [
+    (42, "A", "M", 1290, 950, 540),   # the paper's worked example
+    (0, "A", "M", 1290, 850, 540),    # CH0 A B H N M G, up to (25, 75); A B H N M; M G A CH0
+    (79, "A", "M", 1240, 800, 540),   # CH0 A B C D E F L, down to (775, 475); R Q P O N M
+    (42, "D", "O", 840, 650, 690),    # CH3 D J P O, up; I J P O; O I C D CH3
+    (42, "D", "M", 840, 950, 990),    # ...; M G H I C D CH3
+]
+
+
+@pytest.mark.parametrize("cell,start,unload,d1,d2,d3", HAND_ROUTES)
+def test_single_robot_formula(cell, start, unload, d1, d2, d3):
+    res = ref.run([cell], robots=1, starts=[start], unload=unload)
+    assert res["T"] == _formula(d1, d2, d3)
+    assert res["distance"] == [float(d1 + d2 + d3)]
+
+
+@pytest.mark.parametrize("cell", [0, 7, 13, 26, 42, 55, 64, 79])
+def test_single_robot_formula_from_route_lengths(cell):
+    """T = ceil(D1/4) + 10 + ceil(D2/4) + 20 + ceil(D3/4), with the reference's routes."""
+    ch0 = ref.charger_id(0)
+    m = ref.node_id("M")
+    point, edge = ref.cell_service_point(cell)
+    d1 = _route_len(ref.NODE_XY[ch0], ("node", ch0), ("point", point, edge))
+    d2 = _route_len(point, ("edge", edge), ("node", m))
+    d3 = _route_len(ref.NODE_XY[m], ("node", m), ("node", ch0))
+    assert ref.run([cell], robots=1)["T"] == _formula(d1, d2, d3)
+    assert ref.run([cell], robots=1, loading_steps=3, unloading_steps=7)["T"] == _formula(
+        d1, d2, d3, 3, 7)
+
+
+def test_step_limit_makes_run_incomplete():
+    res = ref.run([42], robots=1, step_limit=725)
+    assert res["T"] is None
+    assert res["outcome"] == "incomplete"
+    assert res["steps"] == 725
+    assert res["delivered"] == 1
+
+
+def test_paper_table_completes():
+    for n, group, res in ref.paper_table():
+        assert res["outcome"] == "complete", (n, group)
+        assert res["delivered"] == 10
+        assert sum(res["delivered_by_robot"]) == 10
+        assert sum(res["charges"]) == res["C"]
+
+
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(goods=[]),
+        dict(goods=[1, 1]),
+        dict(goods=[80]),
+        dict(goods=[-1]),
+        dict(goods=[1], robots=7),
+        dict(goods=[1], robots=0),
+        dict(goods=[1], robots=2, starts=["A", "A"]),
+        dict(goods=[1], robots=1, starts=["M"]),
+        dict(goods=[1], unload="A"),
+    ],
+)
+def test_rejects_bad_scenarios(kwargs):
+    with pytest.raises(ValueError):
+        ref.run(**kwargs)
+
+
+# ---------------------------------------------------------------------------------------
+# Agreement with the engine
+# ---------------------------------------------------------------------------------------
+
+
+def _norm_outcome(outcome):
+    text = str(getattr(outcome, "value", outcome)).lower()
+    if "incomplete" in text:
+        return "incomplete"
+    if "complete" in text:
+        return "complete"
+    return text
+
+
+def _compare(robots, goods, margin, starts=None, unload="M", step_limit=100000):
+    mb = _engine()
+    scenario = mb.Scenario.paper(robots=robots, goods=list(goods), starts=starts,
+                                 unload=unload, margin=margin, step_limit=step_limit)
+    got = mb.simulate(scenario)
+    want = ref.run(list(goods), robots=robots, starts=starts, unload=unload,
+                   margin=margin, step_limit=step_limit)
+    engine = {
+        "T": got.T, "S": got.S, "C": got.C, "outcome": _norm_outcome(got.outcome),
+        "steps": got.steps, "delivered": got.delivered,
+    }
+    reference = {key: want[key] for key in engine}
+    assert engine == reference, (
+        "engine and reference disagree for robots=%d goods=%r margin=%r starts=%r unload=%r"
+        % (robots, list(goods), margin, starts, unload))
+
+
+PAPER_CASES = [
+    (n, group, margin)
+    for margin in (0.0, 8.0)
+    for n in range(1, 7)
+    for group in sorted(ref.PAPER_GROUPS)
+]
+
+
+@pytest.mark.parametrize("n,group,margin", PAPER_CASES)
+def test_engine_agrees_on_paper_runs(n, group, margin):
+    _compare(n, ref.PAPER_GROUPS[group], margin)
+
+
+def _random_scenario(seed):
+    rng = random.Random(seed)
+    robots = rng.randint(1, 6)
+    count = rng.randint(1, 10)
+    goods = rng.sample(range(80), count)
+    margin = rng.choice([0.0, 8.0])
+    return robots, goods, margin
+
+
+@pytest.mark.parametrize("seed", range(100))
+def test_engine_agrees_on_random_scenarios(seed):
+    robots, goods, margin = _random_scenario(seed)
+    _compare(robots, goods, margin)
+
+
+def _random_placement(seed):
+    """Random start nodes and unloading zone as well (seeds offset from the ones above)."""
+    rng = random.Random(10000 + seed)
+    robots = rng.randint(1, 6)
+    goods = rng.sample(range(80), rng.randint(1, 10))
+    starts = rng.sample(list(ref.DEPARTURE_ZONES), robots)
+    unload = rng.choice(list(ref.UNLOADING_ZONES))
+    margin = rng.choice([0.0, 8.0])
+    return robots, goods, margin, starts, unload
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_engine_agrees_with_other_starts_and_unloading_zones(seed):
+    robots, goods, margin, starts, unload = _random_placement(seed)
+    _compare(robots, goods, margin, starts=starts, unload=unload)
+
+
+@pytest.mark.parametrize("step_limit", [1, 300, 725, 726, 1500])
+def test_engine_agrees_at_the_step_limit(step_limit):
+    _compare(3, ref.PAPER_GROUPS[1], 0.0, step_limit=step_limit)
+    _compare(1, [42], 0.0, step_limit=step_limit)
