@@ -303,8 +303,13 @@ def _parse_node(value, allowed, what):
 
 def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
         radius=12.5, speed=4.0, energy_full=10.0, threshold=3.5, consumption=0.005,
-        charge_rate=0.05, loading_steps=10, unloading_steps=20, angle_deg=30.0):
-    """Run one scenario of the paper model and return its indicators as a dict."""
+        charge_rate=0.05, loading_steps=10, unloading_steps=20, angle_deg=30.0,
+        trace=None):
+    """Run one scenario of the paper model and return its indicators as a dict.
+
+    If ``trace`` is a list, one entry is appended after every step (for debugging):
+    ``(t, S, C, delivered, [(x, y, state, marked, energy) for each robot])``.
+    """
     # --- validation -------------------------------------------------------------------
     goods = list(goods)
     if robots < 1:
@@ -321,8 +326,9 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
     if not goods:
         raise ValueError("the task list is empty")
     for cell in goods:
-        if not isinstance(cell, int) or cell < 0 or cell > 79:
+        if isinstance(cell, bool) or int(cell) != cell or cell < 0 or cell > 79:
             raise ValueError("cell id %r outside 0..79" % (cell,))
+    goods = [int(cell) for cell in goods]
     if len(set(goods)) != len(goods):
         raise ValueError("the task list names a cell twice")
 
@@ -471,6 +477,10 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
             if r.state != STRANDED and r.energy <= EPS:
                 r.state = STRANDED
                 r.energy = 0.0
+
+        if trace is not None:
+            trace.append((t, S, C, delivered,
+                          [(r.x, r.y, r.state, r.marked, r.energy) for r in fleet]))
 
         # 8. End
         if delivered == len(goods) and all(r.at_home() for r in fleet):
