@@ -10,6 +10,7 @@ import importlib.util
 import math
 import pathlib
 import random
+import tempfile
 
 import pytest
 
@@ -150,21 +151,60 @@ def _norm_outcome(outcome):
     return text
 
 
+def _first_difference(mb, scenario, trace):
+    """Where the engine's replay and the reference's trace first differ (for messages)."""
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = tmp + "/run.mbr"
+            mb.simulate(scenario, record=path)
+            replay = mb.Replay(path)
+            try:
+                for t, s, c, delivered, robots in trace:
+                    if t >= replay.frames:
+                        return "the engine's replay ends before step %d" % t
+                    frame = replay.frame(t)
+                    if (frame["S"], frame["C"], frame["delivered"]) != (s, c, delivered):
+                        return "step %d: engine S, C, delivered = %r, reference %r" % (
+                            t, (frame["S"], frame["C"], frame["delivered"]), (s, c, delivered))
+                    for i, (x, y, state, marked, _energy) in enumerate(robots):
+                        ex, ey = float(frame["x"][i]), float(frame["y"][i])
+                        estate = STATE_NAMES.get(int(frame["state"][i]), frame["state"][i])
+                        if abs(ex - x) > 1e-3 or abs(ey - y) > 1e-3 or estate != state:
+                            return ("step %d, robot %d: engine (%.3f, %.3f, %s), reference "
+                                    "(%.3f, %.3f, %s)" % (t, i, ex, ey, estate, x, y, state))
+                        if bool(frame["marked"][i]) != marked:
+                            return "step %d, robot %d: 'marked to charge' differs" % (t, i)
+                return "no per-step difference found"
+            finally:
+                replay.close()
+    except Exception as exc:  # the diagnosis is best effort only
+        return "could not compare replays: %r" % (exc,)
+
+
+STATE_NAMES = {0: "IDLE", 1: "TO_PICKUP", 2: "LOADING", 3: "TO_DROP", 4: "UNLOADING",
+               5: "TO_CHARGER", 6: "CHARGING", 7: "TO_HOME", 8: "PARKED", 9: "STRANDED",
+               10: "WAIT_CHARGER"}
+
+
 def _compare(robots, goods, margin, starts=None, unload="M", step_limit=100000):
     mb = _engine()
     scenario = mb.Scenario.paper(robots=robots, goods=list(goods), starts=starts,
                                  unload=unload, margin=margin, step_limit=step_limit)
     got = mb.simulate(scenario)
+    trace = []
     want = ref.run(list(goods), robots=robots, starts=starts, unload=unload,
-                   margin=margin, step_limit=step_limit)
+                   margin=margin, step_limit=step_limit, trace=trace)
     engine = {
         "T": got.T, "S": got.S, "C": got.C, "outcome": _norm_outcome(got.outcome),
         "steps": got.steps, "delivered": got.delivered,
     }
     reference = {key: want[key] for key in engine}
-    assert engine == reference, (
-        "engine and reference disagree for robots=%d goods=%r margin=%r starts=%r unload=%r"
-        % (robots, list(goods), margin, starts, unload))
+    if engine != reference:
+        pytest.fail(
+            "engine and reference disagree for robots=%d goods=%r margin=%r starts=%r "
+            "unload=%r step_limit=%d\n  engine:    %r\n  reference: %r\n  first difference: %s"
+            % (robots, list(goods), margin, starts, unload, step_limit, engine, reference,
+               _first_difference(mb, scenario, trace)))
 
 
 PAPER_CASES = [
