@@ -1,0 +1,774 @@
+"""Publication figures for MultiBots, drawn with matplotlib's Agg backend.
+
+Three entry points:
+
+* :func:`draw_layout` draws a warehouse layout like the paper's Fig. 2: storage
+  cells with their ids (red when full, black when empty), the one-way highway
+  edges, departure and unloading zones and the chargers on their spurs.
+* :func:`draw_paper_figures` draws the paper's Fig. 6-8 (task time T, collisions S
+  and charging count C against the number of robots N) from the 30 runs of the
+  paper's experiment.
+* :func:`draw_strategy_comparison` draws one figure per metric of a strategy
+  study: the mean against N per strategy, with a shaded 95% confidence band.
+
+Everything a layout figure shows comes from the layout JSON dict described in
+``docs/replay-format.md``; no coordinate is hard-coded, so any layout the engine
+produces draws, from the paper's 80 cells to generated layouts of thousands.
+
+The module never imports :mod:`matplotlib.pyplot`: figures are plain
+:class:`matplotlib.figure.Figure` objects on an Agg canvas, so nothing needs a
+display, no global figure registry fills up, and the caller's pyplot backend is
+left alone. Every file is written atomically: rendered to a temporary file in
+the target folder, then renamed over the target with :func:`os.replace`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import tempfile
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import (
+    LineCollection,
+    PatchCollection,
+    PathCollection,
+    PolyCollection,
+)
+from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties
+from matplotlib.legend_handler import HandlerBase
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle, Polygon, Rectangle
+from matplotlib.path import Path as MplPath
+from matplotlib.textpath import TextPath
+from matplotlib.ticker import MaxNLocator
+
+__all__ = [
+    "draw_layout",
+    "draw_paper_figures",
+    "draw_strategy_comparison",
+    "CELL_FULL_COLOR",
+    "CELL_EMPTY_COLOR",
+]
+
+#: Fill colour of a storage cell that holds goods.
+CELL_FULL_COLOR = "#d62728"
+#: Fill colour of an empty storage cell.
+CELL_EMPTY_COLOR = "#000000"
+
+_EDGE_COLOR = "#3b6ea8"
+_ZONE_COLOR = "#222222"
+_CHARGER_COLOR = "#2ca02c"
+_WALL_COLOR = "#444444"
+_SERIES_COLORS = [
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
+]
+_SERIES_MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "h"]
+
+_FORMATS = ("png", "svg", "pdf")
+# Up to this many cells, ids are real text (searchable in SVG/PDF); beyond, glyph paths.
+_TEXT_LABEL_LIMIT = 600
+# Above this many cells (or edges), SVG/PDF embed the cells (edges) as a bitmap.
+_VECTOR_CELL_LIMIT = 5000
+_PNG_DPI = 150
+
+# Text stays text in SVG and PDF (searchable, editable), files are reproducible.
+_RC = {
+    "svg.fonttype": "none",
+    "svg.hashsalt": "multibots",
+    "pdf.fonttype": 42,
+    "font.size": 10,
+    "axes.titlesize": 11,
+    "axes.labelsize": 10,
+    "legend.fontsize": 9,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "axes.grid": True,
+    "grid.color": "#dddddd",
+    "grid.linewidth": 0.6,
+    "lines.linewidth": 1.6,
+    "lines.markersize": 5,
+}
+
+_PAPER_METRICS = (
+    ("T", "fig6_task_time", "Task time T (steps)", "Task time"),
+    ("S", "fig7_collisions", "Collisions S", "Collisions"),
+    ("C", "fig8_charging", "Charging count C", "Charging count"),
+)
+
+_STRATEGY_METRICS = {
+    "T": ("strategy_task_time", "Task time T (steps)"),
+    "S": ("strategy_collisions", "Collisions S"),
+    "C": ("strategy_charging", "Charging count C"),
+    "cost": ("strategy_cost", "Cost"),
+}
+
+
+# --------------------------------------------------------------------------- #
+# Files
+# --------------------------------------------------------------------------- #
+
+
+def _file_mode() -> int:
+    """Mode for new output files: 0o666 minus the process umask."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def _save_atomic(fig: Figure, path: str | os.PathLike[str], **kwargs: Any) -> Path:
+    """Save ``fig`` to ``path`` atomically; the format comes from the suffix.
+
+    Args:
+        fig: The figure to save.
+        path: Target file; its suffix (``.png``, ``.svg`` or ``.pdf``) picks the
+            format. The parent folder is created if missing.
+        **kwargs: Passed on to :meth:`matplotlib.figure.Figure.savefig`.
+
+    Returns:
+        The target path.
+
+    Raises:
+        ValueError: The suffix is not a supported format.
+    """
+    path = Path(path)
+    fmt = path.suffix.lower().lstrip(".")
+    if fmt not in _FORMATS:
+        raise ValueError(
+            f"cannot tell the figure format from {str(path)!r}: "
+            f"use one of the suffixes {', '.join('.' + f for f in _FORMATS)}"
+        )
+    path.parent.mkdir(parents=True, exist_ok=True)
+    metadata = {"png": {"Software": None}, "svg": {"Date": None},
+                "pdf": {"CreationDate": None, "ModDate": None}}[fmt]
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fig.savefig(fh, format=fmt, dpi=kwargs.pop("dpi", _PNG_DPI),
+                        metadata=metadata, **kwargs)
+        os.chmod(tmp, _file_mode())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise
+    return path
+
+
+def _new_figure(**kwargs: Any) -> Figure:
+    """A figure on an Agg canvas, outside pyplot's figure registry."""
+    fig = Figure(**kwargs)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+# --------------------------------------------------------------------------- #
+# Layout figure
+# --------------------------------------------------------------------------- #
+
+
+class _GlyphHandler(HandlerBase):
+    """Legend handler that draws one of the layout's map symbols."""
+
+    def __init__(self, kind: str) -> None:
+        super().__init__()
+        self.kind = kind
+
+    def create_artists(self, legend, orig_handle, xdescent, ydescent, width,
+                       height, fontsize, trans):  # noqa: D102 (matplotlib API)
+        cx = width / 2 - xdescent
+        cy = height / 2 - ydescent
+        r = 0.55 * height
+        artists: list[Any] = []
+        if self.kind == "edge":
+            x0, x1 = cx - 0.5 * width, cx + 0.5 * width
+            head = 0.45 * height
+            artists.append(Line2D([x0, x1 - head], [cy, cy], color=_EDGE_COLOR, lw=1.4))
+            artists.append(Polygon(
+                [[x1, cy], [x1 - 1.6 * head, cy + head * 0.75],
+                 [x1 - 1.6 * head, cy - head * 0.75]],
+                closed=True, facecolor=_EDGE_COLOR, edgecolor="none"))
+        elif self.kind == "departure":
+            artists.append(Circle((cx, cy), r, facecolor="white", edgecolor=_ZONE_COLOR, lw=1.2))
+            d = r / math.sqrt(2)
+            artists.append(Line2D([cx - d, cx + d], [cy - d, cy + d], color=_ZONE_COLOR, lw=1.2))
+            artists.append(Line2D([cx - d, cx + d], [cy + d, cy - d], color=_ZONE_COLOR, lw=1.2))
+        elif self.kind == "unloading":
+            artists.append(Circle((cx, cy), r, facecolor="white", edgecolor=_ZONE_COLOR, lw=1.2))
+            artists.append(Circle((cx, cy), 0.55 * r, facecolor="none", edgecolor=_ZONE_COLOR, lw=1.2))
+        elif self.kind == "charger":
+            bw, bh = 0.9 * height * 1.4, 0.9 * height
+            bx = cx + 0.05 * width
+            artists.append(Line2D([cx - 0.5 * width, bx - bw / 2], [cy, cy],
+                                  color=_CHARGER_COLOR, lw=1.3, ls=(0, (2, 1.5))))
+            artists.append(Rectangle((bx - bw / 2, cy - bh / 2), bw, bh,
+                                     facecolor=_CHARGER_COLOR, edgecolor="#1b5e20", lw=0.8))
+            artists.append(Rectangle((bx + bw / 2, cy - bh / 5), bw / 7, 2 * bh / 5,
+                                     facecolor="#1b5e20", edgecolor="none"))
+        for a in artists:
+            a.set_transform(trans)
+        return artists
+
+
+def _as_cells_full(cells_full: Sequence[int] | None, n_cells: int) -> np.ndarray:
+    """Validate ``cells_full`` and return it as a boolean array."""
+    if cells_full is None:
+        return np.zeros(n_cells, dtype=bool)
+    arr = np.asarray(list(cells_full))
+    if arr.shape != (n_cells,):
+        raise ValueError(
+            f"cells_full has {arr.size} entries but the layout has {n_cells} cells"
+        )
+    if not np.all((arr == 0) | (arr == 1)):
+        raise ValueError("cells_full must hold only 0 and 1")
+    return arr.astype(bool)
+
+
+def _layout_extent(layout: Mapping[str, Any]) -> tuple[float, float, float, float]:
+    """Data rectangle that holds the warehouse, its cells and all nodes."""
+    x0, y0, x1, y1 = (float(v) for v in layout["bounds"])
+    xs = [x0, x1] + [float(n["x"]) for n in layout["nodes"]]
+    ys = [y0, y1] + [float(n["y"]) for n in layout["nodes"]]
+    for c in layout["cells"]:
+        xs += [float(c["x"]), float(c["x"]) + float(c["w"])]
+        ys += [float(c["y"]), float(c["y"]) + float(c["h"])]
+    return min(xs), min(ys), max(xs), max(ys)
+
+
+def _glyph_labels(labels: Sequence[str], xs: np.ndarray, ys: np.ndarray,
+                  size: float) -> PathCollection:
+    """Many short labels as one compound path, centred on (xs, ys).
+
+    Drawing thousands of :class:`matplotlib.text.Text` artists takes seconds;
+    stamping cached glyph outlines (one per character) into a single path is
+    fast. ``size`` is the font size in data units; the y axis points down.
+    """
+    prop = FontProperties(family="DejaVu Sans")
+    glyphs: dict[str, tuple[np.ndarray, np.ndarray, float]] = {}
+
+    def glyph(ch: str) -> tuple[np.ndarray, np.ndarray, float]:
+        if ch not in glyphs:
+            one = TextPath((0, 0), ch, size=1.0, prop=prop)
+            two = TextPath((0, 0), ch * 2, size=1.0, prop=prop)
+            advance = two.get_extents().x1 - one.get_extents().x1
+            glyphs[ch] = (one.vertices.copy(), one.codes.copy(), advance)
+        return glyphs[ch]
+
+    ref = TextPath((0, 0), "0", size=1.0, prop=prop).get_extents()
+    mid_y = (ref.y0 + ref.y1) / 2
+    verts, codes = [], []
+    for label, x, y in zip(labels, xs, ys):
+        parts = [glyph(ch) for ch in label]
+        width = sum(p[2] for p in parts)
+        pen = -width / 2
+        for v, c, advance in parts:
+            if len(v):
+                out = np.empty_like(v)
+                out[:, 0] = x + (v[:, 0] + pen) * size
+                out[:, 1] = y - (v[:, 1] - mid_y) * size
+                verts.append(out)
+                codes.append(c)
+            pen += advance
+    if not verts:
+        return PathCollection([])
+    return PathCollection([MplPath(np.concatenate(verts), np.concatenate(codes))])
+
+
+def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None = None,
+                   title: str | None = None) -> tuple[Figure, Any]:
+    """Build the layout figure; :func:`draw_layout` saves it.
+
+    The axes sit at a fixed place in the figure (no tight bounding box at save
+    time), so ``ax.transData`` maps a layout point to the pixel it is drawn at in
+    the saved PNG (``fig.dpi`` is the PNG's resolution).
+
+    Returns:
+        The figure and its single map axes.
+    """
+    nodes = layout["nodes"]
+    cells = layout["cells"]
+    full = _as_cells_full(cells_full, len(cells))
+    aisle = float(layout.get("aisle_width") or 50.0)
+    cell_size = float(layout.get("cell_size") or aisle)
+
+    ex0, ey0, ex1, ey1 = _layout_extent(layout)
+    pad = 0.6 * aisle
+    ex0, ey0, ex1, ey1 = ex0 - pad, ey0 - pad, ex1 + pad, ey1 + pad
+    ew, eh = ex1 - ex0, ey1 - ey0
+
+    # Map size: the paper's 800 px warehouse gets 8 inches; big layouts grow up to
+    # 24 inches wide (or 18 tall) so their cells stay visible in a 150 dpi PNG.
+    map_w = min(max(ew / 100.0, 7.0), 24.0)
+    map_h = map_w * eh / ew
+    if map_h > 18.0:
+        map_h = 18.0
+        map_w = map_h * ew / eh
+    margin = 0.25
+    legend_h = 0.75
+    title_h = 0.3 if title else 0.0
+    fig_w = max(map_w, 7.0) + 2 * margin
+    fig_h = map_h + legend_h + title_h + 2 * margin
+    fig = _new_figure(figsize=(fig_w, fig_h), dpi=_PNG_DPI)
+    ax = fig.add_axes((
+        (fig_w - map_w) / 2 / fig_w,
+        (margin + legend_h) / fig_h,
+        map_w / fig_w,
+        map_h / fig_h,
+    ))
+    ax.set_gid("layout-map")
+    ax.set_xlim(ex0, ex1)
+    ax.set_ylim(ey1, ey0)  # screen coordinates: y grows down
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_axis_off()
+
+    pt_per_unit = map_w * 72.0 / ew  # points per layout px
+    lw_scale = min(1.0, max(0.3, aisle * pt_per_unit / 34.0))
+
+    # Warehouse outline.
+    bx0, by0, bx1, by1 = (float(v) for v in layout["bounds"])
+    ax.add_patch(Rectangle((bx0, by0), bx1 - bx0, by1 - by0, facecolor="#fafafa",
+                           edgecolor=_WALL_COLOR, lw=2.0 * lw_scale, zorder=0))
+
+    # Storage cells: one collection, slightly inset so neighbours stay apart.
+    if cells:
+        cx = np.array([float(c["x"]) for c in cells])
+        cy = np.array([float(c["y"]) for c in cells])
+        cw = np.array([float(c["w"]) for c in cells])
+        ch = np.array([float(c["h"]) for c in cells])
+        inset = 0.06 * np.minimum(cw, ch)
+        verts = np.stack([
+            np.stack([cx + inset, cy + inset], axis=1),
+            np.stack([cx + cw - inset, cy + inset], axis=1),
+            np.stack([cx + cw - inset, cy + ch - inset], axis=1),
+            np.stack([cx + inset, cy + ch - inset], axis=1),
+        ], axis=1)
+        colors = np.where(full, CELL_FULL_COLOR, CELL_EMPTY_COLOR)
+        cell_coll = PolyCollection(verts, facecolors=colors, edgecolors="none",
+                                   zorder=2, antialiaseds=False)
+        cell_coll.set_gid("cells")
+        # Vector files of huge layouts would hold one path per cell: embed a bitmap.
+        cell_coll.set_rasterized(len(cells) > _VECTOR_CELL_LIMIT)
+        ax.add_collection(cell_coll)
+
+        # Per-cell ids, only where they are readable (>= 4.5 pt).
+        side_pt = float(np.min(np.minimum(cw, ch) - 2 * inset)) * pt_per_unit
+        digits = len(str(max(int(c["id"]) for c in cells)))
+        font = min(8.0, 0.42 * side_pt, 1.45 * side_pt / max(digits, 1))
+        if font >= 4.5:
+            labels = [str(c["id"]) for c in cells]
+            if len(cells) <= _TEXT_LABEL_LIMIT:
+                for label, x, y, w, h in zip(labels, cx, cy, cw, ch):
+                    ax.text(x + w / 2, y + h / 2, label, color="white", fontsize=font,
+                            ha="center", va="center_baseline", zorder=3,
+                            gid=f"cell-{label}")
+            else:
+                glyphs = _glyph_labels(labels, cx + cw / 2, cy + ch / 2,
+                                       font / pt_per_unit)
+                glyphs.set(facecolor="white", edgecolor="none", zorder=3, gid="cell-ids")
+                ax.add_collection(glyphs)
+
+    # Highway edges: shafts in one LineCollection, heads in one PolyCollection.
+    highway = [i for i, n in enumerate(nodes) if n.get("kind", "highway") != "charger"]
+    pos = np.array([[float(n["x"]), float(n["y"])] for n in nodes]).reshape(-1, 2)
+    edges = [(int(u), int(v)) for u, v in layout.get("edges", [])]
+    edge_set = set(edges)
+    zone_r = 0.25 * aisle
+    head_len = 0.30 * aisle
+    head_half = 0.12 * aisle
+    shafts, heads = [], []
+    for u, v in edges:
+        p, q = pos[u], pos[v]
+        d = q - p
+        length = float(np.hypot(*d))
+        if length <= 0:
+            continue
+        t = d / length
+        nrm = np.array([-t[1], t[0]])
+        off = nrm * 0.14 * aisle if (v, u) in edge_set else 0.0
+        gap = min(zone_r + 0.08 * aisle, 0.3 * length)
+        a = p + t * gap + off
+        b = q - t * gap + off
+        shafts.append([a, b - t * head_len * 0.6])
+        heads.append([b, b - t * head_len + nrm * head_half, b - t * head_len - nrm * head_half])
+    if shafts:
+        shaft_coll = LineCollection(shafts, colors=_EDGE_COLOR, linewidths=1.4 * lw_scale,
+                                    zorder=4, capstyle="butt")
+        shaft_coll.set_gid("edges")
+        head_coll = PolyCollection(heads, facecolors=_EDGE_COLOR, edgecolors="none",
+                                   zorder=4)
+        for coll in (shaft_coll, head_coll):
+            coll.set_rasterized(len(shafts) > _VECTOR_CELL_LIMIT)
+            ax.add_collection(coll)
+
+    # Chargers: the spur (two-way, dashed) and a battery symbol.
+    charger_ids = [int(i) for i in layout.get("chargers", [])] or [
+        i for i, n in enumerate(nodes) if n.get("kind") == "charger"]
+    spurs = [(int(c), int(n)) for c, n in layout.get("spurs", [])]
+    bat_w, bat_h = 0.42 * aisle, 0.22 * aisle
+    if spurs:
+        spur_lines = []
+        for c, n in spurs:
+            p, q = pos[c], pos[n]
+            d = q - p
+            length = float(np.hypot(*d))
+            if length <= 0:
+                continue
+            t = d / length
+            spur_lines.append([p, q - t * min(zone_r, 0.5 * length)])
+        spur_coll = LineCollection(spur_lines, colors=_CHARGER_COLOR,
+                                   linewidths=1.4 * lw_scale, linestyles=(0, (3, 2)),
+                                   zorder=3)
+        spur_coll.set_gid("spurs")
+        ax.add_collection(spur_coll)
+    if charger_ids:
+        bodies, nubs = [], []
+        for c in charger_ids:
+            x, y = pos[c]
+            bodies.append(Rectangle((x - bat_w / 2, y - bat_h / 2), bat_w, bat_h))
+            nubs.append(Rectangle((x + bat_w / 2, y - bat_h / 5), bat_w / 7, 2 * bat_h / 5))
+        body_coll = PatchCollection(bodies, facecolors=_CHARGER_COLOR, edgecolors="#1b5e20",
+                                    linewidths=0.8 * lw_scale, zorder=5)
+        body_coll.set_gid("chargers")
+        ax.add_collection(body_coll)
+        ax.add_collection(PatchCollection(nubs, facecolors="#1b5e20", edgecolors="none",
+                                          zorder=5))
+
+    # Zones: departure = circle with a cross, unloading = double circle.
+    departure = [int(i) for i in layout.get("departure", [])]
+    unloading = [int(i) for i in layout.get("unloading", [])]
+    zone_lw = 1.2 * lw_scale
+    if departure:
+        circles = [Circle(tuple(pos[i]), zone_r) for i in departure]
+        dep = PatchCollection(circles, facecolors="white", edgecolors=_ZONE_COLOR,
+                              linewidths=zone_lw, zorder=6)
+        dep.set_gid("departure")
+        ax.add_collection(dep)
+        d = zone_r / math.sqrt(2)
+        crosses = []
+        for i in departure:
+            x, y = pos[i]
+            crosses += [[(x - d, y - d), (x + d, y + d)], [(x - d, y + d), (x + d, y - d)]]
+        ax.add_collection(LineCollection(crosses, colors=_ZONE_COLOR, linewidths=zone_lw,
+                                         zorder=7))
+    if unloading:
+        outer = [Circle(tuple(pos[i]), zone_r * 1.05) for i in unloading]
+        inner = [Circle(tuple(pos[i]), zone_r * 0.58) for i in unloading]
+        unl = PatchCollection(outer, facecolors="white", edgecolors=_ZONE_COLOR,
+                              linewidths=zone_lw, zorder=6)
+        unl.set_gid("unloading")
+        ax.add_collection(unl)
+        ax.add_collection(PatchCollection(inner, facecolors="none", edgecolors=_ZONE_COLOR,
+                                          linewidths=zone_lw, zorder=7))
+    plain = [i for i in highway if i not in set(departure) | set(unloading)]
+    if plain:
+        ax.add_collection(PatchCollection(
+            [Circle(tuple(pos[i]), 0.07 * aisle) for i in plain],
+            facecolors=_EDGE_COLOR, edgecolors="none", zorder=6))
+
+    # Node names, in the upper-left corner of the aisle crossing.
+    node_font = min(8.5, 0.26 * aisle * pt_per_unit)
+    if node_font >= 4.5 and len(nodes) <= 2000:
+        # Upper-left of the node, just clear of its zone symbol; flipped to the
+        # right when a long name would run into the west wall.
+        off = 0.2 * aisle
+        char_w = 0.62 * node_font / pt_per_unit
+        for i in highway:
+            x, y = pos[i]
+            name = str(nodes[i].get("name", i))
+            left = x - off - len(name) * char_w >= bx0 + 0.05 * aisle or x - off > bx1
+            ax.text(x - off if left else x + off, y - off, name, fontsize=node_font,
+                    ha="right" if left else "left", va="bottom", color="#111111",
+                    fontweight="bold", zorder=8)
+        for c in charger_ids:
+            x, y = pos[c]
+            ax.text(x + bat_w / 2 + bat_w / 7 + 0.08 * aisle, y,
+                    str(nodes[c].get("name", c)), fontsize=node_font * 0.85,
+                    ha="left", va="center", color="#1b5e20", zorder=8)
+
+    # Legend under the map.
+    proxies = [
+        Rectangle((0, 0), 1, 1, facecolor=CELL_EMPTY_COLOR, edgecolor="none"),
+        Rectangle((0, 0), 1, 1, facecolor=CELL_FULL_COLOR, edgecolor="none"),
+        Line2D([], []), Line2D([], []), Line2D([], []), Line2D([], []),
+    ]
+    labels = ["Storage cell, empty", "Storage cell, full", "Highway (one-way)",
+              "Departure zone", "Unloading zone", "Charger and spur"]
+    handler_map = {proxies[2]: _GlyphHandler("edge"), proxies[3]: _GlyphHandler("departure"),
+                   proxies[4]: _GlyphHandler("unloading"), proxies[5]: _GlyphHandler("charger")}
+    ncol = 3 if fig_w < 9.5 else 6
+    fig.legend(proxies, labels, handler_map=handler_map, loc="center",
+               bbox_to_anchor=(0.5, (margin + legend_h / 2) / fig_h), ncol=ncol,
+               frameon=False, handlelength=2.4, handleheight=1.2, columnspacing=1.8)
+    if title:
+        fig.text(0.5, 1 - (margin / 2 + title_h / 2) / fig_h, title, ha="center",
+                 va="center", fontsize=12)
+    return fig, ax
+
+
+def draw_layout(layout: Mapping[str, Any], path: str | os.PathLike[str], *,
+                cells_full: Sequence[int] | None = None,
+                title: str | None = None) -> Path:
+    """Draw a warehouse layout like the paper's Fig. 2.
+
+    The figure shows the warehouse outline; the storage cells as squares with
+    their ids (red when full, black when empty); the directed highway edges as
+    arrows with the node names; departure zones as a circle with a cross,
+    unloading zones as a double circle; the chargers as battery symbols joined to
+    their node by the dashed two-way spur; and a legend. On big layouts the
+    per-cell ids (and node names) are left out when they would be too small to
+    read; everything else is drawn with one collection per kind, so thousands of
+    cells stay fast.
+
+    Args:
+        layout: The layout JSON dict (see "Layout JSON" in
+            ``docs/replay-format.md``), e.g. ``multibots.layout_json("paper")``.
+        path: Output file. The suffix picks the format: ``.png`` (150 dpi),
+            ``.svg`` or ``.pdf``. Missing parent folders are created.
+        cells_full: One 0/1 per cell, in the order of ``layout["cells"]``
+            (1 = holds goods, drawn red). Default: every cell empty.
+        title: Optional title above the map.
+
+    Returns:
+        The path written.
+
+    Raises:
+        ValueError: The suffix is not a supported format, or ``cells_full`` does
+            not have one 0/1 per cell.
+        KeyError: The layout lacks a required key.
+    """
+    with matplotlib.rc_context(_RC):
+        fig, _ = _layout_figure(layout, cells_full, title)
+        return _save_atomic(fig, path, dpi=fig.dpi)
+
+
+# --------------------------------------------------------------------------- #
+# Paper figures (Fig. 6-8)
+# --------------------------------------------------------------------------- #
+
+
+def _missing(value: Any) -> bool:
+    """True for None and NaN."""
+    if value is None:
+        return True
+    try:
+        return math.isnan(float(value))
+    except (TypeError, ValueError):
+        return True
+
+
+def _style(i: int) -> dict[str, Any]:
+    return {"color": _SERIES_COLORS[i % len(_SERIES_COLORS)],
+            "marker": _SERIES_MARKERS[i % len(_SERIES_MARKERS)]}
+
+
+def _int_axis(ax: Any, xs: Iterable[float]) -> None:
+    """Integer ticks on the x axis, every N when there are few."""
+    xs = sorted(set(xs))
+    if xs and len(xs) <= 12 and all(float(x).is_integer() for x in xs):
+        ax.set_xticks(xs)
+    else:
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    if xs:
+        span = (xs[-1] - xs[0]) or 1.0
+        ax.set_xlim(xs[0] - 0.04 * span, xs[-1] + 0.04 * span)
+
+
+def _describe_missing(missing: Sequence[tuple[Any, Any]]) -> str:
+    """'group 2 at N = 1, 3; group 4 at N = 1' from (group, N) pairs."""
+    by_group: dict[Any, list[Any]] = {}
+    for g, n in missing:
+        by_group.setdefault(g, []).append(n)
+    parts = [f"group {g} at N = {', '.join(str(n) for n in sorted(ns))}"
+             for g, ns in sorted(by_group.items(), key=lambda kv: str(kv[0]))]
+    return "; ".join(parts)
+
+
+def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
+                       out_dir: str | os.PathLike[str]) -> list[Path]:
+    """Draw the paper's Fig. 6-8 from the results of its experiment.
+
+    Writes ``fig6_task_time``, ``fig7_collisions`` and ``fig8_charging``, each as
+    ``.png`` and ``.svg``. Each figure has two panels: (a) one line per task
+    group against N, and (b) the mean over the groups against N. A row whose
+    value is None (T of an incomplete run) is left out of that figure, and a note
+    under the panels names it; a mean over fewer groups than the others is drawn
+    with a hollow marker.
+
+    Args:
+        rows: One dict per run with keys ``N``, ``group``, ``T``, ``S`` and ``C``
+            (the paper's experiment: 30 rows, N = 1..6 x groups 1..5).
+        out_dir: Folder for the figures; created if missing.
+
+    Returns:
+        The six paths written, PNG then SVG for each figure, in figure order.
+
+    Raises:
+        ValueError: ``rows`` is empty.
+    """
+    rows = list(rows)
+    if not rows:
+        raise ValueError("draw_paper_figures needs at least one row")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    groups = sorted({r["group"] for r in rows}, key=lambda g: (str(type(g)), g))
+    all_n = sorted({r["N"] for r in rows})
+    written: list[Path] = []
+    with matplotlib.rc_context(_RC):
+        for key, stem, ylabel, name in _PAPER_METRICS:
+            fig = _new_figure(figsize=(10, 4.3), dpi=_PNG_DPI, layout="constrained")
+            ax_a, ax_b = fig.subplots(1, 2)
+            ax_a.set_gid("panel-a")
+            ax_b.set_gid("panel-b")
+            missing = [(r["group"], r["N"]) for r in rows if _missing(r.get(key))]
+            values: dict[Any, dict[Any, float]] = {g: {} for g in groups}
+            for r in rows:
+                if not _missing(r.get(key)):
+                    values[r["group"]][r["N"]] = float(r[key])
+            for i, g in enumerate(groups):
+                ns = sorted(values[g])
+                if not ns:
+                    continue
+                ax_a.plot(ns, [values[g][n] for n in ns], label=f"Group {g}",
+                          gid=f"group-line-{i}", **_style(i))
+            mean_n, mean_v, partial = [], [], []
+            for n in all_n:
+                vs = [values[g][n] for g in groups if n in values[g]]
+                if vs:
+                    mean_n.append(n)
+                    mean_v.append(float(np.mean(vs)))
+                    partial.append(len(vs) < len(groups))
+            ax_b.plot(mean_n, mean_v, color="#333333", marker="o", gid="mean-line",
+                      label="Mean over groups")
+            hollow = [(n, v) for n, v, p in zip(mean_n, mean_v, partial) if p]
+            if hollow:
+                ax_b.plot(*zip(*hollow), ls="none", marker="o", markersize=7,
+                          markerfacecolor="white", markeredgecolor="#333333",
+                          label="Mean over the complete runs only")
+                ax_b.legend(loc="best", frameon=False)
+            for ax, sub in ((ax_a, f"(a) {name} of each task group"),
+                            (ax_b, f"(b) Mean {name.lower()} over the groups")):
+                ax.set_title(sub)
+                ax.set_xlabel("Number of robots N")
+                ax.set_ylabel(ylabel)
+                _int_axis(ax, all_n)
+                ax.yaxis.set_major_locator(MaxNLocator(nbins=6, integer=key != "T"))
+                if key in ("S", "C"):
+                    ax.set_ylim(bottom=0)
+            # Both panels share the y range so they compare at a glance.
+            lo = min(ax_a.get_ylim()[0], ax_b.get_ylim()[0])
+            hi = max(ax_a.get_ylim()[1], ax_b.get_ylim()[1])
+            ax_a.set_ylim(lo, hi)
+            ax_b.set_ylim(lo, hi)
+            handles, labels = ax_a.get_legend_handles_labels()
+            if handles:
+                fig.legend(handles, labels, loc="outside upper center",
+                           ncol=min(len(handles), 6), frameon=False)
+            if missing:
+                note = (f"Incomplete runs ({key} undefined) left out: "
+                        f"{_describe_missing(missing)}.")
+                fig.get_layout_engine().set(rect=(0, 0.07, 1, 0.93))
+                fig.text(0.5, 0.015, note, ha="center", va="bottom", fontsize=8.5,
+                         color="#8b0000", wrap=True, gid="missing-note")
+            for suffix in ("png", "svg"):
+                written.append(_save_atomic(fig, out / f"{stem}.{suffix}"))
+    return written
+
+
+# --------------------------------------------------------------------------- #
+# Strategy comparison
+# --------------------------------------------------------------------------- #
+
+
+def _metric_stem(metric: str) -> tuple[str, str]:
+    if metric in _STRATEGY_METRICS:
+        return _STRATEGY_METRICS[metric]
+    slug = re.sub(r"[^A-Za-z0-9]+", "_", str(metric)).strip("_").lower() or "metric"
+    return f"strategy_{slug}", str(metric)
+
+
+def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
+                             out_dir: str | os.PathLike[str]) -> list[Path]:
+    """Draw one figure per metric of a strategy study.
+
+    Each figure has one line per strategy (mean against N) with its 95%
+    confidence interval as a shaded band of the same colour. A strategy keeps its
+    colour and marker across the figures. Files are named
+    ``strategy_task_time``, ``strategy_collisions``, ``strategy_charging`` and
+    ``strategy_cost`` for the metrics T, S, C and cost (any other metric name
+    becomes ``strategy_<name>``), each written as ``.png`` and ``.svg``.
+
+    Args:
+        summary_rows: Dicts with keys ``strategy``, ``N``, ``metric`` (``"T"``,
+            ``"S"``, ``"C"`` or ``"cost"``), ``mean``, ``ci_low`` and ``ci_high``.
+            A row whose mean is None/NaN is skipped; a missing CI bound leaves a
+            gap in the band.
+        out_dir: Folder for the figures; created if missing.
+
+    Returns:
+        The paths written, PNG then SVG per metric, metrics in the order T, S, C,
+        cost, then any others in order of appearance.
+
+    Raises:
+        ValueError: ``summary_rows`` is empty.
+    """
+    rows = list(summary_rows)
+    if not rows:
+        raise ValueError("draw_strategy_comparison needs at least one row")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    strategies: list[Any] = []
+    metrics: list[Any] = []
+    for r in rows:
+        if r["strategy"] not in strategies:
+            strategies.append(r["strategy"])
+        if r["metric"] not in metrics:
+            metrics.append(r["metric"])
+    order = {m: i for i, m in enumerate(_STRATEGY_METRICS)}
+    metrics.sort(key=lambda m: (order.get(m, len(order)), metrics.index(m)))
+
+    def num(v: Any) -> float:
+        return float("nan") if _missing(v) else float(v)
+
+    written: list[Path] = []
+    with matplotlib.rc_context(_RC):
+        for metric in metrics:
+            stem, ylabel = _metric_stem(metric)
+            fig = _new_figure(figsize=(6.4, 4.4), dpi=_PNG_DPI, layout="constrained")
+            ax = fig.add_subplot()
+            ax.set_gid("panel-a")
+            all_n: set[Any] = set()
+            for i, s in enumerate(strategies):
+                pts = sorted(
+                    ((r["N"], num(r["mean"]), num(r.get("ci_low")), num(r.get("ci_high")))
+                     for r in rows
+                     if r["metric"] == metric and r["strategy"] == s and not _missing(r["mean"])),
+                    key=lambda p: p[0])
+                if not pts:
+                    continue
+                ns, mean, lo, hi = (np.array(c, dtype=float) for c in zip(*pts))
+                all_n.update(p[0] for p in pts)
+                style = _style(i)
+                ax.fill_between(ns, lo, hi, color=style["color"], alpha=0.18,
+                                linewidth=0, gid=f"strategy-band-{i}")
+                ax.plot(ns, mean, label=str(s), gid=f"strategy-line-{i}", **style)
+            ax.set_xlabel("Number of robots N")
+            ax.set_ylabel(ylabel)
+            ax.set_title(f"{ylabel} by strategy (mean, 95% CI)")
+            _int_axis(ax, all_n)
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(loc="best", frameon=False, title="Strategy")
+            for suffix in ("png", "svg"):
+                written.append(_save_atomic(fig, out / f"{stem}.{suffix}"))
+    return written
