@@ -48,7 +48,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Polygon, Rectangle
 from matplotlib.path import Path as MplPath
 from matplotlib.textpath import TextPath
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import MaxNLocator, NullFormatter
 
 __all__ = [
     "draw_layout",
@@ -107,10 +107,10 @@ _PAPER_METRICS = (
 )
 
 _STRATEGY_METRICS = {
-    "T": ("strategy_task_time", "Task time T (steps)"),
-    "S": ("strategy_collisions", "Collisions S"),
-    "C": ("strategy_charging", "Charging count C"),
-    "cost": ("strategy_cost", "Cost"),
+    "T": ("strategy_task_time", "Task time T (steps)", "Task time"),
+    "S": ("strategy_collisions", "Collisions S", "Collisions"),
+    "C": ("strategy_charging", "Charging count C", "Charging count"),
+    "cost": ("strategy_cost", "Cost", "Cost"),
 }
 
 
@@ -573,14 +573,23 @@ def _style(i: int) -> dict[str, Any]:
             "marker": _SERIES_MARKERS[i % len(_SERIES_MARKERS)]}
 
 
-def _int_axis(ax: Any, xs: Iterable[float]) -> None:
-    """Integer ticks on the x axis, every N when there are few."""
+def _int_axis(ax: Any, xs: Iterable[float], log_if_wide: bool = False) -> None:
+    """Integer ticks on the x axis, one per N when there are few.
+
+    With ``log_if_wide``, N values spanning a factor of 32 or more (a scaling
+    study: 1, 2, 4, ..., 1000 robots) get a logarithmic axis.
+    """
     xs = sorted(set(xs))
+    log = bool(log_if_wide and xs and xs[0] > 0 and xs[-1] / xs[0] >= 32)
+    if log:
+        ax.set_xscale("log")
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.set_xlim(xs[0] / 1.15, xs[-1] * 1.15)
     if xs and len(xs) <= 12 and all(float(x).is_integer() for x in xs):
-        ax.set_xticks(xs)
-    else:
+        ax.set_xticks(xs, [str(int(x)) for x in xs])
+    elif not log:
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-    if xs:
+    if xs and not log:
         span = (xs[-1] - xs[0]) or 1.0
         ax.set_xlim(xs[0] - 0.04 * span, xs[-1] + 0.04 * span)
 
@@ -664,11 +673,13 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
                 ax.set_ylabel(ylabel)
                 _int_axis(ax, all_n)
                 ax.yaxis.set_major_locator(MaxNLocator(nbins=6, integer=key != "T"))
-                if key in ("S", "C"):
-                    ax.set_ylim(bottom=0)
-            # Both panels share the y range so they compare at a glance.
+            # Both panels share the y range so they compare at a glance; counts
+            # (S, C) start at zero, with room for the markers drawn on zero.
             lo = min(ax_a.get_ylim()[0], ax_b.get_ylim()[0])
             hi = max(ax_a.get_ylim()[1], ax_b.get_ylim()[1])
+            if key in ("S", "C"):
+                hi = max(hi, 1.0)
+                lo = -0.04 * hi
             ax_a.set_ylim(lo, hi)
             ax_b.set_ylim(lo, hi)
             handles, labels = ax_a.get_legend_handles_labels()
@@ -691,11 +702,12 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
 # --------------------------------------------------------------------------- #
 
 
-def _metric_stem(metric: str) -> tuple[str, str]:
+def _metric_stem(metric: str) -> tuple[str, str, str]:
+    """File stem, axis label and short name of a strategy-study metric."""
     if metric in _STRATEGY_METRICS:
         return _STRATEGY_METRICS[metric]
     slug = re.sub(r"[^A-Za-z0-9]+", "_", str(metric)).strip("_").lower() or "metric"
-    return f"strategy_{slug}", str(metric)
+    return f"strategy_{slug}", str(metric), str(metric)
 
 
 def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
@@ -736,7 +748,8 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
         if r["metric"] not in metrics:
             metrics.append(r["metric"])
     order = {m: i for i, m in enumerate(_STRATEGY_METRICS)}
-    metrics.sort(key=lambda m: (order.get(m, len(order)), metrics.index(m)))
+    first = {m: i for i, m in enumerate(metrics)}
+    metrics.sort(key=lambda m: (order.get(m, len(order)), first[m]))
 
     def num(v: Any) -> float:
         return float("nan") if _missing(v) else float(v)
@@ -744,7 +757,7 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
     written: list[Path] = []
     with matplotlib.rc_context(_RC):
         for metric in metrics:
-            stem, ylabel = _metric_stem(metric)
+            stem, ylabel, name = _metric_stem(metric)
             fig = _new_figure(figsize=(6.4, 4.4), dpi=_PNG_DPI, layout="constrained")
             ax = fig.add_subplot()
             ax.set_gid("panel-a")
@@ -765,8 +778,8 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
                 ax.plot(ns, mean, label=str(s), gid=f"strategy-line-{i}", **style)
             ax.set_xlabel("Number of robots N")
             ax.set_ylabel(ylabel)
-            ax.set_title(f"{ylabel} by strategy (mean, 95% CI)")
-            _int_axis(ax, all_n)
+            ax.set_title(f"{name} by strategy (mean and 95% CI)")
+            _int_axis(ax, all_n, log_if_wide=True)
             if ax.get_legend_handles_labels()[0]:
                 ax.legend(loc="best", frameon=False, title="Strategy")
             for suffix in ("png", "svg"):
