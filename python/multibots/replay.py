@@ -1,0 +1,547 @@
+"""Read MultiBots replay files (``.mbr``, docs/replay-format.md) lazily.
+
+``Replay(path)`` reads only the header and the footer. Chunks are read, inflated and
+decoded on demand (a few are kept in a small cache), so a replay of 1,000 robots x
+10,000 steps is never held in memory at once. The reader is safe to share between
+threads (it reads with ``os.pread`` and guards its caches with a lock).
+"""
+
+from __future__ import annotations
+
+import bisect
+import json
+import math
+import os
+import struct
+import threading
+import zlib
+from collections import OrderedDict
+from typing import Any, Dict, List, Optional, Tuple
+
+import numpy as np
+
+__all__ = ["Replay", "ReplayError", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES"]
+
+MAGIC = b"MBREPLAY"
+VERSION = 1
+NONE32 = 0xFFFFFFFF
+
+STATE_NAMES = {
+    0: "IDLE",
+    1: "TO_PICKUP",
+    2: "LOADING",
+    3: "TO_DROP",
+    4: "UNLOADING",
+    5: "TO_CHARGER",
+    6: "CHARGING",
+    7: "TO_HOME",
+    8: "PARKED",
+    9: "STRANDED",
+    10: "WAIT_CHARGER",
+}
+MOVING_STATES = (1, 3, 5, 7)
+
+EVENT_NAMES = {
+    1: "ASSIGN",
+    2: "PUT_BACK",
+    3: "PICKUP",
+    4: "DELIVER",
+    5: "WAIT",
+    6: "CHARGE",
+    7: "STRAND",
+    8: "RESTOCK",
+    9: "ORDER",
+}
+EV_ASSIGN, EV_PUT_BACK, EV_PICKUP, EV_DELIVER, EV_WAIT, EV_CHARGE = 1, 2, 3, 4, 5, 6
+EV_STRAND, EV_RESTOCK, EV_ORDER = 7, 8, 9
+
+# A header or footer larger than this is not a replay we wrote.
+_MAX_JSON = 256 * 1024 * 1024
+
+
+class ReplayError(ValueError):
+    """A replay file that cannot be read: the message names the file and the problem."""
+
+
+def chunk_layout(frames: int, robots: int, events: int) -> Tuple[Dict[str, Tuple[int, int]], int]:
+    """Byte offset and byte length of each section of a decompressed chunk, and the total.
+
+    Every section starts aligned to the size of its type (docs/replay-format.md).
+    """
+    sections = [
+        ("head", 4, 4),
+        ("counters", 4, 3 * frames),
+        ("x", 4, frames * robots),
+        ("y", 4, frames * robots),
+        ("events", 4, 4 * events),
+        ("energy", 2, frames * robots),
+        ("heading", 1, frames * robots),
+        ("state", 1, frames * robots),
+    ]
+    out: Dict[str, Tuple[int, int]] = {}
+    pos = 0
+    for name, size, count in sections:
+        pos = (pos + size - 1) // size * size
+        out[name] = (pos, size * count)
+        pos += size * count
+    return out, pos
+
+
+class Replay:
+    """A replay file opened for lazy reading.
+
+    Attributes: ``header`` (dict), ``layout`` (layout JSON dict), ``robots`` (N),
+    ``frames`` (steps run + 1), ``summary`` (footer indicators: T, S, C, outcome,
+    delivered), ``chunk_count``, ``chunk_steps``, ``path``.
+    """
+
+    def __init__(self, path: "os.PathLike[str] | str", cache_chunks: int = 6) -> None:
+        self.path = os.fspath(path)
+        self._name = self.path
+        try:
+            self._fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+        except FileNotFoundError:
+            raise ReplayError(f"{self._name}: no such replay file") from None
+        except IsADirectoryError:
+            raise ReplayError(f"{self._name}: is a directory, not a replay file") from None
+        except OSError as exc:
+            raise ReplayError(f"{self._name}: cannot open ({exc.strerror})") from None
+        try:
+            self._open()
+        except BaseException:
+            os.close(self._fd)
+            self._fd = -1
+            raise
+        self._lock = threading.RLock()
+        self._cache: "OrderedDict[int, Dict[str, Any]]" = OrderedDict()
+        self._cache_size = max(1, int(cache_chunks))
+        # _snapshots[i]: state before chunk i's first frame's events (see _snapshot).
+        self._snapshots: List[Dict[str, np.ndarray]] = []
+
+    # ------------------------------------------------------------------ opening
+    def _fail(self, what: str) -> "ReplayError":
+        return ReplayError(f"{self._name}: {what}")
+
+    def _pread(self, n: int, off: int, what: str) -> bytes:
+        if n < 0 or off < 0 or off + n > self._size:
+            raise self._fail(f"{what} lies outside the file (truncated?)")
+        data = b""
+        while len(data) < n:
+            part = os.pread(self._fd, n - len(data), off + len(data))
+            if not part:
+                raise self._fail(f"{what} is truncated")
+            data += part
+        return data
+
+    def _json(self, raw: bytes, what: str) -> Dict[str, Any]:
+        try:
+            value = json.loads(raw.decode("utf-8"))
+        except (UnicodeDecodeError, ValueError):
+            raise self._fail(f"{what} is not valid UTF-8 JSON") from None
+        if not isinstance(value, dict):
+            raise self._fail(f"{what} is not a JSON object")
+        return value
+
+    def _open(self) -> None:
+        self._size = os.fstat(self._fd).st_size
+        if self._size < 32:
+            raise self._fail(f"not a MultiBots replay (only {self._size} bytes)")
+        start = self._pread(16, 0, "file start")
+        if start[:8] != MAGIC:
+            raise self._fail("not a MultiBots replay (bad magic)")
+        version, hlen = struct.unpack("<II", start[8:16])
+        if version != VERSION:
+            raise self._fail(f"unsupported replay format version {version} (this reader knows {VERSION})")
+        if hlen > _MAX_JSON or 16 + hlen > self._size - 16:
+            raise self._fail(f"header length {hlen} does not fit the file (truncated?)")
+        header = self._json(self._pread(hlen, 16, "header"), "header")
+        foot_off, foot_len = struct.unpack("<QQ", self._pread(16, self._size - 16, "footer pointer"))
+        if foot_len > _MAX_JSON or foot_off < 16 + hlen or foot_off + foot_len > self._size - 16:
+            raise self._fail("footer pointer lies outside the file (truncated or not finished)")
+        footer = self._json(self._pread(foot_len, foot_off, "footer"), "footer")
+
+        if header.get("format") != "multibots-replay":
+            raise self._fail("header 'format' is not 'multibots-replay'")
+        try:
+            self.robots = int(header["robots"])
+            self.chunk_steps = int(header["chunk_steps"])
+            self.energy_full = float(header["energy_full"])
+            self.threshold = float(header["threshold"])
+            self.goods_total = int(header["goods_total"])
+            self.layout = header["layout"]
+            cells_full = header["cells_full"]
+            self.radius = np.asarray(header["radius"], dtype=np.float64)
+            self.home = np.asarray(header["home"], dtype=np.int64)
+        except KeyError as exc:
+            raise self._fail(f"header lacks the key {exc.args[0]!r}") from None
+        except (TypeError, ValueError) as exc:
+            raise self._fail(f"header has a malformed value ({exc})") from None
+        if self.robots < 1:
+            raise self._fail(f"header 'robots' is {self.robots}; expected at least 1")
+        if self.radius.shape != (self.robots,) or self.home.shape != (self.robots,):
+            raise self._fail("header 'radius' and 'home' must list one value per robot")
+        if not isinstance(self.layout, dict):
+            raise self._fail("header 'layout' is not a JSON object")
+        self.cells_full = np.asarray(cells_full, dtype=np.uint8)
+        if self.cells_full.ndim != 1:
+            raise self._fail("header 'cells_full' is not a list")
+
+        try:
+            self.frames = int(footer["frames"])
+            table = footer["chunks"]
+            self._offsets = [int(c["offset"]) for c in table]
+            self._lengths = [int(c["length"]) for c in table]
+            self._firsts = [int(c["first_frame"]) for c in table]
+            self._counts = [int(c["frames"]) for c in table]
+        except KeyError as exc:
+            raise self._fail(f"footer lacks the key {exc.args[0]!r}") from None
+        except (TypeError, ValueError) as exc:
+            raise self._fail(f"footer has a malformed value ({exc})") from None
+        expect = 0
+        for i, (off, ln, first, cnt) in enumerate(zip(self._offsets, self._lengths, self._firsts, self._counts)):
+            if first != expect or cnt < 1:
+                raise self._fail(f"chunk {i} holds frames {first}..{first + cnt - 1}; expected to start at {expect}")
+            if off < 16 + hlen or ln < 1 or off + ln > foot_off:
+                raise self._fail(f"chunk {i} lies outside the data area (truncated?)")
+            expect = first + cnt
+        if expect != self.frames or self.frames < 1:
+            raise self._fail(f"the chunks hold {expect} frames but the footer says {self.frames}")
+        self.header = header
+        self.footer = footer
+        self.chunk_count = len(table)
+        t = footer.get("T")
+        self.summary = {
+            "T": None if t is None else int(t),
+            "S": int(footer.get("S", 0)),
+            "C": int(footer.get("C", 0)),
+            "outcome": str(footer.get("outcome", "incomplete")),
+            "delivered": int(footer.get("delivered", 0)),
+            "frames": self.frames,
+        }
+
+    # ------------------------------------------------------------------ lifetime
+    def close(self) -> None:
+        if getattr(self, "_fd", -1) >= 0:
+            os.close(self._fd)
+            self._fd = -1
+
+    def __enter__(self) -> "Replay":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __del__(self) -> None:  # pragma: no cover - best effort
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    def __repr__(self) -> str:
+        return f"Replay({self.path!r}, robots={self.robots}, frames={self.frames}, chunks={self.chunk_count})"
+
+    # ------------------------------------------------------------------ chunks
+    def _check_chunk(self, i: int) -> int:
+        i = int(i)
+        if not 0 <= i < self.chunk_count:
+            raise IndexError(f"chunk {i} out of range 0..{self.chunk_count - 1}")
+        return i
+
+    def chunk_info(self, i: int) -> Dict[str, int]:
+        i = self._check_chunk(i)
+        return {"offset": self._offsets[i], "length": self._lengths[i],
+                "first_frame": self._firsts[i], "frames": self._counts[i]}
+
+    def chunk_of(self, frame: int) -> int:
+        """Index of the chunk that holds frame ``frame``."""
+        frame = self._check_frame(frame)
+        return bisect.bisect_right(self._firsts, frame) - 1
+
+    def _check_frame(self, frame: int) -> int:
+        f = int(frame)
+        if not 0 <= f < self.frames:
+            raise IndexError(f"frame {f} out of range 0..{self.frames - 1}")
+        return f
+
+    def chunk_raw(self, i: int) -> bytes:
+        """The chunk's zlib stream exactly as stored in the file."""
+        i = self._check_chunk(i)
+        return self._pread(self._lengths[i], self._offsets[i], f"chunk {i}")
+
+    def chunk_bytes(self, i: int) -> bytes:
+        """The chunk decompressed (raw sections, as described in the format)."""
+        i = self._check_chunk(i)
+        try:
+            raw = zlib.decompress(self.chunk_raw(i))
+        except zlib.error as exc:
+            raise self._fail(f"chunk {i} is corrupt ({exc})") from None
+        if len(raw) < 16:
+            raise self._fail(f"chunk {i} is too short ({len(raw)} bytes)")
+        first, count, robots, events = struct.unpack_from("<4I", raw, 0)
+        if first != self._firsts[i] or count != self._counts[i] or robots != self.robots:
+            raise self._fail(
+                f"chunk {i} head says frames {first}+{count} of {robots} robots; "
+                f"the footer says {self._firsts[i]}+{self._counts[i]} of {self.robots}")
+        _, total = chunk_layout(count, robots, events)
+        if len(raw) != total:
+            raise self._fail(f"chunk {i} holds {len(raw)} bytes; expected {total}")
+        return raw
+
+    def chunk(self, i: int) -> Dict[str, Any]:
+        """Decoded arrays of chunk ``i`` (cached; treat them as read-only).
+
+        Keys: ``first_frame``, ``frames`` (K'), ``counters`` (K', 3) uint32 S, C, delivered;
+        ``x``, ``y`` (K', N) float32; ``events`` (E, 4) uint32 frame, kind, robot, cell;
+        ``energy`` (K', N) float64 in energy units; ``energy_u16`` (K', N) raw;
+        ``heading`` (K', N) float64 radians in (-pi, pi]; ``heading_u8`` raw;
+        ``state`` (K', N) uint8 state codes; ``marked`` (K', N) bool.
+        """
+        i = self._check_chunk(i)
+        with self._lock:
+            hit = self._cache.get(i)
+            if hit is not None:
+                self._cache.move_to_end(i)
+                return hit
+        raw = self.chunk_bytes(i)
+        decoded = self._decode(raw)
+        with self._lock:
+            self._cache[i] = decoded
+            self._cache.move_to_end(i)
+            while len(self._cache) > self._cache_size:
+                self._cache.popitem(last=False)
+        return decoded
+
+    def _decode(self, raw: bytes) -> Dict[str, Any]:
+        first, k, n, e = struct.unpack_from("<4I", raw, 0)
+        lay, _ = chunk_layout(k, n, e)
+
+        def sec(name: str, dtype: str, shape: Tuple[int, ...]) -> np.ndarray:
+            off, ln = lay[name]
+            return np.frombuffer(raw, dtype=dtype, count=int(np.prod(shape)), offset=off).reshape(shape)
+
+        energy_u16 = sec("energy", "<u2", (k, n))
+        heading_u8 = sec("heading", "u1", (k, n))
+        state_raw = sec("state", "u1", (k, n))
+        heading = heading_u8.astype(np.float64) * (2.0 * math.pi / 256.0)
+        heading[heading > math.pi] -= 2.0 * math.pi
+        return {
+            "first_frame": first,
+            "frames": k,
+            "counters": sec("counters", "<u4", (k, 3)),
+            "x": sec("x", "<f4", (k, n)),
+            "y": sec("y", "<f4", (k, n)),
+            "events": sec("events", "<u4", (e, 4)),
+            "energy_u16": energy_u16,
+            "energy": energy_u16.astype(np.float64) * (self.energy_full / 65535.0),
+            "heading_u8": heading_u8,
+            "heading": heading,
+            "state": state_raw & 0x7F,
+            "marked": (state_raw & 0x80) != 0,
+        }
+
+    # ------------------------------------------------------------------ frames
+    def frame(self, f: int) -> Dict[str, Any]:
+        """The state after step ``f``: arrays of one value per robot, and the counters."""
+        f = self._check_frame(f)
+        ch = self.chunk(self.chunk_of(f))
+        k = f - ch["first_frame"]
+        s, c, d = (int(v) for v in ch["counters"][k])
+        return {
+            "frame": f,
+            "x": ch["x"][k],
+            "y": ch["y"][k],
+            "heading": ch["heading"][k],
+            "state": ch["state"][k],
+            "marked": ch["marked"][k],
+            "energy": ch["energy"][k],
+            "S": s,
+            "C": c,
+            "delivered": d,
+            "counters": {"S": s, "C": c, "delivered": d},
+        }
+
+    def events(self, f0: int = 0, f1: Optional[int] = None) -> np.ndarray:
+        """Events of frames f0 <= frame < f1, as an (E, 4) uint32 array (frame, kind, robot, cell)."""
+        f1 = self.frames if f1 is None else int(f1)
+        f0 = max(0, int(f0))
+        f1 = min(self.frames, f1)
+        if f1 <= f0:
+            return np.zeros((0, 4), dtype=np.uint32)
+        parts = []
+        for i in range(self.chunk_of(f0), self.chunk_of(f1 - 1) + 1):
+            ev = self.chunk(i)["events"]
+            if len(ev):
+                sel = (ev[:, 0] >= f0) & (ev[:, 0] < f1)
+                parts.append(ev[sel])
+        if not parts:
+            return np.zeros((0, 4), dtype=np.uint32)
+        return np.concatenate(parts).astype(np.uint32, copy=False)
+
+    # ------------------------------------------------------------------ derived state
+    def _initial_snapshot(self) -> Dict[str, np.ndarray]:
+        n = self.robots
+        return {
+            "cells": self.cells_full.copy(),
+            "robot_S": np.zeros(n, dtype=np.int64),
+            "robot_C": np.zeros(n, dtype=np.int64),
+            "task": np.full(n, -1, dtype=np.int64),
+            "carrying": np.full(n, -1, dtype=np.int64),
+        }
+
+    def _apply(self, snap: Dict[str, np.ndarray], events: np.ndarray) -> None:
+        n = self.robots
+        cells = snap["cells"]
+        ncell = len(cells)
+        for _frame, kind, robot, cell in events.tolist():
+            r_ok = robot != NONE32 and robot < n
+            c_ok = cell != NONE32 and cell < ncell
+            if kind == EV_WAIT and r_ok:
+                snap["robot_S"][robot] += 1
+            elif kind == EV_CHARGE and r_ok:
+                snap["robot_C"][robot] += 1
+            elif kind == EV_ASSIGN and r_ok:
+                snap["task"][robot] = cell if c_ok else -1
+            elif kind == EV_PUT_BACK and r_ok:
+                snap["task"][robot] = -1
+            elif kind == EV_PICKUP:
+                if c_ok:
+                    cells[cell] = 0
+                if r_ok:
+                    snap["carrying"][robot] = cell if c_ok else -1
+            elif kind == EV_DELIVER and r_ok:
+                snap["task"][robot] = -1
+                snap["carrying"][robot] = -1
+            elif kind == EV_RESTOCK and c_ok:
+                cells[cell] = 1
+
+    def _snapshot(self, i: int) -> Dict[str, np.ndarray]:
+        """Derived state before any event of chunk ``i`` (i.e. after all earlier chunks)."""
+        with self._lock:
+            if not self._snapshots:
+                self._snapshots.append(self._initial_snapshot())
+            while len(self._snapshots) <= i:
+                j = len(self._snapshots) - 1
+                snap = {k: v.copy() for k, v in self._snapshots[j].items()}
+                self._apply(snap, self.chunk(j)["events"])
+                self._snapshots.append(snap)
+            return self._snapshots[i]
+
+    def state_at(self, f: int) -> Dict[str, np.ndarray]:
+        """Cells and per-robot derived state after step ``f``, from the events.
+
+        Keys: ``cells`` (n_cells,) uint8 1 = full; ``robot_S``, ``robot_C`` (N,) waits and
+        charges so far; ``task`` (N,) the cell each robot is fetching or carrying, -1 if none;
+        ``carrying`` (N,) the cell whose goods it carries, -1 if none.
+        """
+        f = self._check_frame(f)
+        i = self.chunk_of(f)
+        snap = {k: v.copy() for k, v in self._snapshot(i).items()}
+        ev = self.chunk(i)["events"]
+        if len(ev):
+            self._apply(snap, ev[ev[:, 0] <= f])
+        return snap
+
+    def cells_at(self, f: int) -> np.ndarray:
+        """Which storage cells hold goods after step ``f`` (uint8, 1 = full)."""
+        return self.state_at(f)["cells"]
+
+    def base_cells(self, i: int) -> np.ndarray:
+        """Cells before chunk ``i``'s events (what the viewer starts a chunk from)."""
+        return self._snapshot(self._check_chunk(i))["cells"].copy()
+
+    def trajectory(self, robot: int, f: int, limit: int = 3000) -> np.ndarray:
+        """Where robot ``robot`` drives next from frame ``f``: its positions until the end of
+        its current movement (or of the next one, if it is standing), at most ``limit`` frames.
+        Returns a (K, 2) float64 array of points with collinear points removed."""
+        robot = int(robot)
+        if not 0 <= robot < self.robots:
+            raise IndexError(f"robot {robot} out of range 0..{self.robots - 1}")
+        f = self._check_frame(f)
+        end = min(self.frames, f + int(limit))
+        here = self.frame(f)
+        xs: List[np.ndarray] = [np.array([float(here["x"][robot])])]
+        ys: List[np.ndarray] = [np.array([float(here["y"][robot])])]
+        started = False
+        g = f
+        while g < end:
+            ch = self.chunk(self.chunk_of(g))
+            first = ch["first_frame"]
+            k0 = g - first
+            k1 = min(ch["frames"], end - first)
+            mv = np.isin(ch["state"][k0:k1, robot], MOVING_STATES)
+            if not started:
+                idx = np.flatnonzero(mv)
+                if not len(idx):
+                    g = first + k1
+                    continue
+                k0 += int(idx[0])
+                mv = mv[int(idx[0]):]
+                started = True
+            idle = np.flatnonzero(~mv)
+            stop = int(idle[0]) + 1 if len(idle) else len(mv)
+            xs.append(ch["x"][k0:k0 + stop, robot].astype(np.float64))
+            ys.append(ch["y"][k0:k0 + stop, robot].astype(np.float64))
+            g = first + k0 + stop
+            if len(idle):
+                break
+        pts = np.stack([np.concatenate(xs), np.concatenate(ys)], axis=1)
+        return _simplify(pts)
+
+
+def _simplify(pts: np.ndarray, eps: float = 1e-3) -> np.ndarray:
+    """Drop repeated and collinear points of a polyline."""
+    if len(pts) <= 2:
+        return pts
+    keep = [0]
+    for j in range(1, len(pts) - 1):
+        a = pts[keep[-1]]
+        b = pts[j]
+        c = pts[j + 1]
+        if np.hypot(*(b - a)) < eps:
+            continue
+        cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])
+        if abs(cross) > eps * max(1.0, np.hypot(*(c - b)) * np.hypot(*(b - a))):
+            keep.append(j)
+    keep.append(len(pts) - 1)
+    return pts[keep]
+
+
+def pack_chunk(first_frame: int, counters: np.ndarray, x: np.ndarray, y: np.ndarray,
+               events: np.ndarray, energy_u16: np.ndarray, heading_u8: np.ndarray,
+               state_u8: np.ndarray) -> bytes:
+    """Pack frames into the decompressed chunk layout of the format (the inverse of
+    ``Replay.chunk``). Arrays are (K', N) except counters (K', 3) and events (E, 4).
+    The live viewer streams one-frame chunks built with this."""
+    x = np.asarray(x, dtype="<f4")
+    k, n = x.shape
+    ev = np.asarray(events, dtype="<u4").reshape(-1, 4)
+    lay, total = chunk_layout(k, n, len(ev))
+    buf = bytearray(total)
+    struct.pack_into("<4I", buf, 0, int(first_frame), k, n, len(ev))
+    parts = {
+        "counters": np.asarray(counters, dtype="<u4").reshape(k, 3),
+        "x": x,
+        "y": np.asarray(y, dtype="<f4").reshape(k, n),
+        "events": ev,
+        "energy": np.asarray(energy_u16, dtype="<u2").reshape(k, n),
+        "heading": np.asarray(heading_u8, dtype="u1").reshape(k, n),
+        "state": np.asarray(state_u8, dtype="u1").reshape(k, n),
+    }
+    for name, arr in parts.items():
+        off, ln = lay[name]
+        buf[off:off + ln] = arr.tobytes()
+    return bytes(buf)
+
+
+def quantize_energy(energy: np.ndarray, energy_full: float) -> np.ndarray:
+    e = np.clip(np.asarray(energy, dtype=np.float64) / float(energy_full), 0.0, 1.0)
+    return np.rint(e * 65535.0).astype(np.uint16)
+
+
+def quantize_heading(heading: np.ndarray) -> np.ndarray:
+    h = np.rint(np.asarray(heading, dtype=np.float64) / (2.0 * math.pi) * 256.0)
+    return np.mod(h, 256).astype(np.uint8)
+
+
+def pack_state(states: np.ndarray, marked: np.ndarray) -> np.ndarray:
+    return (np.asarray(states, dtype=np.uint8) & 0x7F) | (np.asarray(marked, dtype=bool).astype(np.uint8) << 7)

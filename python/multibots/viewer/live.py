@@ -1,0 +1,228 @@
+"""Run a ``multibots.Simulation`` in a background thread and publish its frames to viewers."""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+import threading
+import time
+from typing import Any, Dict, List, Optional
+
+import numpy as np
+
+from ..replay import pack_chunk, pack_state, quantize_energy, quantize_heading
+
+#: Simulation steps per second of wall time at speed 1x (the page and `render` agree on it).
+STEPS_PER_SECOND = 30.0
+MIN_SPEED = 0.25
+MAX_SPEED = 64.0
+
+
+def _jsonable(v: Any) -> Any:
+    if isinstance(v, (np.integer,)):
+        return int(v)
+    if isinstance(v, (np.floating,)):
+        return float(v)
+    return v
+
+
+class LiveRunner:
+    """Steps a simulation at ``speed`` x 30 steps per second, paused or not, and keeps the
+    latest frame as a ready-to-send JSON message (``message``, ``version``).
+
+    The simulation only starts moving once ``begin()`` is called (the first page connects),
+    so nothing is missed while the browser opens. Thread-safe: the server calls ``control``,
+    ``robot`` and ``wait_message`` from its request threads.
+    """
+
+    def __init__(self, sim: Any, speed: float = 1.0, paused: bool = False, tick: float = 1 / 60) -> None:
+        self.sim = sim
+        self.lock = threading.Lock()  # guards the simulation
+        self.cond = threading.Condition()  # guards the fields below
+        self.paused = bool(paused)
+        self.speed = float(speed)
+        self.tick = float(tick)
+        self.version = 0
+        self.message = ""
+        self._pending_steps = 0
+        self._stop = threading.Event()
+        self._go = threading.Event()
+        self._thread: Optional[threading.Thread] = None
+        self.error: Optional[str] = None
+        with self.lock:
+            self.meta = self._meta()
+            self._publish_locked()
+
+    # ------------------------------------------------------------------ state
+    def _meta(self) -> Dict[str, Any]:
+        sim = self.sim
+        layout = sim.layout
+        n = len(np.asarray(sim.radius))
+        return {
+            "mode": "live",
+            "robots": n,
+            "radius": [float(r) for r in np.asarray(sim.radius)],
+            "home": [int(h) for h in np.asarray(sim.home)],
+            "energy_full": float(sim.energy_full),
+            "threshold": float(sim.threshold),
+            "goods_total": int(sim.goods_total),
+            "cells_full": [int(c) for c in np.asarray(sim.cells)],
+            "layout": layout,
+            "frames": None,
+            "summary": None,
+            "steps_per_second": STEPS_PER_SECOND,
+        }
+
+    def _publish_locked(self) -> None:
+        """Snapshot the simulation (caller holds self.lock) into a message."""
+        sim = self.sim
+        pos = np.asarray(sim.positions, dtype=np.float64).reshape(-1, 2)
+        n = len(pos)
+        energy = quantize_energy(np.asarray(sim.energy), float(sim.energy_full)).reshape(1, n)
+        heading = quantize_heading(np.asarray(sim.headings)).reshape(1, n)
+        state = pack_state(np.asarray(sim.states), np.asarray(sim.marked)).reshape(1, n)
+        t = int(sim.t)
+        S, C, D = int(sim.S), int(sim.C), int(sim.delivered)
+        raw = pack_chunk(t, np.array([[S, C, D]]), pos[:, 0].reshape(1, n), pos[:, 1].reshape(1, n),
+                         np.zeros((0, 4), dtype=np.uint32), energy, heading, state)
+        cells = np.asarray(sim.cells, dtype=np.uint8).tobytes()
+        T = sim.T
+        body = {
+            "t": t,
+            "S": S,
+            "C": C,
+            "delivered": D,
+            "goods_total": int(sim.goods_total),
+            "done": bool(sim.done),
+            "T": None if T is None else int(T),
+            "outcome": str(sim.outcome) if sim.done else None,
+            "frame": base64.b64encode(raw).decode("ascii"),
+            "cells": base64.b64encode(cells).decode("ascii"),
+        }
+        with self.cond:
+            body["paused"] = self.paused
+            body["speed"] = self.speed
+            body["error"] = self.error
+            self.version += 1
+            body["version"] = self.version
+            self.message = json.dumps(body, separators=(",", ":"))
+            self.cond.notify_all()
+
+    def publish(self) -> None:
+        with self.lock:
+            self._publish_locked()
+
+    # ------------------------------------------------------------------ control
+    def control(self, action: str, speed: Optional[float] = None) -> Dict[str, Any]:
+        """Apply a control message; raises ValueError on a bad one."""
+        with self.cond:
+            if action == "pause":
+                self.paused = True
+            elif action == "resume":
+                self.paused = False
+            elif action == "step":
+                self.paused = True
+                self._pending_steps += 1
+            elif action == "speed":
+                if speed is None or not isinstance(speed, (int, float)) or isinstance(speed, bool) \
+                        or not math.isfinite(speed) or not MIN_SPEED <= speed <= MAX_SPEED:
+                    raise ValueError(f"speed must be a number from {MIN_SPEED} to {MAX_SPEED}")
+                self.speed = float(speed)
+            else:
+                raise ValueError(f"unknown action {action!r}")
+            self.cond.notify_all()
+        self.publish()
+        with self.cond:
+            return {"paused": self.paused, "speed": self.speed}
+
+    def robot(self, i: int) -> Dict[str, Any]:
+        with self.lock:
+            sim = self.sim
+            n = len(np.asarray(sim.radius))
+            if not 0 <= i < n:
+                raise IndexError(f"robot {i} out of range 0..{n - 1}")
+            try:
+                route = np.asarray(sim.route(i), dtype=np.float64).reshape(-1, 2).tolist()
+            except Exception:  # a route is a nicety; never fail the panel for it
+                route = []
+            task = int(np.asarray(sim.task_cells)[i])
+            return {
+                "id": i,
+                "frame": int(sim.t),
+                "state": int(np.asarray(sim.states)[i]),
+                "marked": bool(np.asarray(sim.marked)[i]),
+                "energy": float(np.asarray(sim.energy)[i]),
+                "energy_full": float(sim.energy_full),
+                "task_cell": task if task >= 0 else None,
+                "S": int(np.asarray(sim.robot_S)[i]),
+                "C": int(np.asarray(sim.robot_C)[i]),
+                "route": route,
+            }
+
+    def wait_message(self, after: int, timeout: float) -> tuple:
+        """Block until a message newer than ``after`` exists (or timeout); return (version, message)."""
+        with self.cond:
+            if self.version <= after and not self._stop.is_set():
+                self.cond.wait(timeout)
+            return self.version, self.message
+
+    # ------------------------------------------------------------------ thread
+    def begin(self) -> None:
+        self._go.set()
+
+    def start(self) -> None:
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, name="multibots-live", daemon=True)
+            self._thread.start()
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._go.set()
+        with self.cond:
+            self.cond.notify_all()
+        if self._thread is not None:
+            self._thread.join(timeout=10)
+
+    @property
+    def stopped(self) -> bool:
+        return self._stop.is_set()
+
+    def _run(self) -> None:
+        self._go.wait()
+        acc = 0.0
+        last = time.monotonic()
+        was_paused = True
+        while not self._stop.is_set():
+            t0 = time.monotonic()
+            dt = 0.0 if was_paused else t0 - last
+            last = t0
+            with self.cond:
+                paused, speed = self.paused, self.speed
+                pending, self._pending_steps = self._pending_steps, 0
+            was_paused = paused
+            if paused:
+                acc = 0.0
+                n = pending
+            else:
+                acc += dt * speed * STEPS_PER_SECOND
+                n = int(acc)
+                acc -= n
+                cap = max(1, int(math.ceil(speed * STEPS_PER_SECOND * 0.1)))
+                if n > cap:  # the engine is slower than asked: do not pile up a backlog
+                    n, acc = cap, 0.0
+            if n > 0:
+                with self.lock:
+                    if not self.sim.done:
+                        try:
+                            self.sim.step(n)
+                        except Exception as exc:  # keep serving what we have
+                            self.error = f"{type(exc).__name__}: {exc}"
+                            self.paused = True
+                    self._publish_locked()
+            spent = time.monotonic() - t0
+            with self.cond:
+                if not self._stop.is_set():
+                    wake = self.tick - spent if not (self.paused and not self._pending_steps) else 0.5
+                    if wake > 0:
+                        self.cond.wait(wake)

@@ -1,0 +1,163 @@
+// MultiBots viewer: data. Decodes replay chunks (docs/replay-format.md) fetched from the
+// server a few at a time, and the live stream's one-frame chunks.
+
+const EV_PICKUP = 3, EV_RESTOCK = 8;
+
+function align(pos, size) { return Math.ceil(pos / size) * size; }
+
+/** Decode a decompressed chunk (ArrayBuffer) into typed-array views (no copies). */
+export function decodeChunk(buf) {
+  if (buf.byteLength < 16) throw new Error(`chunk too short (${buf.byteLength} bytes)`);
+  const head = new Uint32Array(buf, 0, 4);
+  const first = head[0], k = head[1], n = head[2], e = head[3];
+  let pos = 16;
+  const take = (Type, count) => {
+    pos = align(pos, Type.BYTES_PER_ELEMENT);
+    const end = pos + count * Type.BYTES_PER_ELEMENT;
+    if (end > buf.byteLength) throw new Error("chunk is truncated");
+    const arr = new Type(buf, pos, count);
+    pos = end;
+    return arr;
+  };
+  const counters = take(Uint32Array, 3 * k);
+  const x = take(Float32Array, k * n);
+  const y = take(Float32Array, k * n);
+  const events = take(Uint32Array, 4 * e);
+  const energy = take(Uint16Array, k * n);
+  const heading = take(Uint8Array, k * n);
+  const state = take(Uint8Array, k * n);
+  return { first, count: k, n, nEvents: e, counters, x, y, events, energy, heading, state };
+}
+
+/** The frame at index k of a decoded chunk: subarray views. */
+export function frameOf(ch, k) {
+  const n = ch.n, a = k * n, b = a + n;
+  return {
+    step: ch.first + k,
+    x: ch.x.subarray(a, b), y: ch.y.subarray(a, b),
+    heading: ch.heading.subarray(a, b), state: ch.state.subarray(a, b),
+    energy: ch.energy.subarray(a, b),
+    S: ch.counters[3 * k], C: ch.counters[3 * k + 1], delivered: ch.counters[3 * k + 2],
+  };
+}
+
+export class ReplaySource {
+  constructor(meta, cacheSize = 24) {
+    this.meta = meta;
+    this.frames = meta.frames;
+    this.chunks = meta.chunks;  // [[first_frame, frames], ...]
+    this.firsts = meta.chunks.map((c) => c[0]);
+    this.cache = new Map();      // index -> decoded chunk (insertion order = LRU)
+    this.pending = new Map();    // index -> promise
+    this.cacheSize = cacheSize;
+    this.cellsKey = null; this.cellsVal = null;
+    this.failed = null;
+  }
+
+  chunkIndex(f) {
+    let lo = 0, hi = this.firsts.length - 1;
+    while (lo < hi) {
+      const mid = (lo + hi + 1) >> 1;
+      if (this.firsts[mid] <= f) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+  }
+
+  has(i) { return this.cache.has(i); }
+
+  load(i) {
+    if (i < 0 || i >= this.chunks.length) return Promise.resolve(null);
+    if (this.cache.has(i)) {
+      const ch = this.cache.get(i);
+      this.cache.delete(i); this.cache.set(i, ch);
+      return Promise.resolve(ch);
+    }
+    if (this.pending.has(i)) return this.pending.get(i);
+    const p = Promise.all([
+      fetch(`/api/chunk/${i}`).then((r) => { if (!r.ok) throw new Error(`chunk ${i}: HTTP ${r.status}`); return r.arrayBuffer(); }),
+      fetch(`/api/base/${i}`).then((r) => { if (!r.ok) throw new Error(`base ${i}: HTTP ${r.status}`); return r.json(); }),
+    ]).then(([buf, base]) => {
+      const ch = decodeChunk(buf);
+      ch.baseCells = Uint8Array.from(base.cells);
+      this.cache.set(i, ch);
+      while (this.cache.size > this.cacheSize) this.cache.delete(this.cache.keys().next().value);
+      this.pending.delete(i);
+      return ch;
+    }).catch((err) => { this.pending.delete(i); this.failed = String(err); throw err; });
+    this.pending.set(i, p);
+    return p;
+  }
+
+  /** The frame f if its chunk is loaded (else null, and the chunk is requested). */
+  frame(f) {
+    const i = this.chunkIndex(f);
+    const ch = this.cache.get(i);
+    if (!ch) { this.load(i).catch(() => {}); return null; }
+    return frameOf(ch, f - ch.first);
+  }
+
+  async frameAsync(f) {
+    const i = this.chunkIndex(f);
+    const ch = await this.load(i);
+    return frameOf(ch, f - ch.first);
+  }
+
+  /** Which cells hold goods after step f (needs f's chunk loaded). */
+  cells(f) {
+    const i = this.chunkIndex(f);
+    const ch = this.cache.get(i);
+    if (!ch) return null;
+    const ev = ch.events;
+    let m = 0;
+    while (m < ch.nEvents && ev[4 * m] <= f) m++;
+    const key = i * 1e9 + m;
+    if (this.cellsKey === key && this.cellsCh === ch) return this.cellsVal;
+    const cells = Uint8Array.from(ch.baseCells);
+    for (let j = 0; j < m; j++) {
+      const kind = ev[4 * j + 1], cell = ev[4 * j + 3];
+      if (cell >= cells.length) continue;
+      if (kind === EV_PICKUP) cells[cell] = 0;
+      else if (kind === EV_RESTOCK) cells[cell] = 1;
+    }
+    this.cellsKey = key; this.cellsCh = ch; this.cellsVal = cells;
+    return cells;
+  }
+}
+
+function b64bytes(s) {
+  const bin = atob(s);
+  const out = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) out[i] = bin.charCodeAt(i);
+  return out;
+}
+
+export class LiveSource {
+  constructor(meta, onMessage) {
+    this.meta = meta;
+    this.latest = null;   // {frame, cells, msg}
+    this.onMessage = onMessage;
+    this.connected = false;
+    this.es = new EventSource("/api/stream");
+    this.es.onopen = () => { this.connected = true; };
+    this.es.onerror = () => { this.connected = false; };
+    this.es.onmessage = (ev) => {
+      let msg;
+      try { msg = JSON.parse(ev.data); } catch (e) { return; }
+      const bytes = b64bytes(msg.frame);
+      const ch = decodeChunk(bytes.buffer);
+      this.latest = { frame: frameOf(ch, 0), cells: b64bytes(msg.cells), msg };
+      if (this.onMessage) this.onMessage(this.latest);
+    };
+  }
+
+  async control(action, speed) {
+    const body = speed === undefined ? { action } : { action, speed };
+    const r = await fetch("/api/control", {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body),
+    });
+    if (!r.ok) throw new Error(`control: HTTP ${r.status}`);
+    return r.json();
+  }
+
+  close() { this.es.close(); }
+}

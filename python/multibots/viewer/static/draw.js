@@ -1,0 +1,574 @@
+// MultiBots viewer: drawing. Everything comes from the layout JSON and the frame arrays;
+// the page and `multibots render` both draw with this file, so they look the same.
+
+export const STATE_NAMES = ["IDLE", "TO_PICKUP", "LOADING", "TO_DROP", "UNLOADING", "TO_CHARGER",
+  "CHARGING", "TO_HOME", "PARKED", "STRANDED", "WAIT_CHARGER"];
+
+export const COLOURS = {
+  blue: "#1f77b4",      // on the way to pick up, loading
+  red: "#d62728",       // carrying, unloading
+  green: "#2ca02c",     // idle, to charger, charging, home, parked
+  grey: "#8c8c8c",      // stranded
+  other: "#c51b8a",     // a state this viewer does not know
+  cellFull: "#d62728",
+  cellEmpty: "#111111",
+  batteryOk: "#2ca02c",
+  batteryLow: "#ff8c00",
+  batteryCritical: "#d62728",
+  batteryBack: "#2b2b2b",
+  floor: "#ffffff",
+  backdrop: "#f1f1ec",
+  wall: "#1b1b1b",
+  highway: "#8a939c",
+  departure: "#1f4e9c",
+  unloading: "#6a2c91",
+  charger: "#ffd23f",
+  chargerEdge: "#6b5200",
+  banner: "#20242a",
+  bannerText: "#ffffff",
+  select: "#ffbf00",
+};
+
+const GROUP_COLOURS = [COLOURS.blue, COLOURS.red, COLOURS.green, COLOURS.grey, COLOURS.other];
+// state code -> colour group
+const STATE_GROUP = new Uint8Array(128).fill(4);
+[[0, 2], [1, 0], [2, 0], [3, 1], [4, 1], [5, 2], [6, 2], [7, 2], [8, 2], [9, 3], [10, 2]]
+  .forEach(([s, g]) => { STATE_GROUP[s] = g; });
+
+export function stateColour(code) { return GROUP_COLOURS[STATE_GROUP[code & 0x7f]]; }
+export function stateName(code) { return STATE_NAMES[code & 0x7f] || `STATE_${code & 0x7f}`; }
+
+const FONT = '"DejaVu Sans", "Liberation Sans", Arial, sans-serif';
+const TAU = Math.PI * 2;
+
+export class Renderer {
+  /**
+   * @param canvas  the canvas to draw on
+   * @param meta    /api/meta: layout, robots, radius, energy_full, threshold, goods_total
+   * @param opts    {fixedScale: world px -> canvas px (export), title}
+   */
+  constructor(canvas, meta, opts = {}) {
+    this.canvas = canvas;
+    this.ctx = canvas.getContext("2d", { alpha: false });
+    this.meta = meta;
+    this.layout = meta.layout;
+    this.n = meta.robots;
+    this.radius = Float64Array.from(meta.radius);
+    this.maxRadius = this.radius.reduce((a, b) => Math.max(a, b), 0);
+    this.thrFrac = meta.threshold / meta.energy_full;
+    this.lowFrac = (1 + this.thrFrac) / 2;
+    this.fixedScale = opts.fixedScale || 0;
+    this.title = opts.title || "";
+    this.ui = this.fixedScale ? Math.max(1, this.fixedScale) : 1;
+    this.zoom = 1; this.panX = 0; this.panY = 0;
+    this.bg = document.createElement("canvas");
+    this.bgValid = false;
+    this.cellsDrawn = null;
+    this._world();
+    this.groups = new Int32Array(this.n);
+    this.groupCount = new Int32Array(GROUP_COLOURS.length);
+  }
+
+  // --------------------------------------------------------------- geometry
+  _world() {
+    const L = this.layout;
+    const b = L.bounds;
+    let x0 = b[0], y0 = b[1], x1 = b[2], y1 = b[3];
+    const aisle = L.aisle_width || 50;
+    const cell = L.cell_size || 50;
+    this.aisle = aisle; this.cell = cell;
+    for (const nd of L.nodes) {
+      const pad = nd.kind === "charger" ? aisle * 0.45 : 0;
+      x0 = Math.min(x0, nd.x - pad); x1 = Math.max(x1, nd.x + pad);
+      y0 = Math.min(y0, nd.y - pad); y1 = Math.max(y1, nd.y + pad);
+    }
+    for (const c of L.cells) {
+      x0 = Math.min(x0, c.x); y0 = Math.min(y0, c.y);
+      x1 = Math.max(x1, c.x + c.w); y1 = Math.max(y1, c.y + c.h);
+    }
+    // delivered goods: small squares in rows below the warehouse
+    this.goodsSize = cell * 0.22;
+    this.goodsGap = this.goodsSize * 0.45;
+    this.goodsTop = Math.max(b[3], y1) + cell * 0.3;
+    this.goodsLabel = cell * 0.26;
+    const pitch = this.goodsSize + this.goodsGap;
+    this.goodsRows = 2;
+    const margin = Math.max(this.maxRadius * 1.5, aisle * 0.3);
+    this.wx0 = x0 - margin;
+    this.wx1 = x1 + margin;
+    this.wy0 = y0 - margin;
+    this.wy1 = this.goodsTop + this.goodsRows * pitch + margin * 0.6;
+    this.goodsX0 = b[0];
+    this.goodsPerRow = Math.max(1, Math.floor((b[2] - b[0] - cell * 1.9 + this.goodsGap) / pitch));
+  }
+
+  /** Size the canvas. Page: css size of its box and devicePixelRatio. Export: fixed scale. */
+  resize(cssW, cssH, dpr = 1) {
+    const ui = this.ui;
+    this.bannerH = Math.round(30 * ui);
+    this.dpr = dpr;
+    const ww = this.wx1 - this.wx0, wh = this.wy1 - this.wy0;
+    if (this.fixedScale) {
+      cssW = Math.round(ww * this.fixedScale);
+      this._legendLayout(cssW);
+      cssH = Math.round(wh * this.fixedScale) + this.bannerH + this.legendH;
+      cssW += cssW % 2; cssH += cssH % 2;  // video encoders want even sizes
+      this._legendLayout(cssW);
+    } else {
+      this._legendLayout(cssW);
+    }
+    this.cssW = cssW; this.cssH = cssH;
+    this.canvas.width = Math.max(1, Math.round(cssW * dpr));
+    this.canvas.height = Math.max(1, Math.round(cssH * dpr));
+    if (this.fixedScale) {
+      this.canvas.style.width = cssW + "px";
+      this.canvas.style.height = cssH + "px";
+    }
+    this.bg.width = this.canvas.width; this.bg.height = this.canvas.height;
+    const areaH = cssH - this.bannerH - this.legendH;
+    this.areaTop = this.bannerH; this.areaH = areaH;
+    const fit = this.fixedScale || Math.max(1e-6, Math.min(cssW / ww, areaH / wh));
+    this.fit = fit;
+    this.baseOx = (cssW - ww * fit) / 2 - this.wx0 * fit;
+    this.baseOy = this.bannerH + (areaH - wh * fit) / 2 - this.wy0 * fit;
+    this.bgValid = false;
+  }
+
+  get scale() { return this.fit * this.zoom; }
+  get ox() { return this.baseOx + this.panX; }
+  get oy() { return this.baseOy + this.panY; }
+
+  toScreen(x, y) { return [this.ox + x * this.scale, this.oy + y * this.scale]; }
+  toWorld(sx, sy) { return [(sx - this.ox) / this.scale, (sy - this.oy) / this.scale]; }
+
+  zoomAt(factor, sx, sy) {
+    const [wx, wy] = this.toWorld(sx, sy);
+    this.zoom = Math.min(64, Math.max(0.25, this.zoom * factor));
+    const [nx, ny] = this.toScreen(wx, wy);
+    this.panX += sx - nx; this.panY += sy - ny;
+    this.bgValid = false;
+  }
+  pan(dx, dy) { this.panX += dx; this.panY += dy; this.bgValid = false; }
+  resetView() { this.zoom = 1; this.panX = 0; this.panY = 0; this.bgValid = false; }
+
+  _worldTransform(ctx) {
+    const d = this.dpr, s = this.scale;
+    ctx.setTransform(d * s, 0, 0, d * s, d * this.ox, d * this.oy);
+  }
+
+  /** Index of the robot under css point (sx, sy), or -1. */
+  hitTest(frame, sx, sy) {
+    if (!frame) return -1;
+    const [wx, wy] = this.toWorld(sx, sy);
+    const slack = 4 / this.scale;
+    let best = -1, bestD = Infinity;
+    for (let i = 0; i < this.n; i++) {
+      const dx = frame.x[i] - wx, dy = frame.y[i] - wy;
+      const d = Math.hypot(dx, dy);
+      if (d <= this.radius[i] + slack && d < bestD) { best = i; bestD = d; }
+    }
+    return best;
+  }
+
+  // --------------------------------------------------------------- background
+  _legendItems() {
+    return [
+      ["robot", COLOURS.blue, "to pick up, loading"],
+      ["robot", COLOURS.red, "carrying, unloading"],
+      ["robot", COLOURS.green, "idle, charging, home"],
+      ["robot", COLOURS.grey, "stranded"],
+      ["cell", COLOURS.cellFull, "goods"],
+      ["cell", COLOURS.cellEmpty, "empty cell"],
+      ["departure", COLOURS.departure, "departure"],
+      ["unloading", COLOURS.unloading, "unloading"],
+      ["charger", COLOURS.charger, "charger"],
+      ["battery", null, "battery (blinks: to charge)"],
+    ];
+  }
+
+  _legendLayout(cssW) {
+    const ui = this.ui, ctx = this.ctx;
+    ctx.save();
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.font = `${12 * ui}px ${FONT}`;
+    const rowH = 18 * ui, padX = 10 * ui, icon = 16 * ui, gap = 14 * ui;
+    let x = padX, row = 0;
+    const items = [];
+    for (const it of this._legendItems()) {
+      const w = icon + 4 * ui + ctx.measureText(it[2]).width;
+      if (x + w > cssW - padX && x > padX) { row++; x = padX; }
+      items.push({ it, x, row });
+      x += w + gap;
+    }
+    ctx.restore();
+    this.legendItems = items;
+    this.legendRowH = rowH;
+    this.legendH = Math.round((row + 1) * rowH + 8 * ui);
+  }
+
+  _drawLegend(ctx) {
+    const ui = this.ui, d = this.dpr;
+    const top = this.cssH - this.legendH;
+    ctx.setTransform(d, 0, 0, d, 0, 0);
+    ctx.fillStyle = "#ffffff";
+    ctx.fillRect(0, top, this.cssW, this.legendH);
+    ctx.strokeStyle = "#c9c9c2"; ctx.lineWidth = 1;
+    ctx.beginPath(); ctx.moveTo(0, top + 0.5); ctx.lineTo(this.cssW, top + 0.5); ctx.stroke();
+    ctx.font = `${12 * ui}px ${FONT}`;
+    ctx.textBaseline = "middle"; ctx.textAlign = "left";
+    for (const { it, x, row } of this.legendItems) {
+      const cy = top + 4 * ui + row * this.legendRowH + this.legendRowH / 2;
+      const cx = x + 8 * ui;
+      const [kind, colour, label] = it;
+      ctx.lineWidth = 1.5 * ui;
+      if (kind === "robot") {
+        ctx.fillStyle = colour; ctx.strokeStyle = COLOURS.wall;
+        ctx.beginPath(); ctx.arc(cx, cy, 6 * ui, 0, TAU); ctx.fill(); ctx.stroke();
+      } else if (kind === "cell") {
+        ctx.fillStyle = colour; ctx.fillRect(cx - 6 * ui, cy - 6 * ui, 12 * ui, 12 * ui);
+      } else if (kind === "departure") {
+        this._departureIcon(ctx, cx, cy, 6.5 * ui, 1.5 * ui);
+      } else if (kind === "unloading") {
+        this._unloadingIcon(ctx, cx, cy, 6.5 * ui, 1.5 * ui);
+      } else if (kind === "charger") {
+        this._chargerIcon(ctx, cx, cy, 14 * ui, 10 * ui, 1 * ui);
+      } else if (kind === "battery") {
+        const w = 5 * ui;
+        [COLOURS.batteryOk, COLOURS.batteryLow, COLOURS.batteryCritical].forEach((c, k) => {
+          ctx.fillStyle = c; ctx.fillRect(cx - 8 * ui + k * (w + 0.5 * ui), cy - 2.5 * ui, w, 5 * ui);
+        });
+      }
+      ctx.fillStyle = "#1d2228";
+      ctx.fillText(label, x + 16 * ui + 4 * ui, cy);
+    }
+  }
+
+  _departureIcon(ctx, x, y, r, lw) {
+    ctx.strokeStyle = COLOURS.departure; ctx.lineWidth = lw;
+    ctx.beginPath(); ctx.arc(x, y, r, 0, TAU); ctx.stroke();
+    const k = r * Math.SQRT1_2;
+    ctx.beginPath();
+    ctx.moveTo(x - k, y - k); ctx.lineTo(x + k, y + k);
+    ctx.moveTo(x + k, y - k); ctx.lineTo(x - k, y + k);
+    ctx.stroke();
+  }
+
+  _unloadingIcon(ctx, x, y, r, lw) {
+    ctx.strokeStyle = COLOURS.unloading; ctx.lineWidth = lw;
+    ctx.beginPath(); ctx.arc(x, y, r, 0, TAU); ctx.stroke();
+    ctx.beginPath(); ctx.arc(x, y, r * 0.6, 0, TAU); ctx.stroke();
+  }
+
+  _chargerIcon(ctx, x, y, w, h, lw) {
+    ctx.fillStyle = COLOURS.charger; ctx.strokeStyle = COLOURS.chargerEdge; ctx.lineWidth = lw;
+    ctx.beginPath(); ctx.rect(x - w / 2, y - h / 2, w, h); ctx.fill(); ctx.stroke();
+    // a lightning bolt
+    ctx.fillStyle = COLOURS.chargerEdge;
+    ctx.beginPath();
+    ctx.moveTo(x + w * 0.08, y - h * 0.38);
+    ctx.lineTo(x - w * 0.16, y + h * 0.06);
+    ctx.lineTo(x - w * 0.01, y + h * 0.06);
+    ctx.lineTo(x - w * 0.08, y + h * 0.38);
+    ctx.lineTo(x + w * 0.16, y - h * 0.06);
+    ctx.lineTo(x + w * 0.01, y - h * 0.06);
+    ctx.closePath(); ctx.fill();
+  }
+
+  _drawBackground(cells) {
+    const ctx = this.bg.getContext("2d", { alpha: false });
+    const L = this.layout, s = this.scale, d = this.dpr;
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.fillStyle = COLOURS.backdrop;
+    ctx.fillRect(0, 0, this.bg.width, this.bg.height);
+    ctx.save();
+    ctx.beginPath();
+    ctx.rect(0, this.areaTop * d, this.bg.width, this.areaH * d);
+    ctx.clip();
+    this._worldTransform(ctx);
+    const px = 1 / s;  // one css pixel in world units
+    const b = L.bounds;
+    ctx.fillStyle = COLOURS.floor;
+    ctx.fillRect(b[0], b[1], b[2] - b[0], b[3] - b[1]);
+
+    const nodes = L.nodes;
+    // spurs (two-way, dashed)
+    ctx.strokeStyle = COLOURS.highway;
+    ctx.lineWidth = 1.5 * px;
+    ctx.setLineDash([4 * px, 3 * px]);
+    ctx.beginPath();
+    for (const [c, u] of L.spurs || []) {
+      ctx.moveTo(nodes[c].x, nodes[c].y); ctx.lineTo(nodes[u].x, nodes[u].y);
+    }
+    ctx.stroke();
+    ctx.setLineDash([]);
+    // highway edges with arrows
+    ctx.beginPath();
+    for (const [u, v] of L.edges) { ctx.moveTo(nodes[u].x, nodes[u].y); ctx.lineTo(nodes[v].x, nodes[v].y); }
+    ctx.stroke();
+    const arrow = Math.min(this.aisle * 0.16, 9 * px * Math.max(1, this.ui));
+    if (arrow * s >= 2.5) {
+      ctx.fillStyle = COLOURS.highway;
+      ctx.beginPath();
+      const spacing = Math.max(this.cell * 2, 60 * px);
+      for (const [u, v] of L.edges) {
+        const ax = nodes[u].x, ay = nodes[u].y, bx = nodes[v].x, by = nodes[v].y;
+        const len = Math.hypot(bx - ax, by - ay);
+        if (len <= 0) continue;
+        const ux = (bx - ax) / len, uy = (by - ay) / len;
+        const count = Math.max(1, Math.round(len / spacing));
+        for (let j = 0; j < count; j++) {
+          const t = (j + 0.5) / count;
+          const cx = ax + (bx - ax) * t + ux * arrow * 0.5, cy = ay + (by - ay) * t + uy * arrow * 0.5;
+          ctx.moveTo(cx, cy);
+          ctx.lineTo(cx - ux * arrow * 1.6 - uy * arrow * 0.8, cy - uy * arrow * 1.6 + ux * arrow * 0.8);
+          ctx.lineTo(cx - ux * arrow * 1.6 + uy * arrow * 0.8, cy - uy * arrow * 1.6 - ux * arrow * 0.8);
+          ctx.closePath();
+        }
+      }
+      ctx.fill();
+    }
+
+    // storage cells
+    const full = new Path2D(), empty = new Path2D();
+    for (let k = 0; k < L.cells.length; k++) {
+      const c = L.cells[k];
+      (cells && cells[k] ? full : empty).rect(c.x, c.y, c.w, c.h);
+    }
+    ctx.fillStyle = COLOURS.cellFull; ctx.fill(full);
+    ctx.fillStyle = COLOURS.cellEmpty; ctx.fill(empty);
+    ctx.strokeStyle = COLOURS.floor;
+    ctx.lineWidth = Math.min(1.5 * px, this.cell * 0.04);
+    ctx.beginPath();
+    for (const c of L.cells) ctx.rect(c.x, c.y, c.w, c.h);
+    ctx.stroke();
+    if (this.cell * s >= 16) {
+      ctx.fillStyle = "#ffffff";
+      ctx.textAlign = "center"; ctx.textBaseline = "middle";
+      ctx.font = `bold ${this.cell * 0.3}px ${FONT}`;
+      for (const c of L.cells) ctx.fillText(String(c.id), c.x + c.w / 2, c.y + c.h / 2);
+    }
+
+    // warehouse outline
+    ctx.strokeStyle = COLOURS.wall;
+    ctx.lineWidth = 2.5 * px * Math.max(1, this.ui * 0.8);
+    ctx.strokeRect(b[0], b[1], b[2] - b[0], b[3] - b[1]);
+
+    // zones
+    const zr = this.aisle * 0.3;
+    for (const k of L.departure || []) this._departureIcon(ctx, nodes[k].x, nodes[k].y, zr, 2 * px);
+    for (const k of L.unloading || []) this._unloadingIcon(ctx, nodes[k].x, nodes[k].y, zr, 2 * px);
+    for (const k of L.chargers || []) {
+      this._chargerIcon(ctx, nodes[k].x, nodes[k].y, this.aisle * 0.5, this.aisle * 0.3, 1.2 * px);
+    }
+    // labels: highway letters in the crossing's top-left corner, charger names beside them
+    const label = this.aisle * 0.24;
+    if (label * s >= 7) {
+      ctx.font = `bold ${label}px ${FONT}`;
+      ctx.fillStyle = "#3a4048";
+      ctx.textAlign = "left"; ctx.textBaseline = "top";
+      const off = this.aisle * 0.44;
+      for (const nd of nodes) if (nd.kind !== "charger") ctx.fillText(nd.name, nd.x - off, nd.y - off);
+      ctx.font = `${label * 0.85}px ${FONT}`;
+      ctx.textBaseline = "middle";
+      for (const k of L.chargers || []) {
+        const nd = nodes[k];
+        ctx.fillText(nd.name, nd.x + this.aisle * 0.3, nd.y);
+      }
+    }
+    // delivered goods label
+    ctx.font = `${this.goodsLabel}px ${FONT}`;
+    ctx.fillStyle = "#3a4048"; ctx.textAlign = "left"; ctx.textBaseline = "top";
+    ctx.fillText("delivered", this.goodsX0, this.goodsTop - this.goodsLabel * 0.1);
+    ctx.restore();
+    this._drawLegend(ctx);
+    this.bgValid = true;
+  }
+
+  // --------------------------------------------------------------- frame
+  /**
+   * Draw one frame.
+   * frame: {x, y (Float32Array N), heading (Uint8Array), state (Uint8Array, bit 7 = marked),
+   *         energy (Uint16Array), step, S, C, delivered}
+   * info:  {cells (Uint8Array), last (frame index or null), T, done, outcome, goodsTotal,
+   *         selected (-1 or id), route ([[x, y], ...]), blinkOn, next, alpha, mode}
+   */
+  draw(frame, info) {
+    const ctx = this.ctx, d = this.dpr;
+    const cells = info.cells;
+    if (!this.bgValid || !sameCells(cells, this.cellsDrawn)) {
+      this.cellsDrawn = cells ? Uint8Array.from(cells) : null;
+      this._drawBackground(cells);
+    }
+    ctx.setTransform(1, 0, 0, 1, 0, 0);
+    ctx.drawImage(this.bg, 0, 0);
+    this._drawBanner(ctx, frame, info);
+    if (!frame) return;
+    ctx.save();
+    ctx.beginPath();
+    ctx.rect(0, this.areaTop * d, this.canvas.width, this.areaH * d);
+    ctx.clip();
+    this._worldTransform(ctx);
+    this._drawDelivered(ctx, frame.delivered);
+    if (info.selected >= 0 && info.route && info.route.length > 1) this._drawRoute(ctx, frame, info);
+    this._drawRobots(ctx, frame, info);
+    ctx.restore();
+  }
+
+  _drawDelivered(ctx, delivered) {
+    const q = this.goodsSize, pitch = q + this.goodsGap;
+    const cap = this.goodsPerRow * this.goodsRows;
+    const shown = delivered > cap ? cap - 1 : delivered;
+    const x0 = this.goodsX0 + this.cell * 1.6;
+    ctx.fillStyle = COLOURS.cellFull;
+    ctx.beginPath();
+    for (let k = 0; k < shown; k++) {
+      const row = Math.floor(k / this.goodsPerRow), col = k % this.goodsPerRow;
+      ctx.rect(x0 + col * pitch, this.goodsTop + row * pitch, q, q);
+    }
+    ctx.fill();
+    if (delivered > cap) {
+      ctx.fillStyle = "#3a4048";
+      ctx.font = `bold ${q * 1.1}px ${FONT}`;
+      ctx.textAlign = "left"; ctx.textBaseline = "top";
+      const k = cap - 1, row = Math.floor(k / this.goodsPerRow), col = k % this.goodsPerRow;
+      ctx.fillText(`+${delivered - shown}`, x0 + col * pitch, this.goodsTop + row * pitch - q * 0.05);
+    }
+  }
+
+  _drawRoute(ctx, frame, info) {
+    const px = 1 / this.scale, i = info.selected, r = info.route;
+    ctx.strokeStyle = stateColour(frame.state[i]);
+    ctx.lineWidth = Math.max(2.5 * px, this.radius[i] * 0.22);
+    ctx.lineJoin = "round";
+    ctx.setLineDash([8 * px, 5 * px]);
+    ctx.beginPath();
+    ctx.moveTo(r[0][0], r[0][1]);
+    for (let k = 1; k < r.length; k++) ctx.lineTo(r[k][0], r[k][1]);
+    ctx.stroke();
+    ctx.setLineDash([]);
+    const e = r[r.length - 1];
+    ctx.beginPath();
+    ctx.arc(e[0], e[1], Math.max(4 * px, this.radius[i] * 0.35), 0, TAU);
+    ctx.fillStyle = ctx.strokeStyle; ctx.fill();
+  }
+
+  _drawRobots(ctx, frame, info) {
+    const n = this.n, s = this.scale, px = 1 / s;
+    const X = frame.x, Y = frame.y, H = frame.heading, ST = frame.state, E = frame.energy;
+    const next = info.next, alpha = info.alpha || 0;
+    // positions (interpolated between two frames when playing slowly)
+    let xs = X, ys = Y;
+    if (next && alpha > 0) {
+      xs = this._ix || (this._ix = new Float32Array(n));
+      ys = this._iy || (this._iy = new Float32Array(n));
+      for (let i = 0; i < n; i++) {
+        const dx = next.x[i] - X[i], dy = next.y[i] - Y[i];
+        if (dx * dx + dy * dy < 400) { xs[i] = X[i] + dx * alpha; ys[i] = Y[i] + dy * alpha; }
+        else { xs[i] = X[i]; ys[i] = Y[i]; }
+      }
+    }
+    this.lastXs = xs; this.lastYs = ys;
+    const tiny = this.maxRadius * s < 1.5;
+    // bodies, one path per colour
+    ctx.lineWidth = Math.min(1.2 * px, this.maxRadius * 0.12);
+    ctx.strokeStyle = COLOURS.wall;
+    for (let g = 0; g < GROUP_COLOURS.length; g++) {
+      let any = false;
+      ctx.beginPath();
+      for (let i = 0; i < n; i++) {
+        if (STATE_GROUP[ST[i] & 0x7f] !== g) continue;
+        const r = this.radius[i];
+        ctx.moveTo(xs[i] + r, ys[i]);
+        ctx.arc(xs[i], ys[i], r, 0, TAU);
+        any = true;
+      }
+      if (!any) continue;
+      ctx.fillStyle = GROUP_COLOURS[g];
+      ctx.fill();
+      if (!tiny) ctx.stroke();
+    }
+    if (tiny) return;
+    // heading lines
+    ctx.beginPath();
+    for (let i = 0; i < n; i++) {
+      const a = H[i] * (TAU / 256), r = this.radius[i];
+      ctx.moveTo(xs[i], ys[i]);
+      ctx.lineTo(xs[i] + Math.cos(a) * r, ys[i] + Math.sin(a) * r);
+    }
+    ctx.lineWidth = Math.max(1.2 * px, this.maxRadius * 0.16);
+    ctx.strokeStyle = COLOURS.wall;
+    ctx.lineCap = "round";
+    ctx.stroke();
+    ctx.lineCap = "butt";
+    // selection ring
+    const sel = info.selected;
+    if (sel >= 0 && sel < n) {
+      ctx.beginPath();
+      ctx.arc(xs[sel], ys[sel], this.radius[sel] + 3 * px, 0, TAU);
+      ctx.lineWidth = 3 * px; ctx.strokeStyle = COLOURS.select; ctx.stroke();
+    }
+    // battery bars above each robot
+    if (this.maxRadius * s < 4) return;
+    const back = new Path2D(), levels = [new Path2D(), new Path2D(), new Path2D()];
+    const blinkOn = info.blinkOn !== false;
+    for (let i = 0; i < n; i++) {
+      const r = this.radius[i];
+      const w = 2 * r, h = Math.max(r * 0.26, 2.5 * px);
+      const bx = xs[i] - r, by = ys[i] - r - r * 0.22 - h;
+      back.rect(bx - 0.5 * px, by - 0.5 * px, w + px, h + px);
+      if ((ST[i] & 0x80) && !blinkOn) continue;
+      const f = E[i] / 65535;
+      const lvl = f < this.thrFrac - 1e-9 ? 2 : (f < this.lowFrac ? 1 : 0);
+      if (f > 0) levels[lvl].rect(bx, by, w * Math.min(1, f), h);
+    }
+    ctx.fillStyle = COLOURS.batteryBack; ctx.fill(back);
+    ctx.fillStyle = COLOURS.batteryOk; ctx.fill(levels[0]);
+    ctx.fillStyle = COLOURS.batteryLow; ctx.fill(levels[1]);
+    ctx.fillStyle = COLOURS.batteryCritical; ctx.fill(levels[2]);
+  }
+
+  _drawBanner(ctx, frame, info) {
+    const ui = this.ui, d = this.dpr, h = this.bannerH;
+    ctx.setTransform(d, 0, 0, d, 0, 0);
+    ctx.fillStyle = COLOURS.banner;
+    ctx.fillRect(0, 0, this.cssW, h);
+    ctx.fillStyle = COLOURS.bannerText;
+    ctx.textBaseline = "middle"; ctx.textAlign = "left";
+    ctx.font = `bold ${13 * ui}px ${FONT}`;
+    let x = 10 * ui;
+    const y = h / 2;
+    const title = this.title || "MultiBots";
+    ctx.fillText(title, x, y);
+    x += ctx.measureText(title).width + 18 * ui;
+    if (!frame) return;
+    const parts = bannerParts(frame, info);
+    for (const [k, v] of parts) {
+      ctx.font = `${12 * ui}px ${FONT}`;
+      ctx.fillStyle = "#b9c0c8";
+      ctx.fillText(k, x, y);
+      x += ctx.measureText(k).width + 5 * ui;
+      ctx.font = `bold ${13 * ui}px ${FONT}`;
+      ctx.fillStyle = COLOURS.bannerText;
+      ctx.fillText(v, x, y);
+      x += ctx.measureText(v).width + 16 * ui;
+    }
+  }
+}
+
+export function formatT(info) {
+  if (!info.done) return "\u2014";
+  return info.T === null || info.T === undefined ? "incomplete" : String(info.T);
+}
+
+export function bannerParts(frame, info) {
+  const step = info.last !== null && info.last !== undefined ? `${frame.step} / ${info.last}` : String(frame.step);
+  return [["step", step], ["S", String(frame.S)], ["C", String(frame.C)],
+    ["delivered", `${frame.delivered} / ${info.goodsTotal}`], ["T", formatT(info)]];
+}
+
+function sameCells(a, b) {
+  if (a === b) return true;
+  if (!a || !b || a.length !== b.length) return false;
+  for (let i = 0; i < a.length; i++) if (a[i] !== b[i]) return false;
+  return true;
+}
