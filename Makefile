@@ -1,0 +1,54 @@
+# MultiBots: `make run` reproduces the paper's experiment, `make test` runs every test.
+# Both install what they need: a virtual environment in .venv, the Rust build in target/.
+
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := $(CURDIR)/.venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+EXT_STAMP := $(VENV)/.ext-built
+OUT ?= out/paper
+RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml 2>/dev/null) Cargo.toml
+export VIRTUAL_ENV := $(VENV)
+export PATH := $(VENV)/bin:$(PATH)
+
+.PHONY: help run test test-rust test-python bench lint develop browser clean
+
+help: ## list the targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
+
+run: develop ## run the paper's 30-run experiment: table, results.csv and figures in out/paper
+	$(PY) -m multibots paper --out $(OUT)
+	$(PY) -m multibots layout --out $(OUT)/layout.png
+
+test: develop browser ## run every test: cargo, pytest (engine, CLI, viewer in Chromium)
+	cargo test --release --workspace --exclude multibots-py
+	$(PY) -m pytest -q
+
+bench: develop ## benchmarks: criterion and Python scripts; figures go to docs/benchmarks.md
+	cargo bench -p multibots-core --bench step -- --quick
+	$(PY) benchmarks/run_all.py
+
+lint: develop ## clippy, and the stubs against the binary
+	cargo clippy --workspace --all-targets -- -D warnings
+	$(PY) -m mypy.stubtest multibots._core
+
+develop: $(EXT_STAMP) ## build the engine and install the package into .venv
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q 'maturin>=1.7,<2'
+	touch $@
+
+$(EXT_STAMP): $(STAMP) $(RUST_SOURCES) pyproject.toml
+	cd $(CURDIR) && maturin develop --release --extras test -q
+	touch $@
+
+browser: ## install Debian's chromium for the browser tests, if missing
+	@command -v chromium >/dev/null 2>&1 || { \
+	  echo "installing Debian's chromium"; \
+	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null); }
+
+clean: ## remove build output and the virtual environment
+	rm -rf target .venv out
