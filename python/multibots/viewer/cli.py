@@ -1,0 +1,197 @@
+"""``multibots view`` and ``multibots render``: added to the main typer app by ``register(app)``."""
+
+from __future__ import annotations
+
+import errno
+import ipaddress
+import os
+import sys
+import threading
+import webbrowser
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+DEFAULT_PORT = 8765
+
+
+def _fail(message: str, code: int = 2) -> "typer.Exit":
+    """Print a one-line error to stderr; the caller raises the returned Exit."""
+    line = " ".join(str(message).split())
+    print(f"error: {line}", file=sys.stderr)
+    return typer.Exit(code)
+
+
+def _parse_cells(value: str, flag: str) -> List[int]:
+    items = [v.strip() for v in value.split(",")]
+    if not items or any(not v or not v.lstrip("-").isdigit() for v in items):
+        raise _fail(f"{flag} {value!r}: expected comma-separated cell ids, such as 11,8,39")
+    return [int(v) for v in items]
+
+
+def _parse_names(value: str, flag: str) -> List[str]:
+    items = [v.strip() for v in value.split(",")]
+    if not items or any(not v for v in items):
+        raise _fail(f"{flag} {value!r}: expected comma-separated node names, such as A,B,C")
+    return items
+
+
+def _check_host(host: str) -> str:
+    if host == "localhost":
+        return "127.0.0.1"
+    try:
+        ipaddress.ip_address(host)
+    except ValueError:
+        raise _fail(f"--host {host!r}: expected an IP address such as 127.0.0.1") from None
+    return host
+
+
+def _open_browser(url: str) -> None:
+    def go() -> None:
+        try:
+            webbrowser.open(url, new=2)
+        except Exception:  # no browser is not an error: the URL is printed
+            pass
+
+    threading.Thread(target=go, daemon=True).start()
+
+
+def _make_viewer(factory, host: str, port: Optional[int]):  # type: ignore[no-untyped-def]
+    """Bind the requested port; the default port falls back to a free one if taken."""
+    try:
+        return factory(host=host, port=DEFAULT_PORT if port is None else port)
+    except OSError as exc:
+        if port is None and exc.errno in (errno.EADDRINUSE, errno.EACCES):
+            return factory(host=host, port=0)
+        raise _fail(f"--port {port if port is not None else DEFAULT_PORT}: cannot listen on {host} ({exc.strerror})") from None
+
+
+def _serve(viewer, what: str, no_browser: bool) -> None:  # type: ignore[no-untyped-def]
+    url = viewer.url
+    print(f"MultiBots viewer: {what}")
+    print(f"  {url}   (Ctrl-C to stop)", flush=True)
+    if viewer.host not in ("127.0.0.1", "::1", "localhost"):
+        print(f"  note: listening on {viewer.host}, not only this machine", file=sys.stderr)
+    if not no_browser:
+        _open_browser(url)
+    try:
+        viewer.serve_forever()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        viewer.close()
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``view`` and ``render`` commands to ``app``."""
+
+    @app.command("view")
+    def view(
+        path: Optional[Path] = typer.Argument(
+            None, metavar="REPLAY|SCENARIO", show_default=False,
+            help="A replay (.mbr) to play, or with --live a scenario (.toml) to run."),
+        live: bool = typer.Option(False, "--live", help="Run a simulation and stream it to the page."),
+        port: Optional[int] = typer.Option(None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken)."),
+        host: str = typer.Option("127.0.0.1", "--host", help="Address to listen on. Only change it if you mean to share the viewer."),
+        no_browser: bool = typer.Option(False, "--no-browser", help="Print the URL; do not open a browser."),
+        speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second)."),
+        paused: bool = typer.Option(False, "--paused", help="Live: start paused."),
+        robots: Optional[int] = typer.Option(None, "--robots", help="Live quick run: number of robots."),
+        goods: Optional[str] = typer.Option(None, "--goods", help="Live quick run: cells to fetch, in order, e.g. 11,8,39."),
+        starts: Optional[str] = typer.Option(None, "--starts", help="Live quick run: start nodes, e.g. A,B,C."),
+        unload: str = typer.Option("M", "--unload", help="Live quick run: the unloading zone."),
+        margin: float = typer.Option(0.0, "--margin", help="Live quick run: collision margin, px."),
+        step_limit: int = typer.Option(100000, "--step-limit", help="Live quick run: step limit."),
+    ) -> None:
+        """Watch a run in the browser: a recorded replay, or --live a simulation as it runs."""
+        host = _check_host(host)
+        if port is not None and not 0 <= port <= 65535:
+            raise _fail(f"--port {port}: must be from 0 to 65535")
+        from .server import Viewer
+
+        if not live:
+            quick = [robots is not None, goods is not None, starts is not None]
+            if any(quick):
+                raise _fail("--robots, --goods and --starts need --live")
+            if path is None:
+                raise _fail("give a REPLAY file to play, or --live with a SCENARIO.toml or --robots/--goods")
+            from ..replay import Replay, ReplayError
+
+            try:
+                Replay(path).close()  # check it before binding anything
+            except ReplayError as exc:
+                raise _fail(str(exc)) from None
+            viewer = _make_viewer(lambda **kw: Viewer.for_replay(str(path), **kw), host, port)
+            _serve(viewer, f"replay {path}", no_browser)
+            return
+
+        if not 0.25 <= speed <= 64:
+            raise _fail(f"--speed {speed}: must be from 0.25 to 64")
+        sim, name = _live_simulation(path, robots, goods, starts, unload, margin, step_limit)
+        viewer = _make_viewer(
+            lambda **kw: Viewer.for_simulation(sim, name=name, speed=speed, paused=paused, **kw), host, port)
+        _serve(viewer, f"live run of {name}", no_browser)
+
+    @app.command("render")
+    def render_cmd(
+        replay: Path = typer.Argument(..., metavar="REPLAY", help="The replay (.mbr) to export."),
+        out: Path = typer.Option(..., "--out", "-o", help="Output file: .mp4 or .gif."),
+        fps: int = typer.Option(30, "--fps", help="Video frames per second."),
+        start: int = typer.Option(0, "--from", help="First replay frame (step) to export."),
+        end: Optional[int] = typer.Option(None, "--to", help="Last replay frame (step) to export (default: the last)."),
+        scale: float = typer.Option(1.0, "--scale", help="Pixels per warehouse px (0.25 to 4)."),
+        every: int = typer.Option(1, "--every", help="Export every K-th step (1 = every step)."),
+        quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+    ) -> None:
+        """Export a replay to MP4 or GIF, drawn exactly as the viewer page draws it."""
+        from ..render import RenderError, render
+        from ..replay import ReplayError
+
+        try:
+            info = render(replay, out, fps=fps, start=start, end=end, scale=scale, every=every,
+                          progress=not quiet)
+        except (ReplayError, ValueError) as exc:
+            raise _fail(str(exc)) from None
+        except RenderError as exc:
+            raise _fail(str(exc), code=1) from None
+        print(f"wrote {info['path']}: {info['frames']} frames, {info['width']}x{info['height']}, {info['fps']} fps")
+
+
+def _live_simulation(path, robots, goods, starts, unload, margin, step_limit):  # type: ignore[no-untyped-def]
+    import multibots
+
+    errors = (getattr(multibots, "ScenarioError", ValueError), getattr(multibots, "MultibotsError", ValueError),
+              ValueError)
+    try:
+        if path is not None:
+            if robots is not None or goods is not None or starts is not None:
+                raise _fail("give either a SCENARIO.toml or --robots/--goods, not both")
+            if not Path(path).is_file():
+                raise _fail(f"{path}: no such scenario file")
+            scenario = multibots.Scenario.from_toml(str(path))
+            name = Path(path).name
+        else:
+            if goods is None:
+                raise _fail("--live needs a SCENARIO.toml or --goods (and --robots)")
+            if robots is not None and robots < 1:
+                raise _fail(f"--robots {robots}: must be at least 1")
+            if step_limit < 1:
+                raise _fail(f"--step-limit {step_limit}: must be at least 1")
+            if margin < 0:
+                raise _fail(f"--margin {margin}: must be 0 or more")
+            cells = _parse_cells(goods, "--goods")
+            kw = dict(robots=3 if robots is None else robots, goods=cells, unload=unload, margin=margin,
+                      step_limit=step_limit)
+            if starts is not None:
+                kw["starts"] = _parse_names(starts, "--starts")
+            scenario = multibots.Scenario.paper(**kw)
+            name = f"paper, {kw['robots']} robots"
+        sim = multibots.Simulation(scenario)
+    except typer.Exit:
+        raise
+    except errors as exc:
+        raise _fail(str(exc)) from None
+    except OSError as exc:
+        raise _fail(f"{path}: {exc.strerror}") from None
+    return sim, name
