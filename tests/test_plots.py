@@ -39,56 +39,72 @@ plots = _load_plots()
 # ---------------------------------------------------------------------------------------
 
 
-def grid_layout(rows: int = 2, cols: int = 5, name: str = "paper") -> dict:
-    """The paper layout (rows=2, cols=5) from docs/model.md section 1, generalised to a
-    grid of rows x cols storage groups (2 x 4 cells each) for the scaling tests."""
-    R, K = rows, cols
+def _node_name(i: int) -> str:
+    """Spreadsheet-style names, as the engine's: A..Z, AA..AZ, BA.., so the paper's are A..R."""
+    out = []
+    while True:
+        out.append(chr(ord("A") + i % 26))
+        if i < 26:
+            break
+        i = i // 26 - 1
+    return "".join(reversed(out))
+
+
+def grid_layout(rows: int = 2, cols: int = 5, *, width: int = 2, height: int = 4,
+                aisle: float = 50.0, cell: float = 50.0, chargers: int | None = None,
+                spur: float = 40.0, name: str = "paper") -> dict:
+    """A grid warehouse in layout JSON: a port of the engine's generator
+    (crates/multibots-core/src/layout.rs, ``Layout::generate``); the defaults give the
+    paper layout of docs/model.md section 1."""
+    kn = cols + 1
+    chargers = kn if chargers is None else chargers
+    pitch_x, pitch_y = width * cell + aisle, height * cell + aisle
+    half = aisle / 2
 
     def nid(m, k):
-        return m * (K + 1) + k
+        return m * kn + k
 
-    n_high = (R + 1) * (K + 1)
+    def north(k):
+        return k % 2 == 0 and not (k == cols and cols % 2 == 0)
 
-    def node_name(i):
-        return chr(ord("A") + i) if n_high <= 26 else f"n{i}"
-
-    nodes = [{"name": node_name(nid(m, k)), "x": 25.0 + 150 * k, "y": 25.0 + 250 * m,
-              "kind": "highway"} for m in range(R + 1) for k in range(K + 1)]
-    chargers, spurs = [], []
-    for k in range(K + 1):
-        chargers.append(len(nodes))
-        spurs.append([len(nodes), nid(0, k)])
-        nodes.append({"name": f"CH{k}", "x": 25.0 + 150 * k, "y": -15.0, "kind": "charger"})
-    edges = []  # grouped by from-node, horizontal edge first (the search order)
-    for m in range(R + 1):
-        for k in range(K + 1):
-            if m < R and k < K:
-                edges.append([nid(m, k), nid(m, k + 1)])  # upper rows run east
-            if m == R and k > 0:
-                edges.append([nid(m, k), nid(m, k - 1)])  # bottom row runs west
-            if k % 2 == 0 and m > 0:
-                edges.append([nid(m, k), nid(m - 1, k)])  # even aisles run north
-            if k % 2 == 1 and m < R:
-                edges.append([nid(m, k), nid(m + 1, k)])  # odd aisles run south
+    nodes = [{"name": _node_name(nid(m, k)), "x": half + k * pitch_x, "y": half + m * pitch_y,
+              "kind": "highway"} for m in range(rows + 1) for k in range(kn)]
+    edges = []  # grouped by tail, the horizontal edge first (the search order)
+    for m in range(rows + 1):
+        for k in range(kn):
+            u = nid(m, k)
+            if m < rows:
+                if k + 1 < kn:
+                    edges.append([u, nid(m, k + 1)])
+            elif k > 0:
+                edges.append([u, nid(m, k - 1)])
+            if north(k):
+                if m > 0:
+                    edges.append([u, nid(m - 1, k)])
+            elif m < rows:
+                edges.append([u, nid(m + 1, k)])
+    charger_ids, spurs = [], []
+    for i in range(chargers):
+        at = nid(0, i * kn // chargers)
+        charger_ids.append(len(nodes))
+        spurs.append([len(nodes), at])
+        nodes.append({"name": f"CH{i}", "x": nodes[at]["x"], "y": nodes[at]["y"] - spur,
+                      "kind": "charger"})
     cells = []
-    for c in range(K):
-        for r in range(R):
-            g = R * c + r
-            for b in range(4):
-                for a in range(2):
+    for c in range(cols):
+        for r in range(rows):
+            for b in range(height):
+                for a in range(width):
                     k = c + a
-                    edge = ([nid(r + 1, k), nid(r, k)] if k % 2 == 0
-                            else [nid(r, k), nid(r + 1, k)])
-                    cells.append({"id": 8 * g + 2 * b + a, "x": 50.0 + 150 * c + 50 * a,
-                                  "y": 50.0 + 250 * r + 50 * b, "w": 50.0, "h": 50.0,
-                                  "service": [25.0 + 150 * k, 75.0 + 250 * r + 50 * b],
-                                  "edge": edge})
-    cells.sort(key=lambda cell: cell["id"])
-    return {"name": name, "bounds": [0, 0, 50 + 150 * K, 50 + 250 * R],
-            "aisle_width": 50, "cell_size": 50, "nodes": nodes, "edges": edges,
+                    x, y = aisle + c * pitch_x + a * cell, aisle + r * pitch_y + b * cell
+                    edge = [nid(r + 1, k), nid(r, k)] if north(k) else [nid(r, k), nid(r + 1, k)]
+                    cells.append({"id": len(cells), "x": x, "y": y, "w": cell, "h": cell,
+                                  "service": [half + k * pitch_x, y + cell / 2], "edge": edge})
+    return {"name": name, "bounds": [0.0, 0.0, aisle + cols * pitch_x, aisle + rows * pitch_y],
+            "aisle_width": aisle, "cell_size": cell, "nodes": nodes, "edges": edges,
             "spurs": spurs, "cells": cells,
-            "departure": [nid(0, k) for k in range(K + 1)],
-            "unloading": [nid(R, k) for k in range(K + 1)], "chargers": chargers}
+            "departure": [nid(0, k) for k in range(kn)],
+            "unloading": [nid(rows, k) for k in range(kn)], "chargers": charger_ids}
 
 
 @pytest.fixture(scope="module")
@@ -263,6 +279,32 @@ def test_cells_full_changes_only_that_cell(tmp_path, paper_layout):
     # The default (None) is "all empty".
     zeros = _png(plots.draw_layout(paper_layout, tmp_path / "c.png", cells_full=[0] * n))
     assert np.array_equal(zeros, empty)
+
+
+_VARIANTS = {
+    "one-cell-wide groups": dict(rows=3, cols=4, width=1, height=6),
+    "narrow aisles": dict(rows=2, cols=3, aisle=30.0, cell=60.0, spur=25.0),
+    "wide aisles": dict(rows=2, cols=3, aisle=100.0, cell=20.0, spur=60.0),
+    "two chargers": dict(rows=2, cols=6, chargers=2),
+    "single group": dict(rows=1, cols=1),
+}
+
+
+@pytest.mark.parametrize("variant", sorted(_VARIANTS))
+def test_generated_layout_variants(tmp_path, variant):
+    """Every shape the engine's generator makes draws: colours at the cells, all ids."""
+    lay = grid_layout(name=variant, **_VARIANTS[variant])
+    n = len(lay["cells"])
+    full = [i % 3 == 0 for i in range(n)]
+    png = _png(plots.draw_layout(lay, tmp_path / "v.png", cells_full=[int(f) for f in full]))
+    pixel = _pixel_of(lay)
+    for i in (0, 1, n - 1):
+        assert (_is_red if full[i] else _is_black)(png[pixel(i, 0.15, 0.15)]), i
+    svg = _svg(plots.draw_layout(lay, tmp_path / "v.svg", title=variant))
+    texts = set(_svg_texts(svg))
+    assert {str(c["id"]) for c in lay["cells"]} <= texts
+    assert {nd["name"] for nd in lay["nodes"]} <= texts
+    assert variant in texts
 
 
 def test_layout_rejects_bad_input(tmp_path, paper_layout):

@@ -304,7 +304,7 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     cell_size = float(layout.get("cell_size") or aisle)
 
     ex0, ey0, ex1, ey1 = _layout_extent(layout)
-    pad = 0.6 * aisle
+    pad = min(0.6 * aisle, 0.05 * max(ex1 - ex0, ey1 - ey0))
     ex0, ey0, ex1, ey1 = ex0 - pad, ey0 - pad, ex1 + pad, ey1 + pad
     ew, eh = ex1 - ex0, ey1 - ey0
 
@@ -312,8 +312,9 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     # 24 inches wide (or 18 tall) so their cells stay visible in a 150 dpi PNG.
     map_w = min(max(ew / 100.0, 7.0), 24.0)
     map_h = map_w * eh / ew
-    if map_h > 18.0:
-        map_h = 18.0
+    max_h = max(9.0, min(eh / 100.0, 18.0))
+    if map_h > max_h:
+        map_h = max_h
         map_w = map_h * ew / eh
     margin = 0.25
     legend_h = 0.75
@@ -334,7 +335,10 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     ax.set_axis_off()
 
     pt_per_unit = map_w * 72.0 / ew  # points per layout px
-    lw_scale = min(1.0, max(0.3, aisle * pt_per_unit / 34.0))
+    # Map symbols (zones, arrowheads, chargers, names) scale with the aisle, but never
+    # beyond their size in the paper's figure (a 50 px aisle is 34 pt there).
+    sym = min(aisle, 34.0 / pt_per_unit)
+    lw_scale = min(1.0, max(0.3, sym * pt_per_unit / 34.0))
 
     # Warehouse outline.
     bx0, by0, bx1, by1 = (float(v) for v in layout["bounds"])
@@ -384,9 +388,9 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     pos = np.array([[float(n["x"]), float(n["y"])] for n in nodes]).reshape(-1, 2)
     edges = [(int(u), int(v)) for u, v in layout.get("edges", [])]
     edge_set = set(edges)
-    zone_r = 0.25 * aisle
-    head_len = 0.30 * aisle
-    head_half = 0.12 * aisle
+    zone_r = 0.25 * sym
+    head_len = 0.30 * sym
+    head_half = 0.12 * sym
     shafts, heads = [], []
     for u, v in edges:
         p, q = pos[u], pos[v]
@@ -396,8 +400,8 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
             continue
         t = d / length
         nrm = np.array([-t[1], t[0]])
-        off = nrm * 0.14 * aisle if (v, u) in edge_set else 0.0
-        gap = min(zone_r + 0.08 * aisle, 0.3 * length)
+        off = nrm * 0.14 * sym if (v, u) in edge_set else 0.0
+        gap = min(zone_r + 0.08 * sym, 0.3 * length)
         a = p + t * gap + off
         b = q - t * gap + off
         shafts.append([a, b - t * head_len * 0.6])
@@ -416,7 +420,7 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     charger_ids = [int(i) for i in layout.get("chargers", [])] or [
         i for i, n in enumerate(nodes) if n.get("kind") == "charger"]
     spurs = [(int(c), int(n)) for c, n in layout.get("spurs", [])]
-    bat_w, bat_h = 0.42 * aisle, 0.22 * aisle
+    bat_w, bat_h = 0.42 * sym, 0.22 * sym
     if spurs:
         spur_lines = []
         for c, n in spurs:
@@ -474,26 +478,26 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     plain = [i for i in highway if i not in set(departure) | set(unloading)]
     if plain:
         ax.add_collection(PatchCollection(
-            [Circle(tuple(pos[i]), 0.07 * aisle) for i in plain],
+            [Circle(tuple(pos[i]), 0.07 * sym) for i in plain],
             facecolors=_EDGE_COLOR, edgecolors="none", zorder=6))
 
     # Node names, in the upper-left corner of the aisle crossing.
-    node_font = min(8.5, 0.26 * aisle * pt_per_unit)
+    node_font = min(8.5, 0.26 * sym * pt_per_unit)
     if node_font >= 4.5 and len(nodes) <= 2000:
         # Upper-left of the node, just clear of its zone symbol; flipped to the
         # right when a long name would run into the west wall.
-        off = 0.2 * aisle
+        off = 0.2 * sym
         char_w = 0.62 * node_font / pt_per_unit
         for i in highway:
             x, y = pos[i]
             name = str(nodes[i].get("name", i))
-            left = x - off - len(name) * char_w >= bx0 + 0.05 * aisle or x - off > bx1
+            left = x - off - len(name) * char_w >= bx0 + 0.05 * sym or x - off > bx1
             ax.text(x - off if left else x + off, y - off, name, fontsize=node_font,
                     ha="right" if left else "left", va="bottom", color="#111111",
                     fontweight="bold", zorder=8)
         for c in charger_ids:
             x, y = pos[c]
-            ax.text(x + bat_w / 2 + bat_w / 7 + 0.08 * aisle, y,
+            ax.text(x + bat_w / 2 + bat_w / 7 + 0.08 * sym, y,
                     str(nodes[c].get("name", c)), fontsize=node_font * 0.85,
                     ha="left", va="center", color="#1b5e20", zorder=8)
 
