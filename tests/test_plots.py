@@ -53,9 +53,11 @@ def _node_name(i: int) -> str:
 def grid_layout(rows: int = 2, cols: int = 5, *, width: int = 2, height: int = 4,
                 aisle: float = 50.0, cell: float = 50.0, chargers: int | None = None,
                 spur: float = 40.0, name: str = "paper") -> dict:
-    """A grid warehouse in layout JSON: a port of the engine's generator
-    (crates/multibots-core/src/layout.rs, ``Layout::generate``); the defaults give the
-    paper layout of docs/model.md section 1."""
+    """A grid warehouse in layout JSON.
+
+    A port of the engine's generator (crates/multibots-core/src/layout.rs,
+    ``Layout::generate``); the defaults give the paper layout of docs/model.md section 1.
+    """
     kn = cols + 1
     chargers = kn if chargers is None else chargers
     pitch_x, pitch_y = width * cell + aisle, height * cell + aisle
@@ -164,9 +166,12 @@ def _svg_texts(svg: str) -> list[str]:
 
 
 def _pixel_of(layout):
-    """A function (cell index, fx, fy) -> (row, col): the pixel of the point at fractions
-    (fx, fy) of a cell's rectangle in the PNG that draw_layout writes for ``layout``
-    (same figure, same axes placement, same dpi; no title)."""
+    """A function (cell index, fx, fy) -> (row, col) into draw_layout's PNG.
+
+    (row, col) is the pixel of the point at fractions (fx, fy) of the cell's rectangle in
+    the PNG that draw_layout writes for ``layout`` (same figure, same axes placement, same
+    dpi; no title).
+    """
     fig, ax = plots._layout_figure(layout)
     fig.canvas.draw()
     height = int(round(fig.get_figheight() * fig.dpi))

@@ -24,6 +24,7 @@ the target folder, then renamed over the target with :func:`os.replace`.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import re
@@ -159,10 +160,8 @@ def _save_atomic(fig: Figure, path: str | os.PathLike[str], **kwargs: Any) -> Pa
         os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
     except BaseException:
-        try:
+        with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
-        except FileNotFoundError:
-            pass
         raise
     return path
 
@@ -207,7 +206,8 @@ class _GlyphHandler(HandlerBase):
             artists.append(Line2D([cx - d, cx + d], [cy + d, cy - d], color=_ZONE_COLOR, lw=1.2))
         elif self.kind == "unloading":
             artists.append(Circle((cx, cy), r, facecolor="white", edgecolor=_ZONE_COLOR, lw=1.2))
-            artists.append(Circle((cx, cy), 0.55 * r, facecolor="none", edgecolor=_ZONE_COLOR, lw=1.2))
+            artists.append(Circle((cx, cy), 0.55 * r, facecolor="none", edgecolor=_ZONE_COLOR,
+                                  lw=1.2))
         elif self.kind == "charger":
             bw, bh = 0.9 * height * 1.4, 0.9 * height
             bx = cx + 0.05 * width
@@ -294,6 +294,11 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     time), so ``ax.transData`` maps a layout point to the pixel it is drawn at in
     the saved PNG (``fig.dpi`` is the PNG's resolution).
 
+    Args:
+        layout: The layout JSON dict.
+        cells_full: One 0/1 per cell, or None for all empty.
+        title: Optional title above the map.
+
     Returns:
         The figure and its single map axes.
     """
@@ -301,7 +306,6 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     cells = layout["cells"]
     full = _as_cells_full(cells_full, len(cells))
     aisle = float(layout.get("aisle_width") or 50.0)
-    cell_size = float(layout.get("cell_size") or aisle)
 
     ex0, ey0, ex1, ey1 = _layout_extent(layout)
     pad = min(0.6 * aisle, 0.05 * max(ex1 - ex0, ey1 - ey0))
@@ -495,11 +499,15 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
             ax.text(x - off if left else x + off, y - off, name, fontsize=node_font,
                     ha="right" if left else "left", va="bottom", color="#111111",
                     fontweight="bold", zorder=8)
+        # Charger names right of the battery, or left of it at the east edge.
         for c in charger_ids:
             x, y = pos[c]
-            ax.text(x + bat_w / 2 + bat_w / 7 + 0.08 * sym, y,
-                    str(nodes[c].get("name", c)), fontsize=node_font * 0.85,
-                    ha="left", va="center", color="#1b5e20", zorder=8)
+            name = str(nodes[c].get("name", c))
+            gap = bat_w / 2 + bat_w / 7 + 0.08 * sym
+            right = x + gap + 0.85 * len(name) * char_w <= ex1
+            ax.text(x + gap if right else x - bat_w / 2 - 0.08 * sym, y, name,
+                    fontsize=node_font * 0.85, ha="left" if right else "right",
+                    va="center", color="#1b5e20", zorder=8)
 
     # Legend under the map.
     proxies = [
