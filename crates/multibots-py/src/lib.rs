@@ -1,1 +1,356 @@
+//! Python bindings of the MultiBots engine: conversions, error mapping and releasing the GIL.
+//! No model logic lives here.
 
+use multibots_core::metrics::RunResult;
+use multibots_core::replay::run_recorded;
+use multibots_core::{Error, Scenario, Simulation, State};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+
+create_exception!(_core, MultibotsError, PyException, "Base class of every MultiBots error.");
+create_exception!(_core, ScenarioError, MultibotsError, "A scenario field or file the model cannot run with.");
+create_exception!(_core, LayoutError, MultibotsError, "A layout robots cannot use.");
+create_exception!(_core, AllocatorError, MultibotsError, "A strategy returned assignments the engine cannot carry out.");
+create_exception!(_core, EngineError, MultibotsError, "An internal error of the engine (a bug: please report it).");
+
+/// The one place engine errors become Python exceptions.
+fn to_py(e: Error) -> PyErr {
+    let msg = e.to_string();
+    match e {
+        Error::Scenario { .. } | Error::Parse { .. } => ScenarioError::new_err(msg),
+        Error::Layout { .. } => LayoutError::new_err(msg),
+        Error::Allocator { .. } => AllocatorError::new_err(msg),
+        Error::Io { .. } => MultibotsError::new_err(msg),
+    }
+}
+
+/// Runs engine code without the GIL, turning errors and panics into exceptions.
+fn engine<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, Error> + Send) -> PyResult<T> {
+    let out = py.allow_threads(|| catch_unwind(AssertUnwindSafe(f)));
+    match out {
+        Ok(r) => r.map_err(to_py),
+        Err(panic) => {
+            let what = panic.downcast_ref::<&str>().map(|s| (*s).to_string()).or_else(|| panic.downcast_ref::<String>().cloned()).unwrap_or_default();
+            Err(EngineError::new_err(format!("internal error in the engine: {what}")))
+        }
+    }
+}
+
+/// Steps between two checks for Ctrl-C in long runs.
+const SIGNAL_EVERY: u64 = 1 << 14;
+
+#[pyclass(module = "multibots._core", name = "Scenario", frozen)]
+#[derive(Clone)]
+struct PyScenario {
+    inner: Scenario,
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Parses TOML text; `source_name` prefixes error messages.
+    #[staticmethod]
+    fn from_toml(text: &str, source_name: &str) -> PyResult<Self> {
+        Scenario::from_toml(text, source_name).map(|inner| PyScenario { inner }).map_err(to_py)
+    }
+
+    /// Parses JSON text.
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        Scenario::from_json(text).map(|inner| PyScenario { inner }).map_err(to_py)
+    }
+
+    fn to_toml(&self) -> String {
+        self.inner.to_toml()
+    }
+
+    fn to_json(&self) -> String {
+        self.inner.to_json()
+    }
+
+    /// Checks every field, against the layout too.
+    fn validate(&self, py: Python<'_>) -> PyResult<()> {
+        let s = self.inner.clone();
+        engine(py, move || Simulation::new(&s).map(drop))
+    }
+
+    /// The scenario's task list as cell ids (random lists drawn).
+    fn cells(&self, py: Python<'_>) -> PyResult<Vec<u32>> {
+        let s = self.inner.clone();
+        engine(py, move || s.cells(&s.resolve_layout()?))
+    }
+
+    fn __eq__(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
+}
+
+fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("T", r.t)?;
+    d.set_item("S", r.s)?;
+    d.set_item("C", r.c)?;
+    d.set_item("outcome", r.outcome.map_or("running", |o| o.as_str()))?;
+    d.set_item("steps", r.steps)?;
+    d.set_item("delivered", r.delivered)?;
+    d.set_item("goods_total", r.goods_total)?;
+    d.set_item("stranded", r.stranded.clone())?;
+    let st = &r.robots;
+    d.set_item("distance", PyArray1::from_slice(py, &st.distance))?;
+    d.set_item("wait_steps", PyArray1::from_slice(py, &st.wait_steps))?;
+    d.set_item("collisions", PyArray1::from_slice(py, &st.collisions))?;
+    d.set_item("energy_used", PyArray1::from_slice(py, &st.energy_used))?;
+    d.set_item("robot_delivered", PyArray1::from_slice(py, &st.delivered))?;
+    d.set_item("charges", PyArray1::from_slice(py, &st.charges))?;
+    let flat: Vec<u64> = st.state_steps.iter().flat_map(|row| row.iter().copied()).collect();
+    d.set_item("state_steps", PyArray1::from_vec(py, flat).reshape([st.state_steps.len(), State::COUNT])?)?;
+    Ok(d)
+}
+
+/// Runs a scenario to its end; records a replay to `record` if given.
+#[pyfunction]
+#[pyo3(signature = (scenario, record=None))]
+fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+    let s = scenario.inner.clone();
+    let r = engine(py, move || {
+        let mut sim = Simulation::new(&s)?;
+        match record {
+            Some(path) => run_recorded(&mut sim, &path, &s.to_toml()),
+            None => sim.run(),
+        }
+    })?;
+    result_dict(py, &r)
+}
+
+/// Runs many scenarios on `workers` threads; results come back in the order given.
+#[pyfunction]
+#[pyo3(signature = (scenarios, workers=0))]
+fn simulate_many<'py>(py: Python<'py>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let list: Vec<Scenario> = scenarios.into_iter().map(|s| s.inner).collect();
+    let results = engine(py, move || {
+        let workers = if workers == 0 { std::thread::available_parallelism().map_or(1, usize::from) } else { workers }.min(list.len().max(1));
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let mut slots: Vec<Option<Result<RunResult, Error>>> = (0..list.len()).map(|_| None).collect();
+        let done = std::sync::Mutex::new(&mut slots);
+        std::thread::scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(|| loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    if k >= list.len() {
+                        break;
+                    }
+                    let r = Simulation::new(&list[k]).and_then(|mut sim| sim.run());
+                    done.lock().expect("no worker panics while holding the lock")[k] = Some(r);
+                });
+            }
+        });
+        slots.into_iter().map(|r| r.expect("every slot is filled")).collect::<Result<Vec<_>, Error>>()
+    })?;
+    results.iter().map(|r| result_dict(py, r)).collect()
+}
+
+/// The layout JSON of a named layout.
+#[pyfunction]
+fn layout_json(name: &str) -> PyResult<String> {
+    let s = Scenario { layout: name.to_string(), ..Scenario::paper(1, &[0]) };
+    let layout = s.resolve_layout().map_err(to_py)?;
+    Ok(layout.to_json().to_string())
+}
+
+/// A run that Python steps and inspects.
+#[pyclass(module = "multibots._core", name = "Simulation")]
+struct PySimulation {
+    sim: Simulation,
+}
+
+#[pymethods]
+impl PySimulation {
+    #[new]
+    fn new(py: Python<'_>, scenario: &PyScenario) -> PyResult<Self> {
+        let s = scenario.inner.clone();
+        engine(py, move || Simulation::new(&s)).map(|sim| PySimulation { sim })
+    }
+
+    /// Runs `n` steps (fewer if the run ends first); returns the steps run.
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<u64> {
+        let mut done = 0;
+        while done < n && !self.sim.done() {
+            let chunk = (n - done).min(SIGNAL_EVERY);
+            let sim = &mut self.sim;
+            done += engine(py, move || {
+                let mut k = 0;
+                while k < chunk && !sim.done() {
+                    sim.step()?;
+                    k += 1;
+                }
+                Ok(k)
+            })?;
+            py.check_signals()?;
+        }
+        Ok(done)
+    }
+
+    /// Runs to the end; returns the result dictionary.
+    fn run<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        while !self.sim.done() {
+            self.step(py, SIGNAL_EVERY)?;
+        }
+        result_dict(py, &self.sim.result())
+    }
+
+    /// The result so far.
+    fn result<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        result_dict(py, &self.sim.result())
+    }
+
+    #[getter]
+    fn t(&self) -> u64 {
+        self.sim.t()
+    }
+    #[getter]
+    fn done(&self) -> bool {
+        self.sim.done()
+    }
+    #[getter(S)]
+    fn s(&self) -> u64 {
+        self.sim.s()
+    }
+    #[getter(C)]
+    fn c(&self) -> u64 {
+        self.sim.c()
+    }
+    #[getter]
+    fn delivered(&self) -> u64 {
+        self.sim.delivered()
+    }
+    #[getter]
+    fn goods_total(&self) -> u64 {
+        self.sim.goods_total()
+    }
+    #[getter]
+    fn outcome(&self) -> Option<&'static str> {
+        self.sim.outcome().map(|o| o.as_str())
+    }
+    #[getter]
+    fn energy_full(&self) -> f64 {
+        self.sim.energy_levels().0
+    }
+    #[getter]
+    fn threshold(&self) -> f64 {
+        self.sim.energy_levels().1
+    }
+    #[getter]
+    fn robot_count(&self) -> usize {
+        self.sim.robots().len()
+    }
+    #[getter]
+    fn allocator(&self) -> String {
+        self.sim.allocator_name().to_string()
+    }
+
+    #[getter]
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let r = self.sim.robots();
+        let flat: Vec<f64> = r.x.iter().zip(&r.y).flat_map(|(&x, &y)| [x, y]).collect();
+        PyArray1::from_vec(py, flat).reshape([r.len(), 2])
+    }
+    #[getter]
+    fn headings<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.sim.robots().heading)
+    }
+    #[getter]
+    fn states<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
+        PyArray1::from_iter(py, self.sim.robots().state.iter().map(|&s| s as u8))
+    }
+    #[getter]
+    fn marked<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        PyArray1::from_slice(py, &self.sim.robots().marked)
+    }
+    #[getter]
+    fn energy<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.sim.robots().energy)
+    }
+    #[getter]
+    fn radius<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.sim.robots().radius)
+    }
+    #[getter]
+    fn home<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
+        PyArray1::from_iter(py, self.sim.robots().home.iter().map(|h| h.0))
+    }
+    /// Cell each robot carries, or -1.
+    #[getter]
+    fn carrying<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
+        let r = self.sim.robots();
+        PyArray1::from_iter(py, (0..r.len()).map(|i| if r.carrying[i] { r.cell[i] as i32 } else { -1 }))
+    }
+    /// Cell each robot fetches or carries, or -1.
+    #[getter]
+    fn task_cells<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
+        let r = self.sim.robots();
+        PyArray1::from_iter(py, (0..r.len()).map(|i| r.goods_of(i).map_or(-1, |(_, c)| c.0 as i32)))
+    }
+    /// 1 where a storage cell holds goods.
+    #[getter]
+    fn cells<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
+        PyArray1::from_iter(py, self.sim.cells_full().iter().map(|&f| u8::from(f)))
+    }
+    /// Collisions S of each robot.
+    #[getter]
+    fn robot_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u64>> {
+        PyArray1::from_slice(py, &self.sim.stats().collisions)
+    }
+    /// Charges C of each robot.
+    #[getter]
+    fn robot_c<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u64>> {
+        PyArray1::from_slice(py, &self.sim.stats().charges)
+    }
+    /// Cells of the goods still in the queue, front first.
+    #[getter]
+    fn queue(&self) -> Vec<u32> {
+        self.sim.queue().iter().map(|g| g.cell.0).collect()
+    }
+    /// Events of the last step: (step, kind, robot, cell) rows; cell is -1 where none.
+    #[getter]
+    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let ev = self.sim.events();
+        let flat: Vec<i64> = ev.iter().flat_map(|e| [e.step as i64, e.kind as i64, i64::from(e.robot), if e.cell == u32::MAX { -1 } else { i64::from(e.cell) }]).collect();
+        PyArray1::from_vec(py, flat).reshape([ev.len(), 4])
+    }
+    /// The layout JSON.
+    #[getter]
+    fn layout_json(&self) -> String {
+        self.sim.world().layout.to_json().to_string()
+    }
+    /// Robot `i`'s remaining route as (K, 2) waypoints, starting at its position.
+    fn route<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if i >= self.sim.robots().len() {
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!("robot {i} out of range 0..{}", self.sim.robots().len())));
+        }
+        let pts = self.sim.route_of(i);
+        let flat: Vec<f64> = pts.iter().flat_map(|&(x, y)| [x, y]).collect();
+        PyArray1::from_vec(py, flat).reshape([pts.len(), 2])
+    }
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("MultibotsError", py.get_type::<MultibotsError>())?;
+    m.add("ScenarioError", py.get_type::<ScenarioError>())?;
+    m.add("LayoutError", py.get_type::<LayoutError>())?;
+    m.add("AllocatorError", py.get_type::<AllocatorError>())?;
+    m.add("EngineError", py.get_type::<EngineError>())?;
+    m.add_class::<PyScenario>()?;
+    m.add_class::<PySimulation>()?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
+    m.add_function(wrap_pyfunction!(layout_json, m)?)?;
+    m.add("BYTES_PER_ROBOT_STEP", multibots_core::replay::BYTES_PER_ROBOT_STEP)?;
+    Ok(())
+}

@@ -131,7 +131,7 @@ pub fn service_target(layout: &Layout, cell: CellId) -> Target {
 }
 
 /// A task-allocation strategy.
-pub trait Allocator: Send {
+pub trait Allocator: Send + Sync {
     /// The strategy's kebab-case name, as in TOML, the command line and Python.
     fn name(&self) -> &str;
 
