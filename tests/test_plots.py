@@ -396,6 +396,17 @@ def test_paper_figures_group_with_no_complete_run(tmp_path):
     assert len(_gids(_svg(tmp_path / "fig7_collisions.svg"), "group-line-")) == 5
 
 
+def test_paper_figures_from_csv_strings(tmp_path):
+    """Rows read back with csv.DictReader: every value a string, T empty when incomplete."""
+    rows = [{k: "" if v is None else str(v) for k, v in r.items()}
+            for r in _paper_rows(incomplete={(5, 6)})]
+    plots.draw_paper_figures(rows, tmp_path)
+    svg = _svg(tmp_path / "fig6_task_time.svg")
+    assert "group 5 at N = 6" in " ".join(_svg_texts(svg))
+    assert [t for t in _svg_texts(svg) if t in {str(n) for n in range(1, 7)}]  # N ticks
+    assert len(_gids(svg, "group-line-")) == 5
+
+
 def test_paper_figures_need_rows(tmp_path):
     with pytest.raises(ValueError):
         plots.draw_paper_figures([], tmp_path)

@@ -580,6 +580,12 @@ def _missing(value: Any) -> bool:
         return True
 
 
+def _number(value: Any) -> int | float:
+    """N as a number (CSV readers give strings): an int when it is whole."""
+    x = float(value)
+    return int(x) if x.is_integer() else x
+
+
 def _style(i: int) -> dict[str, Any]:
     return {"color": _SERIES_COLORS[i % len(_SERIES_COLORS)],
             "marker": _SERIES_MARKERS[i % len(_SERIES_MARKERS)]}
@@ -638,7 +644,7 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
     Raises:
         ValueError: ``rows`` is empty.
     """
-    rows = list(rows)
+    rows = [{**r, "N": _number(r["N"])} for r in rows]
     if not rows:
         raise ValueError("draw_paper_figures needs at least one row")
     out = Path(out_dir)
@@ -747,7 +753,7 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
     Raises:
         ValueError: ``summary_rows`` is empty.
     """
-    rows = list(summary_rows)
+    rows = [{**r, "N": _number(r["N"])} for r in summary_rows]
     if not rows:
         raise ValueError("draw_strategy_comparison needs at least one row")
     out = Path(out_dir)
