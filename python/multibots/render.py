@@ -298,6 +298,7 @@ def render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps:
                     page.goto(f"{viewer.url}?render=1&scale={scale:g}")
                     page.wait_for_function("() => window.mbViewer && window.mbViewer.ready", timeout=60000)
                     size = page.evaluate("() => window.mbViewer.size()")
+                    origin = page.evaluate("() => window.mbViewer.worldToClient(0, 0)")
                     done = 0
                     for b in range(0, len(frames), _BATCH):
                         batch = frames[b:b + _BATCH]
@@ -327,7 +328,8 @@ def render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps:
                 os.unlink(tmp)
             except OSError:
                 pass
-    return {"path": str(out), "frames": len(frames), "width": size["width"], "height": size["height"], "fps": fps}
+    return {"path": str(out), "frames": len(frames), "width": size["width"], "height": size["height"], "fps": fps,
+            "origin": (origin["x"], origin["y"]), "scale": origin["scale"]}
 
 
 class _progress:

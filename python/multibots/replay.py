@@ -113,6 +113,7 @@ class Replay:
             self._fd = -1
             raise
         self._lock = threading.RLock()
+        self._index_lock = threading.Lock()
         self._cache: "OrderedDict[int, Dict[str, Any]]" = OrderedDict()
         self._cache_size = max(1, int(cache_chunks))
         # _snapshots[i]: state before chunk i's first frame's events (see _snapshot).
@@ -414,17 +415,44 @@ class Replay:
             elif kind == EV_RESTOCK and c_ok:
                 cells[cell] = 1
 
-    def _snapshot(self, i: int) -> Dict[str, np.ndarray]:
-        """Derived state before any event of chunk ``i`` (i.e. after all earlier chunks)."""
+    def chunk_events(self, i: int) -> np.ndarray:
+        """Chunk ``i``'s events (E, 4) uint32, without decoding its other arrays."""
+        i = self._check_chunk(i)
         with self._lock:
-            if not self._snapshots:
-                self._snapshots.append(self._initial_snapshot())
-            while len(self._snapshots) <= i:
-                j = len(self._snapshots) - 1
-                snap = {k: v.copy() for k, v in self._snapshots[j].items()}
-                self._apply(snap, self.chunk(j)["events"])
-                self._snapshots.append(snap)
-            return self._snapshots[i]
+            hit = self._cache.get(i)
+        if hit is not None:
+            return hit["events"]
+        raw = self.chunk_bytes(i)
+        _, k, n, e = struct.unpack_from("<4I", raw, 0)
+        off, _ = chunk_layout(k, n, e)[0]["events"]
+        return np.frombuffer(raw, dtype="<u4", count=4 * e, offset=off).reshape(e, 4).copy()
+
+    def _snapshot(self, i: int) -> Dict[str, np.ndarray]:
+        """Derived state before any event of chunk ``i`` (i.e. after all earlier chunks).
+
+        Snapshots are built in order and kept (a few arrays per chunk); the work happens
+        outside the lock so that readers of other chunks are not held up."""
+        with self._lock:
+            if len(self._snapshots) > i:
+                return self._snapshots[i]
+        with self._index_lock:  # one builder at a time; the others wait for its result
+            while True:
+                with self._lock:
+                    if not self._snapshots:
+                        self._snapshots.append(self._initial_snapshot())
+                    if len(self._snapshots) > i:
+                        return self._snapshots[i]
+                    j = len(self._snapshots) - 1
+                    base = self._snapshots[j]
+                snap = {k: v.copy() for k, v in base.items()}
+                self._apply(snap, self.chunk_events(j))
+                with self._lock:
+                    self._snapshots.append(snap)
+
+    def build_index(self) -> None:
+        """Compute every chunk's starting state now (the viewer does this in the background,
+        so that a later jump to any frame is quick)."""
+        self._snapshot(self.chunk_count - 1)
 
     def state_at(self, f: int) -> Dict[str, np.ndarray]:
         """Cells and per-robot derived state after step ``f``, from the events.

@@ -38,6 +38,7 @@ from ..replay import Replay, ReplayError
 STATIC_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "static")
 MAX_BODY = 4096  # bytes: a control message is a few dozen
 MAX_STREAMS = 16  # concurrent live streams
+DRAIN_LIMIT = 1 << 20  # an oversized body up to this size is read and dropped
 _CTYPES = {
     ".html": "text/html; charset=utf-8",
     ".js": "text/javascript; charset=utf-8",
@@ -89,6 +90,16 @@ class ReplaySource:
             "chunks": [[r.chunk_info(i)["first_frame"], r.chunk_info(i)["frames"]] for i in range(r.chunk_count)],
             "scenario": r.header.get("scenario", ""),
         }
+
+    def start_index(self) -> None:
+        """Build the replay's per-chunk cell index in the background."""
+        def run() -> None:
+            try:
+                self.replay.build_index()
+            except Exception:  # a broken chunk is reported when it is asked for
+                pass
+
+        threading.Thread(target=run, name="multibots-replay-index", daemon=True).start()
 
     def robot(self, i: int, frame: int) -> Dict[str, Any]:
         r = self.replay
@@ -416,6 +427,8 @@ class ViewerHandler(BaseHTTPRequestHandler):
             return
         length = int(length_s)
         if length > MAX_BODY:
+            if length <= DRAIN_LIMIT:  # read what was sent so the reply is not lost to a reset
+                self.rfile.read(length)
             self._error(413, f"message too large ({length} bytes; at most {MAX_BODY})", close=True)
             return
         ctype = self.headers.get("Content-Type", "").split(";")[0].strip().lower()
@@ -499,12 +512,18 @@ class Viewer:
         return f"http://{host}:{self.port}/"
 
     def start(self) -> "Viewer":
+        self._start_background()
         self._thread = threading.Thread(target=self.httpd.serve_forever, kwargs={"poll_interval": 0.2},
                                         name="multibots-viewer", daemon=True)
         self._thread.start()
         return self
 
+    def _start_background(self) -> None:
+        if hasattr(self.source, "start_index"):
+            self.source.start_index()
+
     def serve_forever(self) -> None:
+        self._start_background()
         self.httpd.serve_forever(poll_interval=0.2)
 
     def close(self) -> None:

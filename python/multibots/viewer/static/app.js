@@ -306,6 +306,7 @@ function exposeHooks() {
         delivered: v ? v.frame.delivered : null, done: v ? !!v.info.done : false,
         T: v && v.info.done ? v.info.T : null, selected: app.selected,
         panelFrame: app.panel ? app.panel.frame : null, drawn: app.drawn,
+        routePoints: app.route ? app.route.length : 0,
         paused: app.mode === "live" ? !!(app.source.latest && app.source.latest.msg.paused) : !app.playing,
         version: app.mode === "live" && app.source.latest ? app.source.latest.msg.version : null,
       };

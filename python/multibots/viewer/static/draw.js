@@ -468,7 +468,7 @@ export class Renderer {
       }
     }
     this.lastXs = xs; this.lastYs = ys;
-    const tiny = this.maxRadius * s < 1.5;
+    const small = this.maxRadius * s < 4;  // a few pixels: a plain dot says enough
     // bodies, one path per colour
     ctx.lineWidth = Math.min(1.2 * px, this.maxRadius * 0.12);
     ctx.strokeStyle = COLOURS.wall;
@@ -485,9 +485,16 @@ export class Renderer {
       if (!any) continue;
       ctx.fillStyle = GROUP_COLOURS[g];
       ctx.fill();
-      if (!tiny) ctx.stroke();
+      if (!small) ctx.stroke();
     }
-    if (tiny) return;
+    // selection ring
+    const sel = info.selected;
+    if (sel >= 0 && sel < n) {
+      ctx.beginPath();
+      ctx.arc(xs[sel], ys[sel], this.radius[sel] + 3 * px, 0, TAU);
+      ctx.lineWidth = 3 * px; ctx.strokeStyle = COLOURS.select; ctx.stroke();
+    }
+    if (small) return;
     // heading lines
     ctx.beginPath();
     for (let i = 0; i < n; i++) {
@@ -500,13 +507,6 @@ export class Renderer {
     ctx.lineCap = "round";
     ctx.stroke();
     ctx.lineCap = "butt";
-    // selection ring
-    const sel = info.selected;
-    if (sel >= 0 && sel < n) {
-      ctx.beginPath();
-      ctx.arc(xs[sel], ys[sel], this.radius[sel] + 3 * px, 0, TAU);
-      ctx.lineWidth = 3 * px; ctx.strokeStyle = COLOURS.select; ctx.stroke();
-    }
     // battery bars above each robot
     if (this.maxRadius * s < 4) return;
     const back = new Path2D(), levels = [new Path2D(), new Path2D(), new Path2D()];

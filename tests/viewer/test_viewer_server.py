@@ -1,0 +1,237 @@
+"""The viewer's server: what it serves, what it refuses, and that it survives rude clients."""
+
+from __future__ import annotations
+
+import http.client
+import json
+import socket
+import struct
+import zlib
+
+import pytest
+
+from multibots.replay import Replay
+
+
+def request(viewer, method, path, body=None, headers=None):
+    conn = http.client.HTTPConnection("127.0.0.1", viewer.port, timeout=30)
+    try:
+        conn.request(method, path, body=body, headers=headers or {})
+        resp = conn.getresponse()
+        return resp.status, dict(resp.getheaders()), resp.read()
+    finally:
+        conn.close()
+
+
+def raw(viewer, data: bytes) -> bytes:
+    """Send raw bytes; return the whole reply (the server closes or we read the status)."""
+    with socket.create_connection(("127.0.0.1", viewer.port), timeout=30) as s:
+        s.sendall(data)
+        out = b""
+        while b"\r\n\r\n" not in out:
+            part = s.recv(65536)
+            if not part:
+                break
+            out += part
+        return out
+
+
+def status_of(reply: bytes) -> int:
+    return int(reply.split(b" ", 2)[1])
+
+
+def test_binds_loopback_by_default(replay_viewer, live_viewer):
+    assert replay_viewer.httpd.server_address[0] == "127.0.0.1"
+    assert live_viewer.httpd.server_address[0] == "127.0.0.1"
+    assert replay_viewer.url.startswith("http://127.0.0.1:")
+
+
+def test_serves_the_page_assets_and_meta(replay_viewer, paper_run):
+    path, result = paper_run
+    code, headers, body = request(replay_viewer, "GET", "/")
+    assert code == 200 and b"<canvas" in body and headers["Content-Type"].startswith("text/html")
+    for name in ("app.js", "draw.js", "data.js", "viewer.css"):
+        code, _, body = request(replay_viewer, "GET", f"/static/{name}")
+        assert code == 200 and len(body) > 100
+    code, _, body = request(replay_viewer, "GET", "/api/meta")
+    meta = json.loads(body)
+    assert code == 200 and meta["mode"] == "replay" and meta["robots"] == 3
+    assert meta["summary"]["T"] == result.T and meta["summary"]["S"] == result.S
+    assert meta["frames"] == result.steps + 1 and meta["layout"]["name"] == "paper"
+
+
+def test_chunks_plain_and_deflated(replay_viewer, paper_run):
+    with Replay(paper_run[0]) as rp:
+        expect = rp.chunk_bytes(0)
+        base = rp.base_cells(rp.chunk_count - 1).tolist()
+        last = rp.chunk_count - 1
+    code, headers, body = request(replay_viewer, "GET", "/api/chunk/0", headers={"Accept-Encoding": "identity"})
+    assert code == 200 and body == expect and "Content-Encoding" not in headers
+    code, headers, body = request(replay_viewer, "GET", "/api/chunk/0", headers={"Accept-Encoding": "gzip, deflate"})
+    assert code == 200 and headers["Content-Encoding"] == "deflate" and zlib.decompress(body) == expect
+    code, _, body = request(replay_viewer, "GET", f"/api/base/{last}")
+    assert code == 200 and json.loads(body)["cells"] == base
+
+
+def test_serves_the_named_replay(replay_viewer, paper_run):
+    path = paper_run[0]
+    code, _, body = request(replay_viewer, "GET", f"/replay/{path.name}")
+    assert code == 200 and body == path.read_bytes()
+
+
+@pytest.mark.parametrize("path", [
+    "/../", "/..", "/../../etc/passwd", "/static/../server.py", "/static/..%2fserver.py",
+    "/static/%2e%2e/server.py", "/%2e%2e/%2e%2e/etc/passwd", "/static/", "/static", "/etc/passwd",
+    "//etc/passwd", "/static//app.js", "/static/app.js/", "/static/APP.JS", "/static/.hidden",
+    "/server.py", "/viewer/server.py", "/api/chunk/999999", "/api/chunk/-1", "/api/chunk/x",
+    "/api/base/999999", "/replay/other.mbr", "/replay/../group1-3.mbr", "/api/stream", "/api/control",
+    "/index.html/..", "/static/app.js%00.png", "/%5c..%5cserver.py",
+])
+def test_everything_else_is_404(replay_viewer, path):
+    reply = raw(replay_viewer, f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n".encode())
+    assert status_of(reply) == 404, (path, reply[:80])
+
+
+def test_absolute_and_odd_request_targets(replay_viewer):
+    for target in ("http://127.0.0.1/../etc/passwd", "*", "../etc/passwd"):
+        reply = raw(replay_viewer, f"GET {target} HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n".encode())
+        assert status_of(reply) in (400, 404), target
+
+
+def test_foreign_host_header_is_refused(replay_viewer):
+    code, _, _ = request(replay_viewer, "GET", "/api/meta", headers={"Host": "evil.example:80"})
+    assert code == 403
+    code, _, _ = request(replay_viewer, "GET", "/api/meta", headers={"Host": "localhost:9999"})
+    assert code == 200
+
+
+def test_oversized_and_malformed_requests(replay_viewer):
+    long_line = b"GET /" + b"a" * 70000 + b" HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n"
+    assert status_of(raw(replay_viewer, long_line)) == 414
+    many = b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n" + b"".join(b"X-%d: 1\r\n" % i for i in range(150)) + b"\r\n"
+    assert status_of(raw(replay_viewer, many)) == 431
+    assert status_of(raw(replay_viewer, b"HELLO\r\n\r\n")) == 400
+    assert status_of(raw(replay_viewer, b"GET / HTTP/9.9\r\n\r\n")) in (400, 505)
+    code, _, _ = request(replay_viewer, "GET", "/api/robot?id=abc&frame=0")
+    assert code == 400
+    code, _, _ = request(replay_viewer, "GET", "/api/robot?id=7&frame=0")
+    assert code == 400
+    code, _, _ = request(replay_viewer, "GET", "/api/robot?id=0&frame=99999999")
+    assert code == 400
+    code, _, _ = request(replay_viewer, "POST", "/api/control", body=b"{}", headers={"Content-Type": "application/json"})
+    assert code == 404  # no controls for a replay
+    code, _, _ = request(replay_viewer, "DELETE", "/")
+    assert code == 405
+
+
+def test_robot_panel_data(replay_viewer, paper_run):
+    with Replay(paper_run[0]) as rp:
+        f = rp.frames // 2
+        st = rp.state_at(f)
+        fr = rp.frame(f)
+    code, _, body = request(replay_viewer, "GET", f"/api/robot?id=1&frame={f}")
+    info = json.loads(body)
+    assert code == 200
+    assert info["id"] == 1 and info["frame"] == f
+    assert info["state"] == int(fr["state"][1]) and info["S"] == int(st["robot_S"][1])
+    assert info["C"] == int(st["robot_C"][1])
+    assert info["route"][0] == pytest.approx([float(fr["x"][1]), float(fr["y"][1])], abs=0.01)
+
+
+def post(viewer, body: bytes, ctype="application/json", extra=b""):
+    head = (f"POST /api/control HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: {ctype}\r\n"
+            f"Content-Length: {len(body)}\r\nConnection: close\r\n").encode() + extra + b"\r\n"
+    return status_of(raw(viewer, head + body))
+
+
+def test_control_messages_are_checked(live_viewer):
+    assert post(live_viewer, b'{"action": "pause"}') == 200
+    assert post(live_viewer, b'{"action": "speed", "speed": 4}') == 200
+    assert post(live_viewer, b'{"action": "fly"}') == 400
+    assert post(live_viewer, b'{"action": "speed", "speed": 1000}') == 400
+    assert post(live_viewer, b'{"action": "speed", "speed": "fast"}') == 400
+    assert post(live_viewer, b'{"action": "pause", "extra": 1}') == 400
+    assert post(live_viewer, b'[1, 2]') == 400
+    assert post(live_viewer, b'{"action": ') == 400
+    assert post(live_viewer, b'\xff\xfe\x00') == 400
+    assert post(live_viewer, b'{"action": "pause"}', ctype="text/plain") == 415
+    # oversized: refused from the Content-Length alone, before reading a byte of it
+    head = (b"POST /api/control HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+            b"Content-Length: 10000000\r\n\r\n")
+    assert status_of(raw(live_viewer, head)) == 413
+    assert post(live_viewer, b'{"action": "pause", "speed": 1' + b" " * 5000 + b"}") == 413
+    no_length = b"POST /api/control HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n\r\n"
+    assert status_of(raw(live_viewer, no_length)) == 411
+    chunked = (b"POST /api/control HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+               b"Transfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\n\r\n")
+    assert status_of(raw(live_viewer, chunked)) == 411
+    runner = live_viewer.source.runner
+    assert runner.paused is True and runner.speed == 4.0  # the bad ones changed nothing
+
+
+def read_event(sock_file):
+    """One server-sent event's data, as JSON."""
+    data = []
+    while True:
+        line = sock_file.readline()
+        if not line:
+            raise EOFError
+        line = line.rstrip(b"\r\n")
+        if line.startswith(b"data: "):
+            data.append(line[6:])
+        elif line == b"" and data:
+            return json.loads(b"".join(data))
+
+
+def open_stream(viewer):
+    s = socket.create_connection(("127.0.0.1", viewer.port), timeout=30)
+    s.sendall(b"GET /api/stream HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n")
+    f = s.makefile("rb")
+    status = f.readline()
+    assert b" 200 " in status
+    while f.readline() not in (b"\r\n", b""):
+        pass
+    return s, f
+
+
+def test_stream_survives_clients_that_vanish(live_viewer):
+    # several clients connect and drop abruptly (RST), mid-stream
+    for _ in range(5):
+        s, f = open_stream(live_viewer)
+        msg = read_event(f)
+        assert msg["frame"] and "t" in msg
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+        s.close()
+    # a client that sends half a request and leaves
+    with socket.create_connection(("127.0.0.1", live_viewer.port), timeout=30) as s:
+        s.sendall(b"GET /api/me")
+    # the server still serves, and still streams
+    code, _, body = request(live_viewer, "GET", "/api/meta")
+    assert code == 200 and json.loads(body)["mode"] == "live"
+    s, f = open_stream(live_viewer)
+    try:
+        first = read_event(f)
+        later = read_event(f)
+        while later["t"] <= first["t"]:
+            later = read_event(f)
+        assert later["t"] > first["t"]
+    finally:
+        s.close()
+
+
+def test_replay_download_interrupted_does_not_stop_it(replay_viewer, paper_run):
+    with socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30) as s:
+        s.sendall(f"GET /replay/{paper_run[0].name} HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n".encode())
+        s.recv(100)
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+    code, _, _ = request(replay_viewer, "GET", "/api/chunk/0")
+    assert code == 200
+
+
+def test_live_robot_panel(live_viewer):
+    code, _, body = request(live_viewer, "GET", "/api/robot?id=2")
+    info = json.loads(body)
+    assert code == 200 and info["id"] == 2 and info["task_cell"] in (None, 39)
+    assert len(info["route"]) >= 1
+    code, _, _ = request(live_viewer, "GET", "/api/robot?id=3")
+    assert code == 400
