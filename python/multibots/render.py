@@ -240,14 +240,50 @@ def plan_frames(frames: int, start: int = 0, end: Optional[int] = None, every: i
     return list(range(start, end + 1, every))
 
 
+def _loop_running() -> bool:
+    import asyncio
+
+    try:
+        asyncio.get_running_loop()
+        return True
+    except RuntimeError:
+        return False
+
+
 def render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps: int = 30, start: int = 0,
            end: Optional[int] = None, scale: float = 1.0, every: int = 1, progress: bool = True,
            on_frame: Optional[Callable[[int, int], None]] = None) -> Dict[str, Any]:
-    """Export ``replay`` to ``out`` (.mp4 or .gif). Returns {path, frames, width, height, fps}.
+    """Export ``replay`` to ``out`` (.mp4 or .gif). Returns {path, frames, width, height, fps,
+    origin, scale}: ``origin`` and ``scale`` map warehouse px to image pixels.
 
     Raises ReplayError for an unreadable replay, ValueError for bad options and RenderError
-    when the browser or encoder cannot run.
+    when the browser or encoder cannot run. Safe to call where an asyncio loop (or another
+    Playwright session) is running: the browser is then driven from a worker thread.
     """
+    kw = dict(fps=fps, start=start, end=end, scale=scale, every=every, progress=progress, on_frame=on_frame)
+    if not _loop_running():
+        return _render(replay, out, **kw)
+    import threading
+
+    box: Dict[str, Any] = {}
+
+    def work() -> None:
+        try:
+            box["result"] = _render(replay, out, **kw)
+        except BaseException as exc:  # re-raised in the caller's thread
+            box["error"] = exc
+
+    t = threading.Thread(target=work, name="multibots-render")
+    t.start()
+    t.join()
+    if "error" in box:
+        raise box["error"]
+    return box["result"]
+
+
+def _render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps: int = 30, start: int = 0,
+           end: Optional[int] = None, scale: float = 1.0, every: int = 1, progress: bool = True,
+           on_frame: Optional[Callable[[int, int], None]] = None) -> Dict[str, Any]:
     out = Path(out)
     kind = out.suffix.lower()
     if kind not in (".mp4", ".gif"):

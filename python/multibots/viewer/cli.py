@@ -68,14 +68,14 @@ def _make_viewer(factory, host: str, port: Optional[int]):  # type: ignore[no-un
 
 
 def _serve(viewer, what: str, no_browser: bool) -> None:  # type: ignore[no-untyped-def]
-    url = viewer.url
-    print(f"MultiBots viewer: {what}")
-    print(f"  {url}   (Ctrl-C to stop)", flush=True)
-    if viewer.host not in ("127.0.0.1", "::1", "localhost"):
-        print(f"  note: listening on {viewer.host}, not only this machine", file=sys.stderr)
-    if not no_browser:
-        _open_browser(url)
     try:
+        url = viewer.url
+        print(f"MultiBots viewer: {what}")
+        print(f"  {url}   (Ctrl-C to stop)", flush=True)
+        if viewer.host not in ("127.0.0.1", "::1", "localhost"):
+            print(f"  note: listening on {viewer.host}, not only this machine", file=sys.stderr)
+        if not no_browser:
+            _open_browser(url)
         viewer.serve_forever()
     except KeyboardInterrupt:
         pass
@@ -100,9 +100,9 @@ def register(app: typer.Typer) -> None:
         robots: Optional[int] = typer.Option(None, "--robots", help="Live quick run: number of robots."),
         goods: Optional[str] = typer.Option(None, "--goods", help="Live quick run: cells to fetch, in order, e.g. 11,8,39."),
         starts: Optional[str] = typer.Option(None, "--starts", help="Live quick run: start nodes, e.g. A,B,C."),
-        unload: str = typer.Option("M", "--unload", help="Live quick run: the unloading zone."),
-        margin: float = typer.Option(0.0, "--margin", help="Live quick run: collision margin, px."),
-        step_limit: int = typer.Option(100000, "--step-limit", help="Live quick run: step limit."),
+        unload: Optional[str] = typer.Option(None, "--unload", help="Live quick run: the unloading zone (default M).", show_default=False),
+        margin: Optional[float] = typer.Option(None, "--margin", help="Live quick run: collision margin, px (default 0).", show_default=False),
+        step_limit: Optional[int] = typer.Option(None, "--step-limit", help="Live quick run: step limit (default 100000).", show_default=False),
     ) -> None:
         """Watch a run in the browser: a recorded replay, or --live a simulation as it runs."""
         host = _check_host(host)
@@ -111,9 +111,9 @@ def register(app: typer.Typer) -> None:
         from .server import Viewer
 
         if not live:
-            quick = [robots is not None, goods is not None, starts is not None]
-            if any(quick):
-                raise _fail("--robots, --goods and --starts need --live")
+            quick = [robots, goods, starts, unload, margin, step_limit]
+            if any(v is not None for v in quick):
+                raise _fail("--robots, --goods, --starts, --unload, --margin and --step-limit need --live")
             if path is None:
                 raise _fail("give a REPLAY file to play, or --live with a SCENARIO.toml or --robots/--goods")
             from ..replay import Replay, ReplayError
@@ -131,7 +131,7 @@ def register(app: typer.Typer) -> None:
         sim, name = _live_simulation(path, robots, goods, starts, unload, margin, step_limit)
         viewer = _make_viewer(
             lambda **kw: Viewer.for_simulation(sim, name=name, speed=speed, paused=paused, **kw), host, port)
-        _serve(viewer, f"live run of {name}", no_browser)
+        _serve(viewer, name, no_browser)
 
     @app.command("render")
     def render_cmd(
@@ -159,34 +159,37 @@ def register(app: typer.Typer) -> None:
 
 
 def _live_simulation(path, robots, goods, starts, unload, margin, step_limit):  # type: ignore[no-untyped-def]
+    """The Simulation to stream: a scenario file, the quick-run flags of `multibots run`, or a
+    file with flags on top (the same rules as `run`)."""
     import multibots
 
-    errors = (getattr(multibots, "ScenarioError", ValueError), getattr(multibots, "MultibotsError", ValueError),
-              ValueError)
+    errors = (getattr(multibots, "MultibotsError", ValueError), ValueError)
+    if path is not None and not Path(path).is_file():
+        raise _fail(f"{path}: no such scenario file")
+    if robots is not None and robots < 1:
+        raise _fail(f"--robots {robots}: must be at least 1")
+    if step_limit is not None and step_limit < 1:
+        raise _fail(f"--step-limit {step_limit}: must be at least 1")
+    if margin is not None and not margin >= 0:
+        raise _fail(f"--margin {margin}: must be 0 or more")
     try:
+        try:
+            from ..cli import BadInput, quick_scenario
+        except ImportError:  # the main CLI is not there: build the scenario here
+            BadInput, quick_scenario = ValueError, _quick_scenario
+        try:
+            scenario = quick_scenario(None if path is None else Path(path), robots, goods, starts, unload,
+                                      margin, step_limit)
+        except BadInput as exc:
+            raise _fail(str(exc)) from None
         if path is not None:
-            if robots is not None or goods is not None or starts is not None:
-                raise _fail("give either a SCENARIO.toml or --robots/--goods, not both")
-            if not Path(path).is_file():
-                raise _fail(f"{path}: no such scenario file")
-            scenario = multibots.Scenario.from_toml(str(path))
-            name = Path(path).name
+            name = f"live: {Path(path).name}"
         else:
-            if goods is None:
-                raise _fail("--live needs a SCENARIO.toml or --goods (and --robots)")
-            if robots is not None and robots < 1:
-                raise _fail(f"--robots {robots}: must be at least 1")
-            if step_limit < 1:
-                raise _fail(f"--step-limit {step_limit}: must be at least 1")
-            if margin < 0:
-                raise _fail(f"--margin {margin}: must be 0 or more")
-            cells = _parse_cells(goods, "--goods")
-            kw = dict(robots=3 if robots is None else robots, goods=cells, unload=unload, margin=margin,
-                      step_limit=step_limit)
-            if starts is not None:
-                kw["starts"] = _parse_names(starts, "--starts")
-            scenario = multibots.Scenario.paper(**kw)
-            name = f"paper, {kw['robots']} robots"
+            try:
+                d = scenario.to_dict()
+                name = f"live: {d.get('layout', 'paper')}, {d.get('robots')} robots, {len(d.get('tasks') or [])} goods"
+            except Exception:
+                name = "live"
         sim = multibots.Simulation(scenario)
     except typer.Exit:
         raise
@@ -195,3 +198,24 @@ def _live_simulation(path, robots, goods, starts, unload, margin, step_limit):  
     except OSError as exc:
         raise _fail(f"{path}: {exc.strerror}") from None
     return sim, name
+
+
+def _quick_scenario(path, robots, goods, starts, unload, margin, step_limit):  # type: ignore[no-untyped-def]
+    import multibots
+
+    if path is not None:
+        if any(v is not None for v in (robots, goods, starts, unload, margin, step_limit)):
+            raise ValueError("give either a SCENARIO.toml or the quick-run flags, not both")
+        return multibots.Scenario.from_toml(str(path))
+    if goods is None:
+        raise ValueError("--live needs a SCENARIO.toml or the quick-run flags (at least --goods)")
+    kw = dict(robots=3 if robots is None else robots, goods=_parse_cells(goods, "--goods"))
+    if starts is not None:
+        kw["starts"] = _parse_names(starts, "--starts")
+    if unload is not None:
+        kw["unload"] = unload
+    if margin is not None:
+        kw["margin"] = margin
+    if step_limit is not None:
+        kw["step_limit"] = step_limit
+    return multibots.Scenario.paper(**kw)

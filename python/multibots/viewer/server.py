@@ -155,6 +155,15 @@ class ViewerHandler(BaseHTTPRequestHandler):
     sys_version = ""
     protocol_version = "HTTP/1.1"
     timeout = 60  # a silent client does not hold a thread forever
+    default_request_version = "HTTP/1.0"  # errors always carry a status line
+
+    def parse_request(self) -> bool:
+        if not super().parse_request():
+            return False
+        if len(self.requestline.split()) != 3:  # no HTTP/0.9
+            self.send_error(400, "Bad request syntax")
+            return False
+        return True
 
     # ------------------------------------------------------------------ plumbing
     def log_message(self, format: str, *args: Any) -> None:
