@@ -48,10 +48,11 @@ pub struct Collisions {
     size: f64,
     cols: usize,
     rows: usize,
-    // Counting sort of robots into grid cells.
+    // Robots by grid cell, as singly linked lists: `head[cell]`, then `link[robot]`. Built
+    // and cleared in O(N), so a step never sweeps the whole grid.
     cell_of: Vec<u32>,
-    start: Vec<u32>,
-    sorted: Vec<u32>,
+    head: Vec<u32>,
+    link: Vec<u32>,
     // "Blocked by" graph in compressed rows.
     edge_start: Vec<u32>,
     edge_to: Vec<u32>,
@@ -81,8 +82,8 @@ impl Collisions {
             cols,
             rows,
             cell_of: vec![0; robots],
-            start: vec![0; cols * rows + 1],
-            sorted: vec![0; robots],
+            head: vec![u32::MAX; cols * rows],
+            link: vec![u32::MAX; robots],
             edge_start: vec![0; robots + 1],
             edge_to: Vec::with_capacity(robots),
             waits: vec![false; robots],
@@ -111,27 +112,14 @@ impl Collisions {
         if !wants.iter().any(|&w| w) {
             return;
         }
-        // Counting sort of all robots (every robot can block) into the grid.
-        self.start.fill(0);
+        // Every robot can block, so every robot goes into the grid.
         for i in 0..n {
             let (cx, cy) = self.grid_cell(x[i], y[i]);
-            let c = (cy * self.cols + cx) as u32;
-            self.cell_of[i] = c;
-            self.start[c as usize + 1] += 1;
+            let c = cy * self.cols + cx;
+            self.cell_of[i] = c as u32;
+            self.link[i] = self.head[c];
+            self.head[c] = i as u32;
         }
-        for c in 1..self.start.len() {
-            self.start[c] += self.start[c - 1];
-        }
-        // `start[c]` now holds the first slot of cell c; fill, then shift back.
-        for i in 0..n {
-            let c = self.cell_of[i] as usize;
-            self.sorted[self.start[c] as usize] = i as u32;
-            self.start[c] += 1;
-        }
-        for c in (1..self.start.len()).rev() {
-            self.start[c] = self.start[c - 1];
-        }
-        self.start[0] = 0;
 
         // Build the "blocked by" edges, in ascending j for each i.
         self.edge_to.clear();
@@ -146,12 +134,13 @@ impl Collisions {
             let (cx, cy) = (c % self.cols, c / self.cols);
             for gy in cy.saturating_sub(1)..=(cy + 1).min(self.rows - 1) {
                 for gx in cx.saturating_sub(1)..=(cx + 1).min(self.cols - 1) {
-                    let g = gy * self.cols + gx;
-                    for k in self.start[g]..self.start[g + 1] {
-                        let j = self.sorted[k as usize] as usize;
-                        if j != i && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, angle) {
-                            self.edge_to.push(j as u32);
+                    let mut j = self.head[gy * self.cols + gx];
+                    while j != u32::MAX {
+                        let ju = j as usize;
+                        if ju != i && blocks(x[i], y[i], alpha[i], x[ju], y[ju], radius[i] + radius[ju] + margin, angle) {
+                            self.edge_to.push(j);
                         }
+                        j = self.link[ju];
                     }
                 }
             }
@@ -161,6 +150,9 @@ impl Collisions {
             }
         }
         self.edge_start[n] = self.edge_to.len() as u32;
+        for i in 0..n {
+            self.head[self.cell_of[i] as usize] = u32::MAX;
+        }
         if !any_edge {
             return;
         }

@@ -1,0 +1,3 @@
+from multibots.cli import main
+
+main()

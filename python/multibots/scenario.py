@@ -1,0 +1,142 @@
+"""Scenarios: what to run. The schema lives in the engine; this class only carries it.
+
+Every field, its default and its checks are defined once, in the engine's scenario module
+(see ``docs/scenario-format.md``). Python builds a scenario from TOML, from a dictionary or
+with :meth:`Scenario.paper`, and the engine validates it on the way in.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+from multibots import _core
+from multibots.exceptions import ScenarioError
+from multibots.paper import PAPER_TASKS
+
+__all__ = ["Scenario"]
+
+
+def _merge(base: dict[str, Any], changes: Mapping[str, Any]) -> dict[str, Any]:
+    out = copy.deepcopy(base)
+    for key, value in changes.items():
+        if isinstance(value, Mapping) and isinstance(out.get(key), dict):
+            out[key] = _merge(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+class Scenario:
+    """A validated scenario: layout, fleet, task list and model parameters.
+
+    Example:
+        >>> s = Scenario.paper(robots=2, goods=[11, 8, 39], margin=8)
+        >>> s.to_dict()["collision"]["margin"]
+        8.0
+    """
+
+    __slots__ = ("_core",)
+
+    def __init__(self, core: _core.Scenario) -> None:
+        core.validate()
+        self._core = core
+
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike[str]) -> Scenario:
+        """Reads and validates a scenario file.
+
+        Raises:
+            ScenarioError: the file is missing, unreadable, not TOML, or a field is invalid.
+        """
+        p = Path(path)
+        try:
+            text = p.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise ScenarioError(f"{p}: no such file") from None
+        except IsADirectoryError:
+            raise ScenarioError(f"{p}: is a directory, not a scenario file") from None
+        except UnicodeDecodeError:
+            raise ScenarioError(f"{p}: not UTF-8 text") from None
+        except OSError as e:
+            raise ScenarioError(f"{p}: cannot read ({e.strerror})") from None
+        return cls.from_toml_str(text, source=str(p))
+
+    @classmethod
+    def from_toml_str(cls, text: str, source: str = "<scenario>") -> Scenario:
+        """Parses and validates TOML text; ``source`` names it in error messages."""
+        return cls(_core.Scenario.from_toml(text, source))
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Scenario:
+        """Builds a scenario from a dictionary shaped like the TOML file."""
+        try:
+            text = json.dumps(data, allow_nan=False)
+        except (TypeError, ValueError) as e:
+            raise ScenarioError(f"scenario: {e}") from None
+        return cls(_core.Scenario.from_json(text))
+
+    @classmethod
+    def paper(
+        cls,
+        robots: int = 3,
+        goods: Iterable[int] = PAPER_TASKS[1],
+        starts: Iterable[str] | None = None,
+        unload: str = "M",
+        margin: float = 0.0,
+        step_limit: int = 100_000,
+        **fields: Any,
+    ) -> Scenario:
+        """A scenario on the paper's layout.
+
+        Args:
+            robots: number of robots N.
+            goods: cell ids to fetch, in order.
+            starts: start node of each robot, such as ``["A", "C"]``; default A, B, C, ….
+            unload: the unloading zone.
+            margin: added to the collision contact distance, px.
+            step_limit: steps after which the run ends incomplete.
+            **fields: any other scenario field, such as ``robot={"threshold": 2.0}``.
+        """
+        data: dict[str, Any] = {
+            "layout": "paper",
+            "robots": robots,
+            "unload": unload,
+            "tasks": list(goods),
+            "step_limit": step_limit,
+            "collision": {"margin": margin},
+        }
+        if starts is not None:
+            data["starts"] = list(starts)
+        return cls.from_dict(_merge(data, fields))
+
+    def replace(self, **changes: Any) -> Scenario:
+        """A copy with some fields changed; nested tables are merged."""
+        return Scenario.from_dict(_merge(self.to_dict(), changes))
+
+    def to_toml(self) -> str:
+        """The scenario as TOML text, which :meth:`from_toml_str` reads back."""
+        return self._core.to_toml()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scenario as a dictionary, defaults filled in."""
+        return json.loads(self._core.to_json())
+
+    @property
+    def cells(self) -> list[int]:
+        """The task list as cell ids (a random list drawn from its seed)."""
+        return self._core.cells()
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Scenario) and self._core == other._core
+
+    def __hash__(self) -> int:
+        return hash(self._core.to_json())
+
+    def __repr__(self) -> str:
+        d = self.to_dict()
+        return f"Scenario(layout={d['layout']!r}, robots={d['robots']}, tasks={d['tasks']!r})"

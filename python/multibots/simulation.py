@@ -1,0 +1,211 @@
+"""Running scenarios: all at once with :func:`simulate`, or step by step with :class:`Simulation`."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Sequence
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from multibots import _core
+from multibots.result import Result
+from multibots.scenario import Scenario
+
+__all__ = ["Simulation", "simulate", "simulate_many", "layout_json"]
+
+
+def _scenario(s: Scenario | str | os.PathLike[str]) -> Scenario:
+    return s if isinstance(s, Scenario) else Scenario.from_toml(s)
+
+
+def simulate(scenario: Scenario | str | os.PathLike[str], record: str | os.PathLike[str] | None = None) -> Result:
+    """Runs a scenario to its end.
+
+    Args:
+        scenario: a :class:`Scenario`, or the path of a scenario file.
+        record: if given, the path of a replay file to write (see ``docs/replay-format.md``).
+
+    Example:
+        >>> simulate(Scenario.paper(robots=1, goods=[42])).T
+        726
+    """
+    s = _scenario(scenario)
+    return Result(_core.simulate(s._core, None if record is None else os.fspath(record)))
+
+
+def simulate_many(scenarios: Sequence[Scenario], workers: int = 0) -> list[Result]:
+    """Runs scenarios in parallel on ``workers`` threads (0: one per core), in order."""
+    return [Result(r) for r in _core.simulate_many([s._core for s in scenarios], workers)]
+
+
+def layout_json(name: str = "paper") -> dict[str, Any]:
+    """The layout JSON (``docs/replay-format.md``) of a named layout."""
+    return json.loads(_core.layout_json(name))
+
+
+class Simulation:
+    """A run to step through and inspect; enough to drive a viewer or a learning environment.
+
+    Every array is a fresh, read-only copy of the engine's state at the current step.
+
+    Example:
+        >>> sim = Simulation(Scenario.paper(robots=2, goods=[11, 8]))
+        >>> sim.step(10)
+        10
+        >>> sim.positions.shape
+        (2, 2)
+    """
+
+    def __init__(self, scenario: Scenario | str | os.PathLike[str]) -> None:
+        self.scenario = _scenario(scenario)
+        self._sim = _core.Simulation(self.scenario._core)
+
+    def step(self, n: int = 1) -> int:
+        """Runs ``n`` steps, fewer if the run ends first; returns how many ran."""
+        if n < 0:
+            raise ValueError(f"n = {n}: must be 0 or more")
+        return self._sim.step(n)
+
+    def run(self) -> Result:
+        """Runs to the end and returns the result."""
+        return Result(self._sim.run())
+
+    def result(self) -> Result:
+        """The result so far (outcome "running" until the run ends)."""
+        return Result(self._sim.result())
+
+    @staticmethod
+    def _frozen(a: np.ndarray) -> np.ndarray:
+        a.setflags(write=False)
+        return a
+
+    @property
+    def t(self) -> int:
+        """Steps run so far."""
+        return self._sim.t
+
+    @property
+    def done(self) -> bool:
+        """Whether the run has ended."""
+        return self._sim.done
+
+    @property
+    def outcome(self) -> str | None:
+        """"complete" or "incomplete" once done, else None."""
+        return self._sim.outcome
+
+    @property
+    def T(self) -> int | None:  # noqa: N802 - the paper's name
+        """Task time, once the run has completed."""
+        return self._sim.t if self._sim.outcome == "complete" else None
+
+    @property
+    def S(self) -> int:  # noqa: N802
+        """Collisions so far."""
+        return self._sim.S
+
+    @property
+    def C(self) -> int:  # noqa: N802
+        """Charging count so far."""
+        return self._sim.C
+
+    @property
+    def delivered(self) -> int:
+        return self._sim.delivered
+
+    @property
+    def goods_total(self) -> int:
+        return self._sim.goods_total
+
+    @property
+    def robot_count(self) -> int:
+        return self._sim.robot_count
+
+    @property
+    def energy_full(self) -> float:
+        return self._sim.energy_full
+
+    @property
+    def threshold(self) -> float:
+        return self._sim.threshold
+
+    @property
+    def positions(self) -> np.ndarray:
+        """(N, 2) robot centres, px, screen coordinates (y down)."""
+        return self._frozen(self._sim.positions)
+
+    @property
+    def headings(self) -> np.ndarray:
+        """(N,) heading angles, radians, ``atan2(dy, dx)`` in screen coordinates."""
+        return self._frozen(self._sim.headings)
+
+    @property
+    def states(self) -> np.ndarray:
+        """(N,) state codes; names in :data:`multibots.STATE_NAMES`."""
+        return self._frozen(self._sim.states)
+
+    @property
+    def marked(self) -> np.ndarray:
+        """(N,) whether each robot is marked to charge after unloading."""
+        return self._frozen(self._sim.marked)
+
+    @property
+    def energy(self) -> np.ndarray:
+        return self._frozen(self._sim.energy)
+
+    @property
+    def radius(self) -> np.ndarray:
+        return self._frozen(self._sim.radius)
+
+    @property
+    def home(self) -> np.ndarray:
+        """(N,) node id of each robot's home charger."""
+        return self._frozen(self._sim.home)
+
+    @property
+    def carrying(self) -> np.ndarray:
+        """(N,) cell each robot carries, or -1."""
+        return self._frozen(self._sim.carrying)
+
+    @property
+    def task_cells(self) -> np.ndarray:
+        """(N,) cell each robot fetches or carries, or -1."""
+        return self._frozen(self._sim.task_cells)
+
+    @property
+    def cells(self) -> np.ndarray:
+        """(cells,) 1 where a storage cell holds goods."""
+        return self._frozen(self._sim.cells)
+
+    @property
+    def robot_S(self) -> np.ndarray:  # noqa: N802
+        return self._frozen(self._sim.robot_s)
+
+    @property
+    def robot_C(self) -> np.ndarray:  # noqa: N802
+        return self._frozen(self._sim.robot_c)
+
+    @property
+    def queue(self) -> list[int]:
+        """Cells of the goods not yet taken, front first."""
+        return self._sim.queue
+
+    @property
+    def events(self) -> np.ndarray:
+        """(E, 4) events of the last step: step, kind, robot, cell (-1 where none)."""
+        return self._frozen(self._sim.events)
+
+    @cached_property
+    def layout(self) -> dict[str, Any]:
+        """The layout JSON (``docs/replay-format.md``)."""
+        return json.loads(self._sim.layout_json)
+
+    def route(self, robot: int) -> np.ndarray:
+        """(K, 2) waypoints of a robot's remaining route, starting at its position."""
+        return self._frozen(self._sim.route(robot))
+
+    def __repr__(self) -> str:
+        return f"Simulation(t={self.t}, robots={self.robot_count}, S={self.S}, C={self.C}, delivered={self.delivered}/{self.goods_total})"
