@@ -2,10 +2,10 @@
 
     .venv/bin/python benchmarks/viewer_fps.py [--robots 1000] [--steps 10000] [--seconds 5]
 
-1. Writes a replay of ROBOTS robots x STEPS steps (kept in out/bench/, reused if present).
-   It comes from the engine when the engine can field that many robots (a generated layout
-   with enough departure zones); otherwise it is synthetic (robots circling the storage
-   blocks of a generated grid layout), which the reader and the page treat the same way.
+1. Writes a replay of ROBOTS robots x STEPS steps (kept in out/bench/, reused if present):
+   with ``--layout NAME`` the engine records it (the layout must field that many robots);
+   by default it is synthetic (robots circling the storage blocks of a generated 8 x 30
+   grid layout, written in the documented format), which the reader and page treat alike.
 2. Open time: from starting the server (``Replay(path)`` opens the file) to the page having
    drawn its first frame in headless Chromium.
 3. Frame rate: the page plays the replay at 1x and 8x for SECONDS each; frames drawn per
@@ -88,7 +88,7 @@ def grid_layout(rows: int, cols: int, gw: int = 2, gh: int = 4, aisle: float = 5
             "chargers": chargers}
 
 
-def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 64) -> None:
+def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 1024) -> None:
     """Robots circling storage blocks (on the aisle centre lines) with changing states."""
     rows, cols = 8, 30
     layout = grid_layout(rows, cols)
@@ -138,24 +138,13 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 64)
     os.replace(tmp, path)
 
 
-def engine_replay(path: Path, robots: int, steps: int) -> bool:
-    """Record the replay with the engine, if it can field this many robots."""
-    try:
-        import multibots  # noqa: F401
-        from multibots import Scenario, simulate
-    except Exception:
-        return False
-    try:
-        cols = robots - 1 if robots > 1 else 1
-        text = (f'layout = "grid:2x{cols}"\nrobots = {robots}\nstep_limit = {steps}\n'
-                f"tasks = {{ random = {min(robots * 2, 2 * cols * 8 * 2 // 2)}, seed = 1 }}\n")
-        tmp = path.with_suffix(".toml")
-        tmp.write_text(text)
-        simulate(Scenario.from_toml(str(tmp)), record=str(path))
-        return True
-    except Exception as exc:
-        print(f"  (engine cannot record {robots} robots here: {str(exc).splitlines()[0][:120]}; using a synthetic replay)")
-        return False
+def engine_replay(path: Path, robots: int, steps: int, layout: str, goods: int) -> None:
+    """Record the replay with the engine on a layout that fields this many robots."""
+    import multibots
+
+    scenario = multibots.Scenario.from_dict({"layout": layout, "robots": robots, "step_limit": steps,
+                                             "tasks": {"random": goods, "seed": 1}})
+    multibots.simulate(scenario, record=str(path))
 
 
 def main() -> None:
@@ -164,19 +153,23 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=10000)
     ap.add_argument("--seconds", type=float, default=5.0)
     ap.add_argument("--out", default=str(ROOT / "out" / "bench"))
-    ap.add_argument("--synthetic", action="store_true", help="skip the engine; write a synthetic replay")
+    ap.add_argument("--layout", default=None,
+                    help="record with the engine on this layout (it must field ROBOTS robots); "
+                         "default: a synthetic replay")
+    ap.add_argument("--goods", type=int, default=2000, help="with --layout: goods in the task list")
     args = ap.parse_args()
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    path = out / f"viewer-{args.robots}x{args.steps}.mbr"
+    tag = args.layout or "synthetic"
+    path = out / f"viewer-{tag}-{args.robots}x{args.steps}.mbr"
     if not path.exists():
         t0 = time.perf_counter()
-        source = "engine" if (not args.synthetic and engine_replay(path, args.robots, args.steps)) else None
-        if source is None:
+        if args.layout:
+            engine_replay(path, args.robots, args.steps, args.layout, args.goods)
+        else:
             synthetic_replay(path, args.robots, args.steps)
-            source = "synthetic"
-        print(f"wrote {path} ({source}) in {time.perf_counter() - t0:.1f} s")
+        print(f"wrote {path} ({tag}) in {time.perf_counter() - t0:.1f} s")
     size = path.stat().st_size
     t0 = time.perf_counter()
     rp = Replay(path)
@@ -207,7 +200,22 @@ def main() -> None:
             page.evaluate(f"() => window.mbViewer.seek({rp.frames - 1})")
             print(f"seek to the last frame: {(time.perf_counter() - t0) * 1000:.0f} ms")
             page.evaluate("() => window.mbViewer.seek(0)")
-            for speed in (1, 8):
+            runs = [(1, "whole warehouse in view", None), (8, "whole warehouse in view", None),
+                    (1, "zoomed: robots 5 px in radius, drawn in full", 0.4),
+                    (1, "zoomed to the paper's scale (1 px per px)", 1.0)]
+            for speed, view, target in runs:
+                if target:
+                    scale = page.evaluate("() => window.mbViewer.worldToClient(0, 0).scale")
+                    box = page.locator("#view").bounding_box()
+                    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+                    page.mouse.wheel(0, -math.log(target / scale) / 0.0015)
+                    page.wait_for_function(f"() => window.mbViewer.worldToClient(0, 0).scale > {target * 0.95}")
+                    visible = page.evaluate("""() => { const v = window.mbViewer; const n = v.meta().robots;
+                        const b = document.getElementById('view').getBoundingClientRect(); let k = 0;
+                        for (let i = 0; i < n; i++) { const r = v.robot(i); const p = v.worldToClient(r.x, r.y);
+                          if (p.x >= b.left && p.x <= b.right && p.y >= b.top && p.y <= b.bottom) k++; }
+                        return k; }""")
+                    view += f", {visible} robots in view"
                 page.evaluate(f"() => {{ window.mbViewer.setSpeed({speed}); window.mbViewer.play(); }}")
                 page.wait_for_timeout(1000)  # warm up
                 d0 = page.evaluate("() => window.mbViewer.stats().drawn")
@@ -216,8 +224,8 @@ def main() -> None:
                 st = page.evaluate("() => window.mbViewer.stats()")
                 dt = time.perf_counter() - t0
                 fps = (st["drawn"] - d0) / dt
-                print(f"{rp.robots} robots, {speed}x: {fps:.1f} frames per second drawn, "
-                      f"{st['drawMs']:.2f} ms to draw a frame (1280x800 viewport, headless Chromium, no GPU)")
+                print(f"{rp.robots} robots, {speed}x, {view}: {fps:.1f} frames per second drawn, "
+                      f"{st['drawMs']:.2f} ms of script per frame (1280x800 viewport, headless Chromium, no GPU)")
                 page.evaluate("() => window.mbViewer.pause()")
         finally:
             viewer.close()

@@ -95,7 +95,8 @@ class Replay:
     delivered), ``chunk_count``, ``chunk_steps``, ``path``.
     """
 
-    def __init__(self, path: "os.PathLike[str] | str", cache_chunks: int = 6) -> None:
+    def __init__(self, path: "os.PathLike[str] | str", cache_chunks: int = 8,
+                 cache_bytes: int = 96 * 1024 * 1024) -> None:
         self.path = os.fspath(path)
         self._name = self.path
         try:
@@ -116,6 +117,7 @@ class Replay:
         self._index_lock = threading.Lock()
         self._cache: "OrderedDict[int, Dict[str, Any]]" = OrderedDict()
         self._cache_size = max(1, int(cache_chunks))
+        self._cache_bytes = int(cache_bytes)
         # _snapshots[i]: state before chunk i's first frame's events (see _snapshot).
         self._snapshots: List[Dict[str, np.ndarray]] = []
 
@@ -288,15 +290,8 @@ class Replay:
             raise self._fail(f"chunk {i} holds {len(raw)} bytes; expected {total}")
         return raw
 
-    def chunk(self, i: int) -> Dict[str, Any]:
-        """Decoded arrays of chunk ``i`` (cached; treat them as read-only).
-
-        Keys: ``first_frame``, ``frames`` (K'), ``counters`` (K', 3) uint32 S, C, delivered;
-        ``x``, ``y`` (K', N) float32; ``events`` (E, 4) uint32 frame, kind, robot, cell;
-        ``energy`` (K', N) float64 in energy units; ``energy_u16`` (K', N) raw;
-        ``heading`` (K', N) float64 radians in (-pi, pi]; ``heading_u8`` raw;
-        ``state`` (K', N) uint8 state codes; ``marked`` (K', N) bool.
-        """
+    def _views(self, i: int) -> Dict[str, Any]:
+        """Chunk ``i`` as read-only views on its decompressed bytes (cached by size)."""
         i = self._check_chunk(i)
         with self._lock:
             hit = self._cache.get(i)
@@ -304,57 +299,73 @@ class Replay:
                 self._cache.move_to_end(i)
                 return hit
         raw = self.chunk_bytes(i)
-        decoded = self._decode(raw)
-        with self._lock:
-            self._cache[i] = decoded
-            self._cache.move_to_end(i)
-            while len(self._cache) > self._cache_size:
-                self._cache.popitem(last=False)
-        return decoded
-
-    def _decode(self, raw: bytes) -> Dict[str, Any]:
         first, k, n, e = struct.unpack_from("<4I", raw, 0)
         lay, _ = chunk_layout(k, n, e)
 
         def sec(name: str, dtype: str, shape: Tuple[int, ...]) -> np.ndarray:
-            off, ln = lay[name]
+            off, _ln = lay[name]
             return np.frombuffer(raw, dtype=dtype, count=int(np.prod(shape)), offset=off).reshape(shape)
 
-        energy_u16 = sec("energy", "<u2", (k, n))
-        heading_u8 = sec("heading", "u1", (k, n))
-        state_raw = sec("state", "u1", (k, n))
-        heading = heading_u8.astype(np.float64) * (2.0 * math.pi / 256.0)
-        heading[heading > math.pi] -= 2.0 * math.pi
-        return {
+        views = {
             "first_frame": first,
             "frames": k,
             "counters": sec("counters", "<u4", (k, 3)),
             "x": sec("x", "<f4", (k, n)),
             "y": sec("y", "<f4", (k, n)),
             "events": sec("events", "<u4", (e, 4)),
-            "energy_u16": energy_u16,
-            "energy": energy_u16.astype(np.float64) * (self.energy_full / 65535.0),
-            "heading_u8": heading_u8,
-            "heading": heading,
-            "state": state_raw & 0x7F,
-            "marked": (state_raw & 0x80) != 0,
+            "energy_u16": sec("energy", "<u2", (k, n)),
+            "heading_u8": sec("heading", "u1", (k, n)),
+            "state_raw": sec("state", "u1", (k, n)),
+            "nbytes": len(raw),
         }
+        with self._lock:
+            self._cache[i] = views
+            self._cache.move_to_end(i)
+            total = sum(v["nbytes"] for v in self._cache.values())
+            while len(self._cache) > 1 and (len(self._cache) > self._cache_size or total > self._cache_bytes):
+                _, old = self._cache.popitem(last=False)
+                total -= old["nbytes"]
+        return views
+
+    @staticmethod
+    def _heading(u8: np.ndarray) -> np.ndarray:
+        h = u8.astype(np.float64) * (2.0 * math.pi / 256.0)
+        h[h > math.pi] -= 2.0 * math.pi
+        return h
+
+    def chunk(self, i: int) -> Dict[str, Any]:
+        """Decoded arrays of chunk ``i`` (treat them as read-only).
+
+        Keys: ``first_frame``, ``frames`` (K'), ``counters`` (K', 3) uint32 S, C, delivered;
+        ``x``, ``y`` (K', N) float32; ``events`` (E, 4) uint32 frame, kind, robot, cell;
+        ``energy`` (K', N) float64 in energy units; ``energy_u16`` (K', N) raw;
+        ``heading`` (K', N) float64 radians in (-pi, pi]; ``heading_u8`` raw;
+        ``state`` (K', N) uint8 state codes; ``marked`` (K', N) bool.
+        """
+        v = self._views(i)
+        out = {k: v[k] for k in ("first_frame", "frames", "counters", "x", "y", "events", "energy_u16", "heading_u8")}
+        out["energy"] = v["energy_u16"].astype(np.float64) * (self.energy_full / 65535.0)
+        out["heading"] = self._heading(v["heading_u8"])
+        out["state"] = v["state_raw"] & 0x7F
+        out["marked"] = (v["state_raw"] & 0x80) != 0
+        return out
 
     # ------------------------------------------------------------------ frames
     def frame(self, f: int) -> Dict[str, Any]:
         """The state after step ``f``: arrays of one value per robot, and the counters."""
         f = self._check_frame(f)
-        ch = self.chunk(self.chunk_of(f))
+        ch = self._views(self.chunk_of(f))
         k = f - ch["first_frame"]
         s, c, d = (int(v) for v in ch["counters"][k])
+        st = ch["state_raw"][k]
         return {
             "frame": f,
             "x": ch["x"][k],
             "y": ch["y"][k],
-            "heading": ch["heading"][k],
-            "state": ch["state"][k],
-            "marked": ch["marked"][k],
-            "energy": ch["energy"][k],
+            "heading": self._heading(ch["heading_u8"][k]),
+            "state": st & 0x7F,
+            "marked": (st & 0x80) != 0,
+            "energy": ch["energy_u16"][k].astype(np.float64) * (self.energy_full / 65535.0),
             "S": s,
             "C": c,
             "delivered": d,
@@ -370,7 +381,7 @@ class Replay:
             return np.zeros((0, 4), dtype=np.uint32)
         parts = []
         for i in range(self.chunk_of(f0), self.chunk_of(f1 - 1) + 1):
-            ev = self.chunk(i)["events"]
+            ev = self._views(i)["events"]
             if len(ev):
                 sel = (ev[:, 0] >= f0) & (ev[:, 0] < f1)
                 parts.append(ev[sel])
@@ -464,7 +475,7 @@ class Replay:
         f = self._check_frame(f)
         i = self.chunk_of(f)
         snap = {k: v.copy() for k, v in self._snapshot(i).items()}
-        ev = self.chunk(i)["events"]
+        ev = self._views(i)["events"]
         if len(ev):
             self._apply(snap, ev[ev[:, 0] <= f])
         return snap
@@ -492,11 +503,11 @@ class Replay:
         started = False
         g = f
         while g < end:
-            ch = self.chunk(self.chunk_of(g))
+            ch = self._views(self.chunk_of(g))
             first = ch["first_frame"]
             k0 = g - first
             k1 = min(ch["frames"], end - first)
-            mv = np.isin(ch["state"][k0:k1, robot], MOVING_STATES)
+            mv = np.isin(ch["state_raw"][k0:k1, robot] & 0x7F, MOVING_STATES)
             if not started:
                 idx = np.flatnonzero(mv)
                 if not len(idx):

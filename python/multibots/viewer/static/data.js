@@ -26,7 +26,7 @@ export function decodeChunk(buf) {
   const energy = take(Uint16Array, k * n);
   const heading = take(Uint8Array, k * n);
   const state = take(Uint8Array, k * n);
-  return { first, count: k, n, nEvents: e, counters, x, y, events, energy, heading, state };
+  return { first, count: k, n, nEvents: e, counters, x, y, events, energy, heading, state, bytes: buf.byteLength };
 }
 
 /** The frame at index k of a decoded chunk: subarray views. */
@@ -42,14 +42,14 @@ export function frameOf(ch, k) {
 }
 
 export class ReplaySource {
-  constructor(meta, cacheSize = 24) {
+  constructor(meta, cacheBytes = 160 * 1024 * 1024) {
     this.meta = meta;
     this.frames = meta.frames;
     this.chunks = meta.chunks;  // [[first_frame, frames], ...]
     this.firsts = meta.chunks.map((c) => c[0]);
     this.cache = new Map();      // index -> decoded chunk (insertion order = LRU)
     this.pending = new Map();    // index -> promise
-    this.cacheSize = cacheSize;
+    this.cacheBytes = cacheBytes;  // decoded chunks kept, by size (at least the last three)
     this.cellsKey = null; this.cellsVal = null;
     this.failed = null;
   }
@@ -80,7 +80,13 @@ export class ReplaySource {
       const ch = decodeChunk(buf);
       ch.baseCells = Uint8Array.from(base.cells);
       this.cache.set(i, ch);
-      while (this.cache.size > this.cacheSize) this.cache.delete(this.cache.keys().next().value);
+      let total = 0;
+      for (const c of this.cache.values()) total += c.bytes;
+      while (this.cache.size > 3 && total > this.cacheBytes) {
+        const oldest = this.cache.keys().next().value;
+        total -= this.cache.get(oldest).bytes;
+        this.cache.delete(oldest);
+      }
       this.pending.delete(i);
       return ch;
     }).catch((err) => { this.pending.delete(i); this.failed = String(err); throw err; });

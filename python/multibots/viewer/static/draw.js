@@ -469,13 +469,22 @@ export class Renderer {
     }
     this.lastXs = xs; this.lastYs = ys;
     const small = this.maxRadius * s < 4;  // a few pixels: a plain dot says enough
+    // only the robots in view (zoomed in on a large fleet, most are not)
+    const m = this.maxRadius * 3;
+    const [vx0, vy0] = this.toWorld(0, this.areaTop), [vx1, vy1] = this.toWorld(this.cssW, this.areaTop + this.areaH);
+    const vis = this._vis && this._vis.length === n ? this._vis : (this._vis = new Int32Array(n));
+    let nv = 0;
+    for (let i = 0; i < n; i++) {
+      if (xs[i] >= vx0 - m && xs[i] <= vx1 + m && ys[i] >= vy0 - m && ys[i] <= vy1 + m) vis[nv++] = i;
+    }
     // bodies, one path per colour
     ctx.lineWidth = Math.min(1.2 * px, this.maxRadius * 0.12);
     ctx.strokeStyle = COLOURS.wall;
     for (let g = 0; g < GROUP_COLOURS.length; g++) {
       let any = false;
       ctx.beginPath();
-      for (let i = 0; i < n; i++) {
+      for (let j = 0; j < nv; j++) {
+        const i = vis[j];
         if (STATE_GROUP[ST[i] & 0x7f] !== g) continue;
         const r = this.radius[i];
         ctx.moveTo(xs[i] + r, ys[i]);
@@ -497,7 +506,8 @@ export class Renderer {
     if (small) return;
     // heading lines
     ctx.beginPath();
-    for (let i = 0; i < n; i++) {
+    for (let j = 0; j < nv; j++) {
+      const i = vis[j];
       const a = H[i] * (TAU / 256), r = this.radius[i];
       ctx.moveTo(xs[i], ys[i]);
       ctx.lineTo(xs[i] + Math.cos(a) * r, ys[i] + Math.sin(a) * r);
@@ -511,9 +521,10 @@ export class Renderer {
     if (this.maxRadius * s < 4) return;
     const back = new Path2D(), levels = [new Path2D(), new Path2D(), new Path2D()];
     const blinkOn = info.blinkOn !== false;
-    for (let i = 0; i < n; i++) {
+    for (let j = 0; j < nv; j++) {
+      const i = vis[j];
       const r = this.radius[i];
-      const w = 2 * r, h = Math.max(r * 0.26, 2.5 * px);
+      const w = 2 * r, h = Math.max(r * 0.3, 2.5 * px);
       const bx = xs[i] - r, by = ys[i] - r - r * 0.22 - h;
       back.rect(bx - 0.5 * px, by - 0.5 * px, w + px, h + px);
       if ((ST[i] & 0x80) && !blinkOn) continue;
