@@ -33,6 +33,12 @@ pub struct Scenario {
     /// Task-allocation strategy. Default: `"in-turn"`.
     #[serde(default = "defaults::allocator")]
     pub allocator: String,
+    /// When robots go to charge.
+    #[serde(default)]
+    pub charging: Charging,
+    /// Weights of the paper's Cost_total = w_d·distance + w_t·time + w_c·collisions.
+    #[serde(default)]
+    pub cost: CostWeights,
     /// Robot parameters.
     #[serde(default)]
     pub robot: RobotParams,
@@ -80,6 +86,50 @@ pub struct CollisionParams {
     pub margin: f64,
     /// Collision angle, degrees. Default: 30.
     pub angle: f64,
+}
+
+/// Charging policies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChargingPolicy {
+    /// The paper's rule: charge only when below the threshold.
+    Threshold,
+    /// Also: an idle robot below `charging.level` goes to charge.
+    Opportunistic,
+}
+
+/// When robots go to charge. The threshold rule always applies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Charging {
+    /// `"threshold"` (the paper's rule) or `"opportunistic"`. Default: `"threshold"`.
+    pub policy: ChargingPolicy,
+    /// With `"opportunistic"`: an idle robot below this energy goes to charge. Default: 7.
+    pub level: f64,
+}
+
+impl Default for Charging {
+    fn default() -> Self {
+        Charging { policy: ChargingPolicy::Threshold, level: 7.0 }
+    }
+}
+
+/// Weights of Cost_total = w_d·distance (px) + w_t·T (steps) + w_c·S (collisions).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CostWeights {
+    /// w_d, per px travelled by the fleet. Default: 0.25 (one step of travel at 4 px/step).
+    pub distance: f64,
+    /// w_t, per step of task time. Default: 1.
+    pub time: f64,
+    /// w_c, per collision. Default: 50.
+    pub collision: f64,
+}
+
+impl Default for CostWeights {
+    fn default() -> Self {
+        CostWeights { distance: 0.25, time: 1.0, collision: 50.0 }
+    }
 }
 
 /// The task list.
@@ -223,6 +273,8 @@ impl Scenario {
             tasks: Tasks::Cells(cells.iter().map(|&c| i64::from(c)).collect()),
             step_limit: defaults::step_limit(),
             allocator: defaults::allocator(),
+            charging: Charging::default(),
+            cost: CostWeights::default(),
             robot: RobotParams::default(),
             dwell: Dwell::default(),
             collision: CollisionParams::default(),
@@ -269,6 +321,15 @@ impl Scenario {
         }
         if self.dwell.unloading == 0 {
             return Err(Error::scenario("dwell.unloading", 0, "must be at least 1 step"));
+        }
+        let ch = &self.charging;
+        if ch.policy == ChargingPolicy::Opportunistic && !(ch.level.is_finite() && ch.level > r.threshold && ch.level <= r.energy_full) {
+            return Err(Error::scenario("charging.level", ch.level, format!("must be above robot.threshold ({}) and at most robot.energy_full ({})", r.threshold, r.energy_full)));
+        }
+        for (field, w) in [("cost.distance", self.cost.distance), ("cost.time", self.cost.time), ("cost.collision", self.cost.collision)] {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(Error::scenario(field, w, "must be 0 or more"));
+            }
         }
         let c = &self.collision;
         if !(c.margin.is_finite() && c.margin >= 0.0) {

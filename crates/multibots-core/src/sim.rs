@@ -10,7 +10,7 @@ use crate::layout::{Layout, NodeKind};
 use crate::metrics::{Outcome, RobotStats, RunResult};
 use crate::robot::{Robots, State, Target};
 use crate::route::{self, Place};
-use crate::scenario::Scenario;
+use crate::scenario::{ChargingPolicy, Scenario};
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -68,6 +68,8 @@ struct Params {
     angle: f64,
     step_limit: u64,
     unload: NodeId,
+    /// Opportunistic charging: idle robots below this level go to charge.
+    opportunistic: Option<f64>,
 }
 
 /// A run in progress.
@@ -101,7 +103,14 @@ impl Simulation {
     pub fn new(scenario: &Scenario) -> Result<Simulation> {
         scenario.check_values()?;
         let world = World::new(scenario.resolve_layout()?)?;
-        let allocator = alloc::built_in(&scenario.allocator)?;
+        let allocator = alloc::built_in(scenario)?;
+        Simulation::with_world(world, scenario, allocator)
+    }
+
+    /// A run of `scenario` with a given allocator (such as one written in Python).
+    pub fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
+        scenario.check_values()?;
+        let world = World::new(scenario.resolve_layout()?)?;
         Simulation::with_world(world, scenario, allocator)
     }
 
@@ -180,6 +189,7 @@ impl Simulation {
             angle: scenario.collision.angle.to_radians(),
             step_limit: scenario.step_limit,
             unload,
+            opportunistic: (scenario.charging.policy == ChargingPolicy::Opportunistic).then_some(scenario.charging.level),
         };
         Ok(Simulation {
             p,
@@ -465,6 +475,11 @@ impl Simulation {
                     }
                     State::ToPickup | State::Loading | State::ToDrop | State::Unloading => self.robots.marked[i] = true,
                     _ => {}
+                }
+            }
+            if let Some(level) = self.p.opportunistic {
+                if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], level) {
+                    self.send_to_charge(i);
                 }
             }
             if energy::exhausted(self.robots.energy[i]) && self.robots.state[i] != State::Stranded {

@@ -12,6 +12,8 @@ use pyo3::types::PyDict;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
+mod strategy;
+
 create_exception!(_core, MultibotsError, PyException, "Base class of every MultiBots error.");
 create_exception!(_core, ScenarioError, MultibotsError, "A scenario field or file the model cannot run with.");
 create_exception!(_core, LayoutError, MultibotsError, "A layout robots cannot use.");
@@ -113,11 +115,12 @@ fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound<'py, PyDic
 
 /// Runs a scenario to its end; records a replay to `record` if given.
 #[pyfunction]
-#[pyo3(signature = (scenario, record=None))]
-fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (scenario, record=None, allocator=None))]
+fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>, allocator: Option<PyObject>) -> PyResult<Bound<'py, PyDict>> {
     let s = scenario.inner.clone();
+    let alloc = strategy::make_allocator(py, &s, allocator)?;
     let r = engine(py, move || {
-        let mut sim = Simulation::new(&s)?;
+        let mut sim = Simulation::with_allocator(&s, alloc)?;
         match record {
             Some(path) => run_recorded(&mut sim, &path, &s.to_toml()),
             None => sim.run(),
@@ -170,9 +173,11 @@ struct PySimulation {
 #[pymethods]
 impl PySimulation {
     #[new]
-    fn new(py: Python<'_>, scenario: &PyScenario) -> PyResult<Self> {
+    #[pyo3(signature = (scenario, allocator=None))]
+    fn new(py: Python<'_>, scenario: &PyScenario, allocator: Option<PyObject>) -> PyResult<Self> {
         let s = scenario.inner.clone();
-        engine(py, move || Simulation::new(&s)).map(|sim| PySimulation { sim })
+        let alloc = strategy::make_allocator(py, &s, allocator)?;
+        engine(py, move || Simulation::with_allocator(&s, alloc)).map(|sim| PySimulation { sim })
     }
 
     /// Runs `n` steps (fewer if the run ends first); returns the steps run.

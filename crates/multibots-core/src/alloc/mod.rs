@@ -14,6 +14,7 @@ use crate::ids::{CellId, GoodsId, NodeId, RobotId};
 use crate::layout::Layout;
 use crate::robot::{Robots, State, Target};
 use crate::route::{self, Place};
+use crate::scenario::Scenario;
 
 /// One open goods item: its id and the cell that holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -143,8 +144,10 @@ pub trait Allocator: Send + Sync {
 /// The built-in strategies' names.
 pub const BUILT_INS: &[&str] = &["in-turn"];
 
-/// A built-in strategy by name.
-pub fn built_in(name: &str) -> Result<Box<dyn Allocator>> {
+/// The built-in strategy a scenario names, configured from the scenario (for example the
+/// cost weights of `min-cost`).
+pub fn built_in(scenario: &Scenario) -> Result<Box<dyn Allocator>> {
+    let name = scenario.allocator.as_str();
     match name {
         "in-turn" => Ok(Box::new(InTurn)),
         _ => Err(Error::scenario("allocator", format!("\"{name}\""), format!("unknown strategy (built-ins: {})", BUILT_INS.join(", ")))),
