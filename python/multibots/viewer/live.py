@@ -115,8 +115,9 @@ class LiveRunner:
 
     # ------------------------------------------------------------------ control
     def control(self, action: str, speed: Optional[float] = None) -> Dict[str, Any]:
-        """Apply a control message; raises ValueError on a bad one."""
-        with self.cond:
+        """Apply a control message; raises ValueError on a bad one. Holds the simulation's
+        lock, so once a pause is acknowledged no further step is taken."""
+        with self.lock, self.cond:
             if action == "pause":
                 self.paused = True
             elif action == "resume":
@@ -132,9 +133,9 @@ class LiveRunner:
             else:
                 raise ValueError(f"unknown action {action!r}")
             self.cond.notify_all()
+            state = {"paused": self.paused, "speed": self.speed}
         self.publish()
-        with self.cond:
-            return {"paused": self.paused, "speed": self.speed}
+        return state
 
     def robot(self, i: int) -> Dict[str, Any]:
         with self.lock:
@@ -213,13 +214,17 @@ class LiveRunner:
                     n, acc = cap, 0.0
             if n > 0:
                 with self.lock:
-                    if not self.sim.done:
+                    with self.cond:  # a pause that came in meanwhile wins
+                        if self.paused and not pending:
+                            n = 0
+                    if n > 0 and not self.sim.done:
                         try:
                             self.sim.step(n)
                         except Exception as exc:  # keep serving what we have
                             self.error = f"{type(exc).__name__}: {exc}"
-                            self.paused = True
-                    self._publish_locked()
+                            with self.cond:
+                                self.paused = True
+                        self._publish_locked()
             spent = time.monotonic() - t0
             with self.cond:
                 if not self._stop.is_set():
