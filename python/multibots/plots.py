@@ -609,7 +609,7 @@ def _int_axis(ax: Any, xs: Iterable[float], log_if_wide: bool = False) -> None:
         ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     if xs and not log:
         span = (xs[-1] - xs[0]) or 1.0
-        ax.set_xlim(xs[0] - 0.04 * span, xs[-1] + 0.04 * span)
+        ax.set_xlim(xs[0] - 0.06 * span, xs[-1] + 0.06 * span)
 
 
 def _describe_missing(missing: Sequence[tuple[Any, Any]]) -> str:
@@ -628,7 +628,9 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
 
     Writes ``fig6_task_time``, ``fig7_collisions`` and ``fig8_charging``, each as
     ``.png`` and ``.svg``. Each figure has two panels: (a) one line per task
-    group against N, and (b) the mean over the groups against N. A row whose
+    group against N (each group shifted sideways by a few hundredths of the N
+    step, so that groups with equal values stay visible), and (b) the mean over
+    the groups against N. A row whose
     value is None (T of an incomplete run) is left out of that figure, and a note
     under the panels names it; a mean over fewer groups than the others is drawn
     with a hollow marker.
@@ -663,12 +665,17 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
             for r in rows:
                 if not _missing(r.get(key)):
                     values[r["group"]][r["N"]] = float(r[key])
+            # Counts tie often (several groups with S = 0 at N = 1): each group is
+            # shifted sideways a little so that no line or marker hides another.
+            step = min(np.diff(all_n), default=1.0)
+            dodge = 0.07 * step if len(groups) > 1 else 0.0
             for i, g in enumerate(groups):
                 ns = sorted(values[g])
                 if not ns:
                     continue
-                ax_a.plot(ns, [values[g][n] for n in ns], label=f"Group {g}",
-                          gid=f"group-line-{i}", **_style(i))
+                shift = (i - (len(groups) - 1) / 2) * dodge
+                ax_a.plot([n + shift for n in ns], [values[g][n] for n in ns],
+                          label=f"Group {g}", gid=f"group-line-{i}", **_style(i))
             mean_n, mean_v, partial = [], [], []
             for n in all_n:
                 vs = [values[g][n] for g in groups if n in values[g]]
