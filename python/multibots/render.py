@@ -110,27 +110,29 @@ class GifWriter:
         self.lookup = {int(k): i for i, k in enumerate(self.palette[: self.TRANSPARENT].tolist())}
 
     def _indices(self, arr: Any) -> Any:
+        """Palette index of every pixel, through a 2^24-entry lookup table filled lazily:
+        exact colours from the palette, any other colour its nearest entry."""
         import numpy as np
 
-        keys = (arr[..., 0].astype(np.int64) << 16) | (arr[..., 1].astype(np.int64) << 8) | arr[..., 2]
-        uniq, inverse, counts = np.unique(keys.ravel(), return_inverse=True, return_counts=True)
+        keys = (arr[..., 0].astype(np.int32) << 16) | (arr[..., 1].astype(np.int32) << 8) | arr[..., 2]
         if self.palette is None:
+            uniq, counts = np.unique(keys.ravel(), return_counts=True)
             self._build_palette(uniq, counts)
-        idx = np.empty(len(uniq), dtype=np.uint8)
-        missing = []
-        for j, k in enumerate(uniq.tolist()):
-            hit = self.lookup.get(k)
-            if hit is None:
-                missing.append(j)
-            else:
-                idx[j] = hit
-        if missing:
-            m = np.array(missing)
-            u = uniq[m]
+            self.lut = np.zeros(1 << 24, dtype=np.uint8)
+            self.known = np.zeros(1 << 24, dtype=bool)
+            for k, i in self.lookup.items():
+                self.lut[k] = i
+                self.known[k] = True
+        flat = keys.ravel()
+        new = flat[~self.known[flat]]
+        if len(new):
+            u = np.unique(new)
             cols = np.stack([(u >> 16) & 255, (u >> 8) & 255, u & 255], axis=1).astype(np.int32)
-            d = ((cols[:, None, :] - self.palette_rgb[None, :, :]) ** 2).sum(axis=2)
-            idx[m] = d.argmin(axis=1).astype(np.uint8)
-        return idx[inverse].reshape(keys.shape)
+            for j in range(0, len(u), 4096):
+                d = ((cols[j:j + 4096, None, :] - self.palette_rgb[None, :, :]) ** 2).sum(axis=2)
+                self.lut[u[j:j + 4096]] = d.argmin(axis=1).astype(np.uint8)
+            self.known[u] = True
+        return self.lut[flat].reshape(keys.shape)
 
     def add(self, im: Any) -> None:
         import numpy as np
