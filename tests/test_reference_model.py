@@ -110,6 +110,36 @@ def test_step_limit_makes_run_incomplete():
     assert res["delivered"] == 1
 
 
+def test_robot_strands_when_energy_runs_out():
+    # 1.0 energy lasts 200 steps; the threshold rule sends it home from the middle of its
+    # first trip, and it runs dry on the way.
+    res = ref.run([42], robots=1, energy_full=1.0, threshold=0.5, step_limit=3000)
+    assert res["outcome"] == "incomplete" and res["T"] is None
+    assert res["stranded"] == [0]
+    assert res["delivered"] == 0
+    assert res["steps"] == 3000
+
+
+def test_marked_robot_charges_after_unloading():
+    # Below threshold once inside its service point's edge: it loads, unloads, then goes
+    # to charge (C = 1); the run ends when it reaches its charger (whatever its state).
+    res = ref.run([42], robots=1, energy_full=5.0, threshold=3.5)
+    assert (res["T"], res["C"], res["charges"]) == (726, 1, [1])
+
+
+def test_put_back_goods_go_to_the_front_of_the_queue():
+    # Both robots fall below threshold in the same step, before reaching their service
+    # edges, and put their goods back: robot 0 first, robot 1 last, so the queue becomes
+    # [0, 42, 79] and after charging robot 0 takes 0 and robot 1 takes 42.
+    trace = []
+    ref.run([42, 0, 79], robots=2, energy_full=4.0, threshold=3.5, step_limit=400,
+            trace=trace)
+    states = [[r[2] for r in robots] for _t, _s, _c, _d, robots in trace]
+    assert states[0] == ["TO_PICKUP", "TO_PICKUP"]
+    first = next(i for i, st in enumerate(states) if st != ["TO_PICKUP", "TO_PICKUP"])
+    assert states[first] == ["TO_CHARGER", "TO_CHARGER"]
+
+
 def test_paper_table_completes():
     for n, group, res in ref.paper_table():
         assert res["outcome"] == "complete", (n, group)
@@ -250,6 +280,51 @@ def _random_placement(seed):
 def test_engine_agrees_with_other_starts_and_unloading_zones(seed):
     robots, goods, margin, starts, unload = _random_placement(seed)
     _compare(robots, goods, margin, starts=starts, unload=unload)
+
+
+def _random_parameters(seed):
+    """Other robot, dwell and collision parameters: charging, put-backs, stranding."""
+    rng = random.Random(20000 + seed)
+    robots = rng.randint(1, 6)
+    goods = rng.sample(range(80), rng.randint(1, 10))
+    margin = rng.choice([0.0, 8.0, 20.0])
+    energy_full = rng.choice([10.0, 5.0])
+    params = dict(
+        radius=rng.choice([12.5, 5.0, 20.0]),
+        speed=rng.choice([4.0, 2.0, 5.0, 10.0]),
+        energy_full=energy_full,
+        threshold=rng.choice([2.0, 3.5, 4.5]) if energy_full > 5 else rng.choice([1.5, 2.5, 3.5]),
+        consumption=rng.choice([0.005, 0.005, 0.01]),
+        charge_rate=rng.choice([0.05, 0.1, 0.3]),
+        loading_steps=rng.choice([10, 1, 5]),
+        unloading_steps=rng.choice([20, 1, 7]),
+        angle_deg=rng.choice([30.0, 45.0, 10.0, 90.0]),
+    )
+    return robots, goods, margin, params
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_engine_agrees_with_other_parameters(seed):
+    mb = _engine()
+    robots, goods, margin, p = _random_parameters(seed)
+    step_limit = 4000
+    scenario = mb.Scenario.paper(
+        robots=robots, goods=goods, margin=margin, step_limit=step_limit,
+        robot=dict(radius=p["radius"], speed=p["speed"], energy_full=p["energy_full"],
+                   threshold=p["threshold"], consumption=p["consumption"],
+                   charge_rate=p["charge_rate"]),
+        dwell=dict(loading=p["loading_steps"], unloading=p["unloading_steps"]),
+        collision=dict(margin=margin, angle=p["angle_deg"]))
+    got = mb.simulate(scenario)
+    trace = []
+    want = ref.run(goods, robots=robots, margin=margin, step_limit=step_limit, trace=trace, **p)
+    engine = (got.T, got.S, got.C, _norm_outcome(got.outcome), got.steps, got.delivered)
+    reference = (want["T"], want["S"], want["C"], want["outcome"], want["steps"],
+                 want["delivered"])
+    if engine != reference:
+        pytest.fail("engine %r != reference %r for robots=%d goods=%r margin=%r %r\n"
+                    "  first difference: %s" % (engine, reference, robots, goods, margin, p,
+                                                _first_difference(mb, scenario, trace)))
 
 
 @pytest.mark.parametrize("step_limit", [1, 300, 725, 726, 1500])
