@@ -128,16 +128,22 @@ def test_marked_robot_charges_after_unloading():
 
 
 def test_put_back_goods_go_to_the_front_of_the_queue():
-    # Both robots fall below threshold in the same step, before reaching their service
-    # edges, and put their goods back: robot 0 first, robot 1 last, so the queue becomes
-    # [0, 42, 79] and after charging robot 0 takes 0 and robot 1 takes 42.
+    # Robot 0 fetches 42 (via A B C D J P O), robot 1 fetches 0 (via B H N M G). Both fall
+    # below threshold in step 101, before reaching their service edges, and put their
+    # goods back, robot 0 first: the queue becomes [0, 42, 79]. Robot 1, charged first,
+    # takes 0 again and so turns south at B (towards H), not east (towards C and 42).
     trace = []
     ref.run([42, 0, 79], robots=2, energy_full=4.0, threshold=3.5, step_limit=400,
             trace=trace)
-    states = [[r[2] for r in robots] for _t, _s, _c, _d, robots in trace]
-    assert states[0] == ["TO_PICKUP", "TO_PICKUP"]
-    first = next(i for i, st in enumerate(states) if st != ["TO_PICKUP", "TO_PICKUP"])
-    assert states[first] == ["TO_CHARGER", "TO_CHARGER"]
+
+    def robot(t, i):
+        return trace[t - 1][4][i]
+
+    assert [robot(100, i)[2] for i in (0, 1)] == ["TO_PICKUP", "TO_PICKUP"]
+    assert [robot(101, i)[2] for i in (0, 1)] == ["TO_CHARGER", "TO_CHARGER"]
+    assert robot(380, 1)[2] == "IDLE" and robot(381, 1)[2] == "TO_PICKUP"
+    assert robot(390, 1)[:2] == (175.0, 25.0)       # node B
+    assert robot(391, 1)[:2] == (175.0, 29.0)       # heading south, to cell 0
 
 
 def test_paper_table_completes():
