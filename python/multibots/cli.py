@@ -52,16 +52,32 @@ def parse_names(value: str, flag: str = "--starts") -> list[str]:
     return names
 
 
+def _number(value: Optional[str], flag: str, kind: type) -> Any:
+    if value is None:
+        return None
+    try:
+        return kind(value)
+    except ValueError:
+        what = "an integer" if kind is int else "a number"
+        raise BadInput(f"{flag} = {value!r}: not {what}") from None
+
+
 def quick_scenario(
     scenario: Optional[Path],
-    robots: Optional[int],
+    robots: Optional[str],
     goods: Optional[str],
     starts: Optional[str],
     unload: Optional[str],
-    margin: Optional[float],
-    step_limit: Optional[int],
+    margin: Optional[str],
+    step_limit: Optional[str],
 ) -> Scenario:
-    """A scenario from a file, from the quick-run flags, or a file with flags on top."""
+    """A scenario from a file, from the quick-run flags, or a file with flags on top.
+
+    Numeric flags arrive as text so that a bad one is reported with its value.
+    """
+    robots = _number(robots, "--robots", int)
+    margin = _number(margin, "--margin", float)
+    step_limit = _number(step_limit, "--step-limit", int)
     changes: dict[str, Any] = {}
     if robots is not None:
         changes["robots"] = robots
@@ -84,23 +100,23 @@ def quick_scenario(
 
 
 # Typer options shared by `run` and `view --live`.
-ROBOTS = typer.Option(None, "--robots", help="Number of robots N.", show_default=False)
+ROBOTS = typer.Option(None, "--robots", help="Number of robots N.", show_default=False, metavar="N")
 GOODS = typer.Option(None, "--goods", help="Cells to fetch, in order, such as 11,8,39.", show_default=False)
 STARTS = typer.Option(None, "--starts", help="Start nodes, such as A,B,C (default A, B, C, ...).", show_default=False)
 UNLOAD = typer.Option(None, "--unload", help="Unloading zone (default M).", show_default=False)
-MARGIN = typer.Option(None, "--margin", help="Collision margin, px (default 0).", show_default=False)
-STEP_LIMIT = typer.Option(None, "--step-limit", help="Steps before the run ends incomplete (default 100000).", show_default=False)
+MARGIN = typer.Option(None, "--margin", help="Collision margin, px (default 0).", show_default=False, metavar="PX")
+STEP_LIMIT = typer.Option(None, "--step-limit", help="Steps before the run ends incomplete (default 100000).", show_default=False, metavar="STEPS")
 
 
 @app.command()
 def run(
     scenario: Optional[Path] = typer.Argument(None, help="A scenario file (TOML).", show_default=False),
-    robots: Optional[int] = ROBOTS,
+    robots: Optional[str] = ROBOTS,
     goods: Optional[str] = GOODS,
     starts: Optional[str] = STARTS,
     unload: Optional[str] = UNLOAD,
-    margin: Optional[float] = MARGIN,
-    step_limit: Optional[int] = STEP_LIMIT,
+    margin: Optional[str] = MARGIN,
+    step_limit: Optional[str] = STEP_LIMIT,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object on stdout."),
     record: Optional[Path] = typer.Option(None, "--record", help="Write a replay of every step to this file.", show_default=False),
 ) -> None:

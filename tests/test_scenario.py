@@ -1,0 +1,59 @@
+"""Scenarios: files users start from, round trips, the Python builders and engine errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+import multibots
+from multibots import Scenario, ScenarioError, simulate
+
+SCENARIOS = sorted((Path(__file__).parent.parent / "scenarios").glob("*.toml"))
+
+
+def test_there_are_scenarios():
+    assert any(p.name == "paper.toml" for p in SCENARIOS)
+
+
+@pytest.mark.parametrize("path", SCENARIOS, ids=lambda p: p.name)
+def test_every_scenario_file_loads_and_round_trips(path):
+    s = Scenario.from_toml(path)
+    assert Scenario.from_toml_str(s.to_toml()) == s
+    assert Scenario.from_dict(s.to_dict()) == s
+
+
+def test_paper_toml_is_group_1_with_three_robots():
+    s = Scenario.from_toml(Path(__file__).parent.parent / "scenarios" / "paper.toml")
+    assert s == Scenario.paper(robots=3, goods=multibots.PAPER_TASKS[1])
+    assert simulate(s).T == 1719
+
+
+def test_defaults_are_the_paper_model():
+    d = Scenario.paper(robots=1, goods=[42]).to_dict()
+    assert d["robot"] == {"radius": 12.5, "speed": 4.0, "energy_full": 10.0, "threshold": 3.5, "consumption": 0.005, "charge_rate": 0.05}
+    assert d["dwell"] == {"loading": 10, "unloading": 20}
+    assert d["collision"] == {"margin": 0.0, "angle": 30.0}
+    assert d["step_limit"] == 100000 and d["unload"] == "M" and d["allocator"] == "in-turn"
+
+
+def test_replace_merges_nested_tables():
+    s = Scenario.paper(robots=2, goods=[1, 2]).replace(robot={"speed": 8.0})
+    d = s.to_dict()
+    assert d["robot"]["speed"] == 8.0 and d["robot"]["radius"] == 12.5
+
+
+def test_python_errors_are_scenario_errors():
+    with pytest.raises(ScenarioError, match=r"robot\.speed = 0: must be greater than 0"):
+        Scenario.paper(robot={"speed": 0})
+    with pytest.raises(ScenarioError, match="more robots than start nodes"):
+        Scenario.paper(robots=7)
+    with pytest.raises(multibots.MultibotsError):
+        Scenario.from_dict({"tasks": [1], "colour": "red"})
+
+
+def test_random_task_lists_are_seeded():
+    a = Scenario.from_dict({"tasks": {"random": 10, "seed": 7}})
+    b = Scenario.from_toml_str("tasks = { random = 10, seed = 7 }")
+    assert a.cells == b.cells and len(set(a.cells)) == 10
+    assert Scenario.from_dict({"tasks": {"random": 10, "seed": 8}}).cells != a.cells
