@@ -143,7 +143,7 @@ def test_bad_files_give_one_line_errors(paper_run, tmp_path, name, change, messa
         Replay(bad)
     text = str(err.value)
     assert str(bad) in text and message in text and "\n" not in text
-    assert isinstance(err.value, ValueError)
+    assert isinstance(err.value, ValueError) and isinstance(err.value, multibots.MultibotsError)
 
 
 def test_a_corrupt_chunk_is_reported_when_read(paper_run, tmp_path):
