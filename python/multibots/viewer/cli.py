@@ -67,7 +67,19 @@ def _make_viewer(factory, host: str, port: Optional[int]):  # type: ignore[no-un
         raise _fail(f"--port {port if port is not None else DEFAULT_PORT}: cannot listen on {host} ({exc.strerror})") from None
 
 
+def _stop_on_sigterm() -> None:
+    """`kill` stops the server as Ctrl-C does (cleanly, exit code 0)."""
+    import signal
+
+    def handler(signum, frame):  # type: ignore[no-untyped-def]
+        raise KeyboardInterrupt
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, handler)
+
+
 def _serve(viewer, what: str, no_browser: bool) -> None:  # type: ignore[no-untyped-def]
+    _stop_on_sigterm()
     try:
         url = viewer.url
         print(f"MultiBots viewer: {what}")

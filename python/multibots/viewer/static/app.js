@@ -255,6 +255,8 @@ function setupPage() {
   const tl = $("timeline");
   tl.addEventListener("input", () => { app.scrubbing = true; seek(Number(tl.value)); });
   tl.addEventListener("change", () => { app.scrubbing = false; });
+  // space always means play / pause, also while a button has the focus (no double toggle)
+  window.addEventListener("keyup", (e) => { if (e.key === " " && e.target.tagName === "BUTTON") e.preventDefault(); }, true);
   window.addEventListener("keydown", (e) => {
     if (e.target && (e.target.tagName === "INPUT" || e.target.tagName === "SELECT")) return;
     if (e.key === " ") { e.preventDefault(); togglePlay(); }
