@@ -98,3 +98,15 @@ def test_render_gif_from_the_command_line(small_run, tmp_path):
         assert im.n_frames == 30
         assert im.info["duration"] == 100
     assert not [p for p in tmp_path.iterdir() if p.name != "run.gif"]  # no temporary left behind
+
+
+def test_export_frame_plan():
+    from multibots.render import plan_frames
+
+    assert plan_frames(100) == list(range(100))
+    assert plan_frames(100, 10, 69) == list(range(10, 70))
+    assert plan_frames(100, 0, 40, 2) == list(range(0, 41, 2))
+    assert len(plan_frames(1720, 0, None, 4)) == (1719 - 0) // 4 + 1
+    for bad in [dict(start=100), dict(start=5, end=2), dict(end=100), dict(every=0)]:
+        with pytest.raises(ValueError):
+            plan_frames(100, **bad)
