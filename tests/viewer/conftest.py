@@ -2,23 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import shutil
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
 import multibots
 from multibots.render import CHROMIUM_ARGS
 
-HERE = Path(__file__).resolve().parent
-GROUP1 = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]
-
-
-def paper(robots=3, goods=GROUP1, **kw):
-    return multibots.Scenario.paper(robots=robots, goods=list(goods), **kw)
+from viewer_helpers import chromium_exe, paper
 
 
 @pytest.fixture(scope="session")
@@ -63,13 +52,6 @@ def live_viewer():
         v.close()
 
 
-def chromium_exe() -> str:
-    env = os.environ.get("MULTIBOTS_CHROMIUM")
-    if env:
-        return env
-    return shutil.which("chromium") or "/usr/bin/chromium"
-
-
 @pytest.fixture(scope="session")
 def browser():
     from playwright.sync_api import sync_playwright
@@ -89,36 +71,8 @@ def page(browser):
     pg.set_default_timeout(60_000)
     errors = []
     pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.page_errors = errors  # type: ignore[attr-defined]
     try:
         yield pg
     finally:
         ctx.close()
     assert not errors, f"errors on the page: {errors}"
-
-
-def open_viewer(pg, viewer, query: str = ""):
-    pg.goto(viewer.url + query)
-    pg.wait_for_function("() => window.mbViewer && window.mbViewer.ready && window.mbViewer.state().frame !== null")
-
-
-def cli_command() -> list:
-    """The `multibots` command line with the viewer's commands: the real one once the lead's
-    cli registers them, else a minimal typer app that does (same register function)."""
-    try:
-        from multibots import cli as main_cli  # type: ignore[attr-defined]
-
-        app = getattr(main_cli, "app", None)
-        names = {c.name or (c.callback.__name__ if c.callback else "") for c in app.registered_commands} if app else set()
-        import importlib.util
-
-        if {"view", "render"} <= names and importlib.util.find_spec("multibots.__main__"):
-            return [sys.executable, "-m", "multibots"]
-    except Exception:
-        pass
-    return [sys.executable, str(HERE / "_cli.py")]
-
-
-def run_cli(*args, timeout=180):
-    return subprocess.run(cli_command() + [str(a) for a in args], capture_output=True, text=True,
-                          timeout=timeout)

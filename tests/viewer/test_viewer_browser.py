@@ -12,7 +12,7 @@ from PIL import Image
 import multibots
 from multibots.replay import STATE_NAMES, Replay
 
-from conftest import open_viewer, paper
+from viewer_helpers import open_viewer, paper
 
 RGB = {
     "blue": (31, 119, 180), "red": (214, 39, 40), "green": (44, 160, 44), "grey": (140, 140, 140),

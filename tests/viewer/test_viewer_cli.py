@@ -11,7 +11,7 @@ import sys
 import pytest
 from PIL import Image
 
-from conftest import cli_command, run_cli
+from viewer_helpers import cli_command, run_cli
 
 
 def assert_one_line_error(proc, *words):

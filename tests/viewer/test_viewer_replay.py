@@ -13,7 +13,7 @@ import multibots
 from multibots.replay import (Replay, ReplayError, chunk_layout, pack_chunk, pack_state, quantize_energy,
                               quantize_heading)
 
-from conftest import paper
+from viewer_helpers import paper
 
 
 def test_header_and_summary_match_the_run(paper_run):
