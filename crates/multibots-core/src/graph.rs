@@ -7,29 +7,46 @@
 //! built once per layout, answers every route without a search per request.
 
 use crate::error::{Error, Result};
-use crate::ids::{NodeId, NONE};
+use crate::ids::NodeId;
 use crate::layout::{Layout, NodeKind};
 use std::collections::VecDeque;
 
 /// Adjacency in expansion order, the next-hop table and path lengths.
+///
+/// Memory: the next-hop table stores, for every (node, target) pair, the *position* of the
+/// next hop in the node's out-list in one byte (out-degrees are tiny), so it takes n² bytes:
+/// 4 MB for a 2,000-node warehouse, where `u32` hops plus `f64` lengths would take 64 MB.
+/// Path lengths are tabulated only for small graphs (up to [`LENGTH_TABLE_MAX`] nodes, which
+/// covers the paper layout and the allocators' cost queries there); on larger graphs they are
+/// summed along the next-hop chain on request. The step loop never needs a length.
 #[derive(Clone, Debug)]
 pub struct HighwayGraph {
     n: usize,
     out_start: Vec<u32>,
     out_to: Vec<u32>,
-    /// `next[u * n + t]`: the node after `u` on the path to `t` (`NONE` for `u == t`).
-    next: Vec<u32>,
-    /// `hops[u * n + t]`: edges on that path; `u32::MAX` when `t` cannot be reached.
-    hops: Vec<u32>,
-    /// `length[u * n + t]`: length of that path in px.
+    /// `next[t * n + u]`: position in `out(u)` of the node after `u` on the path to `t`
+    /// (`NO_HOP` for `u == t` or when `t` cannot be reached). Rows by target, so the rows of
+    /// the few targets a fleet uses at a time stay in cache.
+    next: Vec<u8>,
+    /// `length[t * n + u]`: length of that path in px, when `n <= LENGTH_TABLE_MAX`.
     length: Vec<f64>,
     x: Vec<f64>,
     y: Vec<f64>,
 }
 
+/// Marks "no next hop" in the byte table.
+const NO_HOP: u8 = u8::MAX;
+
+/// Largest graph whose path lengths are tabulated (8 MB of `f64` at this size).
+pub const LENGTH_TABLE_MAX: usize = 1024;
+
+/// Largest out-degree a node may have: positions are stored in a byte, `u8::MAX` is "none".
+pub const MAX_OUT_DEGREE: usize = 254;
+
 impl HighwayGraph {
     /// Builds the graph of a layout. Chargers are dead ends: their only edge leads back to
-    /// their spur node, so no shortest path passes through one.
+    /// their spur node, so no shortest path passes through one. Out-degrees above
+    /// [`MAX_OUT_DEGREE`] are cut (layout validation rejects such layouts first).
     #[must_use]
     pub fn new(layout: &Layout) -> HighwayGraph {
         let n = layout.nodes.len();
@@ -43,14 +60,16 @@ impl HighwayGraph {
         }
         let mut out_start = Vec::with_capacity(n + 1);
         let mut out_to = Vec::new();
-        for o in &out {
+        for o in &mut out {
+            o.truncate(MAX_OUT_DEGREE);
             out_start.push(out_to.len() as u32);
             out_to.extend_from_slice(o);
         }
         out_start.push(out_to.len() as u32);
         let x: Vec<f64> = layout.nodes.iter().map(|p| p.x).collect();
         let y: Vec<f64> = layout.nodes.iter().map(|p| p.y).collect();
-        let mut g = HighwayGraph { n, out_start, out_to, next: vec![NONE; n * n], hops: vec![u32::MAX; n * n], length: vec![0.0; n * n], x, y };
+        let lengths = if n <= LENGTH_TABLE_MAX { n * n } else { 0 };
+        let mut g = HighwayGraph { n, out_start, out_to, next: vec![NO_HOP; n * n], length: vec![0.0; lengths], x, y };
         g.build_tables();
         g
     }
@@ -64,6 +83,7 @@ impl HighwayGraph {
                 rev[v as usize].push(u as u32);
             }
         }
+        let with_length = !self.length.is_empty();
         let mut dist = vec![u32::MAX; n];
         let mut order = Vec::with_capacity(n);
         let mut queue = VecDeque::with_capacity(n);
@@ -81,17 +101,20 @@ impl HighwayGraph {
                     }
                 }
             }
-            // Nodes in increasing distance, so each next hop's length is already known.
+            // Nodes in increasing distance, so each next hop's length is already known. The
+            // first out-neighbour one hop closer is the spec's BFS choice (see module docs).
             for &u in &order {
                 let u = u as usize;
-                self.hops[u * n + t] = dist[u];
                 if u == t {
                     continue;
                 }
                 let want = dist[u] - 1;
-                let v = *self.out(u).iter().find(|&&v| dist[v as usize] == want).expect("a node one hop closer exists");
-                self.next[u * n + t] = v;
-                self.length[u * n + t] = self.segment(u, v as usize) + self.length[v as usize * n + t];
+                let k = self.out(u).iter().position(|&v| dist[v as usize] == want).expect("a node one hop closer exists");
+                self.next[t * n + u] = k as u8;
+                if with_length {
+                    let v = self.out(u)[k] as usize;
+                    self.length[t * n + u] = self.segment(u, v) + self.length[t * n + v];
+                }
             }
         }
     }
@@ -131,22 +154,43 @@ impl HighwayGraph {
     #[inline]
     #[must_use]
     pub fn next_hop(&self, u: NodeId, t: NodeId) -> Option<NodeId> {
-        let v = self.next[u.index() * self.n + t.index()];
-        (v != NONE).then_some(NodeId(v))
+        let k = self.next[t.index() * self.n + u.index()];
+        (k != NO_HOP).then(|| NodeId(self.out_to[self.out_start[u.index()] as usize + k as usize]))
     }
 
     /// Whether `t` can be reached from `u`.
     #[inline]
     #[must_use]
     pub fn reachable(&self, u: NodeId, t: NodeId) -> bool {
-        self.hops[u.index() * self.n + t.index()] != u32::MAX
+        u == t || self.next[t.index() * self.n + u.index()] != NO_HOP
     }
 
-    /// Length in px of the node path from `u` to `t` (0 when `u == t`).
+    /// Length in px of the node path from `u` to `t` (0 when `u == t` or unreachable).
     #[inline]
     #[must_use]
     pub fn path_length(&self, u: NodeId, t: NodeId) -> f64 {
-        self.length[u.index() * self.n + t.index()]
+        if !self.length.is_empty() {
+            return self.length[t.index() * self.n + u.index()];
+        }
+        self.walk_length(u, t)
+    }
+
+    /// Sums a path's segments front to back along the next-hop chain. No allocation: charger
+    /// choices call this inside the step loop on large layouts.
+    fn walk_length(&self, u: NodeId, t: NodeId) -> f64 {
+        let mut total = 0.0;
+        let mut at = u;
+        while let Some(v) = self.next_hop(at, t) {
+            total += self.segment(at.index(), v.index());
+            at = v;
+        }
+        total
+    }
+
+    /// Bytes held by the routing tables (next hops and lengths).
+    #[must_use]
+    pub fn table_bytes(&self) -> usize {
+        self.next.len() + self.length.len() * std::mem::size_of::<f64>()
     }
 
     /// The node path from `u` to `t`, both included; `None` if `t` cannot be reached.
@@ -190,13 +234,27 @@ impl HighwayGraph {
     }
 }
 
-/// Checks that robots can use a layout: the highway nodes are strongly connected, every
-/// charger hangs on a highway node, and every service point lies strictly inside a highway
-/// edge of the graph.
+/// Checks that robots can use a layout: the highway nodes are strongly connected (so every
+/// zone and service point can be reached and left), every zone is a highway node, every
+/// charger hangs on a highway node by its spur (so it can be reached and left), every
+/// service point lies strictly inside a highway edge of the graph, and no node has more
+/// out-edges than the routing table can name.
 pub fn validate(layout: &Layout, graph: &HighwayGraph) -> Result<()> {
     let highway: Vec<NodeId> = (0..layout.nodes.len() as u32).map(NodeId).filter(|n| layout.nodes[n.index()].kind == NodeKind::Highway).collect();
     if highway.is_empty() {
         return Err(Error::layout("nodes", "no highway node"));
+    }
+    let mut degrees = vec![0usize; layout.nodes.len()];
+    for &(u, _) in &layout.edges {
+        degrees[u.index()] += 1;
+    }
+    for &(_, n) in &layout.spurs {
+        degrees[n.index()] += 1;
+    }
+    for (u, &degree) in degrees.iter().enumerate() {
+        if degree > MAX_OUT_DEGREE {
+            return Err(Error::layout(format!("nodes[{u}]"), format!("node {} has {degree} out-edges (at most {MAX_OUT_DEGREE})", layout.nodes[u].name)));
+        }
     }
     let first = highway[0];
     for &v in &highway {
@@ -208,14 +266,29 @@ pub fn validate(layout: &Layout, graph: &HighwayGraph) -> Result<()> {
             ));
         }
     }
+    for (field, zones) in [("departure", &layout.departure), ("unloading", &layout.unloading)] {
+        if zones.is_empty() {
+            return Err(Error::layout(field, "no zone given (at least one is needed)"));
+        }
+        for (i, z) in zones.iter().enumerate() {
+            if layout.nodes[z.index()].kind != NodeKind::Highway {
+                return Err(Error::layout(format!("{field}[{i}]"), format!("{} is not a highway node", layout.nodes[z.index()].name)));
+            }
+        }
+    }
+    if layout.chargers.is_empty() {
+        return Err(Error::layout("chargers", "no charger (at least one is needed)"));
+    }
     for &c in &layout.chargers {
-        if layout.nodes[c.index()].kind != NodeKind::Charger || layout.spur_node(c).is_none() {
+        let ok = layout.nodes[c.index()].kind == NodeKind::Charger && layout.spur_node(c).is_some_and(|n| layout.nodes[n.index()].kind == NodeKind::Highway);
+        if !ok {
             return Err(Error::layout("chargers", format!("charger {} has no spur to a highway node", layout.nodes[c.index()].name)));
         }
     }
     for cell in &layout.cells {
         let (u, v) = cell.edge;
-        if !layout.edges.contains(&(u, v)) {
+        let highway_edge = layout.nodes[v.index()].kind == NodeKind::Highway && graph.out(u.index()).contains(&v.0);
+        if !highway_edge {
             return Err(Error::layout(format!("cells[{}].edge", cell.id), "is not a highway edge"));
         }
         let (ux, uy) = layout.pos(u);

@@ -6,6 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::ids::{CellId, NodeId};
+use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 /// What a node of the graph is.
@@ -59,8 +60,10 @@ pub struct Layout {
     pub chargers: Vec<NodeId>,
 }
 
-/// The generator's parameters: a grid of storage groups between one-way aisles.
-#[derive(Clone, Debug, PartialEq)]
+/// The generator's parameters: a grid of storage groups between one-way aisles. Omitted
+/// fields take the paper's values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct LayoutParams {
     /// Rows of storage groups (R).
     pub group_rows: u32,
@@ -80,6 +83,12 @@ pub struct LayoutParams {
     pub spur: f64,
 }
 
+impl Default for LayoutParams {
+    fn default() -> Self {
+        LayoutParams::paper()
+    }
+}
+
 impl LayoutParams {
     /// The paper's warehouse: 2 × 5 groups of 2 × 4 cells, 50 px aisles, six chargers.
     #[must_use]
@@ -96,7 +105,8 @@ impl LayoutParams {
         }
     }
 
-    fn check(&self) -> Result<()> {
+    /// Checks every parameter; errors name the field as `layout.FIELD`.
+    pub fn check(&self) -> Result<()> {
         let bad = |field: &str, value: String, reason: &str| Err(Error::scenario(format!("layout.{field}"), value, reason));
         if self.group_rows == 0 {
             return bad("group_rows", self.group_rows.to_string(), "must be at least 1");
@@ -123,8 +133,9 @@ impl LayoutParams {
             return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {} (one per top-aisle crossing)", self.group_cols + 1));
         }
         let nodes = u64::from(self.group_rows + 1) * u64::from(self.group_cols + 1);
-        if nodes > 200_000 {
-            return bad("group_rows", self.group_rows.to_string(), "layout too large (over 200,000 aisle crossings)");
+        // The next-hop table takes one byte per (node, target) pair: 10,000 crossings are 100 MB.
+        if nodes > 10_000 {
+            return bad("group_rows", self.group_rows.to_string(), &format!("layout too large: {nodes} aisle crossings (at most 10,000)"));
         }
         Ok(())
     }

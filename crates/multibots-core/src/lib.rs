@@ -15,6 +15,8 @@ pub mod error;
 pub mod graph;
 pub mod ids;
 pub mod layout;
+pub mod layout_file;
+pub mod lifelong;
 pub mod metrics;
 pub mod replay;
 pub mod robot;

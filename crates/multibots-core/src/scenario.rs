@@ -2,7 +2,7 @@
 //! TOML files, Python dictionaries and the command line all land here.
 
 use crate::error::{Error, Result};
-use crate::layout::Layout;
+use crate::layout::{Layout, LayoutParams};
 use rand::{Rng, SeedableRng};
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
@@ -48,6 +48,58 @@ pub struct Scenario {
     /// The collision-waiting rule.
     #[serde(default)]
     pub collision: CollisionParams,
+    /// A generated layout (extension): when given, it is the layout, and `layout` must be
+    /// left at its default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layout_generate: Option<LayoutParams>,
+    /// Where robots start (extension): `"departure"` (the paper: one per departure zone, at
+    /// its charger) or `"spread"` (parked evenly along the aisles, for large fleets).
+    #[serde(default, skip_serializing_if = "Placement::is_departure")]
+    pub placement: Placement,
+    /// Lifelong operation (extension): orders arrive over time and the run lasts a horizon.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orders: Option<Orders>,
+}
+
+/// Where robots start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Placement {
+    /// The paper: robot i starts at the charger of the i-th start node.
+    #[default]
+    Departure,
+    /// Robots start idle, strictly inside aisle edges, spread evenly over the layout's
+    /// parking slots; each robot's slot is its home (docs/model.md section 7).
+    Spread,
+}
+
+impl Placement {
+    fn is_departure(&self) -> bool {
+        *self == Placement::Departure
+    }
+}
+
+/// Lifelong orders: a Poisson stream and/or a CSV of `(step, cell)` rows.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Orders {
+    /// Mean orders per step (Poisson), each for a uniformly drawn cell. Default: 0.
+    pub rate: f64,
+    /// A CSV file of `step,cell` rows (path relative to the working directory).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub csv: Option<String>,
+    /// Steps the run lasts. Default: 10000.
+    pub horizon: u64,
+    /// Steps after a pickup until the cell holds goods again. Default: 200.
+    pub restock: u64,
+    /// Seed of the Poisson stream. Default: 0.
+    pub seed: u64,
+}
+
+impl Default for Orders {
+    fn default() -> Self {
+        Orders { rate: 0.0, csv: None, horizon: 10_000, restock: 200, seed: 0 }
+    }
 }
 
 /// Robot body, motion and battery.
@@ -98,6 +150,23 @@ pub enum ChargingPolicy {
     Opportunistic,
 }
 
+/// Which charger a robot uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChargerUse {
+    /// The paper: every robot charges at its own home charger.
+    #[default]
+    Home,
+    /// Extension: the nearest free charger; robots queue when none is free.
+    Shared,
+}
+
+impl ChargerUse {
+    fn is_home(&self) -> bool {
+        *self == ChargerUse::Home
+    }
+}
+
 /// When robots go to charge. The threshold rule always applies.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -106,11 +175,15 @@ pub struct Charging {
     pub policy: ChargingPolicy,
     /// With `"opportunistic"`: an idle robot below this energy goes to charge. Default: 7.
     pub level: f64,
+    /// `"home"` (the paper) or `"shared"` (nearest free charger, queue when none). Default:
+    /// `"home"`.
+    #[serde(skip_serializing_if = "ChargerUse::is_home")]
+    pub chargers: ChargerUse,
 }
 
 impl Default for Charging {
     fn default() -> Self {
-        Charging { policy: ChargingPolicy::Threshold, level: 7.0 }
+        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home }
     }
 }
 
@@ -278,14 +351,30 @@ impl Scenario {
             robot: RobotParams::default(),
             dwell: Dwell::default(),
             collision: CollisionParams::default(),
+            layout_generate: None,
+            placement: Placement::Departure,
+            orders: None,
         }
     }
 
     /// The layout this scenario names.
+    ///
+    /// `"paper"`, a layout file (a path ending in `.toml`, relative to the working
+    /// directory), or, with `[layout_generate]`, the generated grid.
     pub fn resolve_layout(&self) -> Result<Layout> {
+        if let Some(p) = &self.layout_generate {
+            if self.layout != defaults::layout() {
+                return Err(Error::scenario("layout", format!("\"{}\"", self.layout), "give either layout or [layout_generate], not both"));
+            }
+            return Layout::generate(p, "generated").map_err(|e| match e {
+                Error::Scenario { field, value, reason } => Error::Scenario { field: field.replacen("layout.", "layout_generate.", 1), value, reason },
+                other => other,
+            });
+        }
         match self.layout.as_str() {
             "paper" => Ok(Layout::paper()),
-            other => Err(Error::scenario("layout", format!("\"{other}\""), "unknown layout (known: paper)")),
+            path if path.ends_with(".toml") => crate::layout_file::read(std::path::Path::new(path)),
+            other => Err(Error::scenario("layout", format!("\"{other}\""), "unknown layout (known: paper, or a layout file ending in .toml)")),
         }
     }
 
@@ -343,8 +432,28 @@ impl Scenario {
                 return Err(Error::scenario("tasks.random", 0, "must be at least 1"));
             }
         }
+        if let Some(o) = &self.orders {
+            if !(o.rate.is_finite() && o.rate >= 0.0) {
+                return Err(Error::scenario("orders.rate", o.rate, "must be 0 or more"));
+            }
+            if o.horizon == 0 {
+                return Err(Error::scenario("orders.horizon", 0, "must be at least 1 step"));
+            }
+            if o.restock == 0 {
+                return Err(Error::scenario("orders.restock", 0, "must be at least 1 step"));
+            }
+            if o.rate == 0.0 && o.csv.is_none() && matches!(&self.tasks, Tasks::Cells(c) if c.is_empty()) {
+                return Err(Error::scenario("orders.rate", 0, "no orders: give a rate above 0, a csv file or tasks"));
+            }
+        }
+        if self.placement == Placement::Spread && self.starts.is_some() {
+            return Err(Error::scenario("starts", format!("{:?}", self.starts.as_deref().unwrap_or_default()), "not used with placement = \"spread\" (robots start on parking slots)"));
+        }
+        if self.placement == Placement::Spread && self.charging.chargers == ChargerUse::Home {
+            return Err(Error::scenario("placement", "\"spread\"", "robots placed on aisles share chargers: set charging.chargers = \"shared\""));
+        }
         if let Tasks::Cells(cells) = &self.tasks {
-            if cells.is_empty() {
+            if cells.is_empty() && self.orders.is_none() {
                 return Err(Error::scenario("tasks", "[]", "the task list is empty"));
             }
         }
