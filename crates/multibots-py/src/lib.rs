@@ -26,7 +26,7 @@ fn to_py(e: Error) -> PyErr {
     match e {
         Error::Scenario { .. } | Error::Parse { .. } => ScenarioError::new_err(msg),
         Error::Layout { .. } => LayoutError::new_err(msg),
-        Error::Allocator { .. } => AllocatorError::new_err(msg),
+        Error::Allocator { .. } => Python::with_gil(|py| strategy::with_cause(py, AllocatorError::new_err(msg))),
         Error::Io { .. } => MultibotsError::new_err(msg),
     }
 }
@@ -77,7 +77,8 @@ impl PyScenario {
     /// Checks every field, against the layout too.
     fn validate(&self, py: Python<'_>) -> PyResult<()> {
         let s = self.inner.clone();
-        engine(py, move || Simulation::new(&s).map(drop))
+        let alloc = strategy::for_validation(py, &s)?;
+        engine(py, move || Simulation::with_allocator(&s, alloc).map(drop))
     }
 
     /// The scenario's task list as cell ids (random lists drawn).
@@ -154,6 +155,13 @@ fn simulate_many<'py>(py: Python<'py>, scenarios: Vec<PyScenario>, workers: usiz
         slots.into_iter().map(|r| r.expect("every slot is filled")).collect::<Result<Vec<_>, Error>>()
     })?;
     results.iter().map(|r| result_dict(py, r)).collect()
+}
+
+/// Panics inside the engine wrapper: lets the tests check that a panic becomes
+/// `EngineError` and leaves the interpreter running.
+#[pyfunction]
+fn _panic_for_tests(py: Python<'_>) -> PyResult<()> {
+    engine(py, || -> Result<(), Error> { panic!("deliberate panic for the tests") })
 }
 
 /// The layout JSON of a named layout.
@@ -356,6 +364,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(layout_json, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
+    strategy::register(m)?;
     m.add("BYTES_PER_ROBOT_STEP", multibots_core::replay::BYTES_PER_ROBOT_STEP)?;
     Ok(())
 }
