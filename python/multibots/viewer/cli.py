@@ -47,7 +47,19 @@ def _check_host(host: str) -> str:
     return host
 
 
-def _open_browser(url: str) -> None:
+def _has_display() -> bool:
+    """A graphical browser can be opened here (not a text browser in this terminal)."""
+    if sys.platform in ("darwin", "win32"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def _open_browser(url: str, port: int) -> None:
+    if not _has_display():
+        print(f"  no display here: open the URL in a browser; from another machine, forward the port"
+              f" first (ssh -L {port}:127.0.0.1:{port} THIS-HOST)", flush=True)
+        return
+
     def go() -> None:
         try:
             webbrowser.open(url, new=2)
@@ -87,7 +99,7 @@ def _serve(viewer, what: str, no_browser: bool) -> None:  # type: ignore[no-unty
         if viewer.host not in ("127.0.0.1", "::1", "localhost"):
             print(f"  note: listening on {viewer.host}, not only this machine", file=sys.stderr)
         if not no_browser:
-            _open_browser(url)
+            _open_browser(url, viewer.port)
         viewer.serve_forever()
     except KeyboardInterrupt:
         pass
