@@ -62,7 +62,12 @@ function currentView() {
 function drawNow() {
   const v = currentView();
   const t0 = performance.now();
-  if (!v) { app.renderer.draw(null, { cells: app.meta.cells_full }); return false; }
+  if (!v) {  // its chunk is on its way: keep the last picture meanwhile
+    if (!app.shown) app.renderer.draw(null, { cells: app.meta.cells_full });
+    status("loading\u2026");
+    return false;
+  }
+  if (app.mode === "replay" && !app.playing && !app.source.failed) status("");
   app.renderer.draw(v.frame, v.info);
   app.shown = v;
   const t1 = performance.now();
