@@ -164,42 +164,32 @@ pub fn length(g: &HighwayGraph, from: Place, target: Target) -> f64 {
 #[must_use]
 pub fn waypoints(g: &HighwayGraph, from: Place, target: Target) -> Vec<(f64, f64)> {
     let p = plan(g, from, target);
-    let mut pts = vec![(from.x, from.y)];
-    if !p.moving {
-        return pts;
-    }
-    pts.push((p.wp_x, p.wp_y));
-    if p.wp_node != NONE {
-        let mut at = p.wp_node;
-        while at != p.goal {
-            at = g.next_hop(NodeId(at), NodeId(p.goal)).map_or(p.goal, |n| n.0);
-            pts.push(g.pos(at));
-        }
-        if p.has_final {
-            pts.push((p.final_x, p.final_y));
-        }
-    }
-    pts
+    let fin = p.has_final.then_some((p.final_x, p.final_y));
+    polyline(g, (from.x, from.y), p.moving.then_some((p.wp_x, p.wp_y, p.wp_node)), p.goal, fin)
 }
 
 /// The remaining waypoints of robot `i`'s route, starting at its position.
 #[must_use]
 pub fn remaining(r: &Robots, g: &HighwayGraph, i: usize) -> Vec<(f64, f64)> {
-    let mut pts = vec![(r.x[i], r.y[i])];
-    if !r.routing[i] {
+    let fin = r.has_final[i].then_some((r.final_x[i], r.final_y[i]));
+    polyline(g, (r.x[i], r.y[i]), r.routing[i].then_some((r.wp_x[i], r.wp_y[i], r.wp_node[i])), r.goal[i], fin)
+}
+
+/// A route as points: the start, the current waypoint, the node path on to `goal` when the
+/// waypoint is a node, then the final point.
+fn polyline(g: &HighwayGraph, start: (f64, f64), waypoint: Option<(f64, f64, u32)>, goal: u32, fin: Option<(f64, f64)>) -> Vec<(f64, f64)> {
+    let mut pts = vec![start];
+    let Some((wx, wy, node)) = waypoint else {
         return pts;
-    }
-    pts.push((r.wp_x[i], r.wp_y[i]));
-    if r.wp_node[i] != NONE {
-        let goal = r.goal[i];
-        let mut at = r.wp_node[i];
+    };
+    pts.push((wx, wy));
+    if node != NONE {
+        let mut at = node;
         while at != goal {
             at = g.next_hop(NodeId(at), NodeId(goal)).map_or(goal, |n| n.0);
             pts.push(g.pos(at));
         }
-        if r.has_final[i] {
-            pts.push((r.final_x[i], r.final_y[i]));
-        }
+        pts.extend(fin);
     }
     pts
 }
