@@ -1,5 +1,23 @@
-//! `in-turn`: the paper's rule. Idle robots, in ascending id, take the goods at the front of
-//! the queue ("the robots fetch in turn according to the order of the goods").
+//! `in-turn`: the paper's rule, and the default.
+//!
+//! # What it does
+//! Idle robots, in ascending id, take the goods at the front of the queue ("the robots
+//! fetch in turn according to the order of the goods", paper section III). It reproduces the
+//! paper model's T, S and C exactly (`docs/model.md`, phase 1).
+//!
+//! # When to use it
+//! To reproduce the paper, and as the baseline every other strategy is compared with.
+//!
+//! # Cost
+//! O(min(idle, goods)) per event; no route queries.
+//!
+//! # Options
+//! None.
+//!
+//! # Example
+//! ```toml
+//! allocator = "in-turn"
+//! ```
 
 use super::{AllocView, Allocator, Assignment};
 use crate::error::Result;
