@@ -9,6 +9,8 @@ pub enum Outcome {
     Complete,
     /// The step limit came first.
     Incomplete,
+    /// A lifelong run reached its horizon (the only way a lifelong run ends).
+    Horizon,
 }
 
 impl Outcome {
@@ -18,6 +20,7 @@ impl Outcome {
         match self {
             Outcome::Complete => "complete",
             Outcome::Incomplete => "incomplete",
+            Outcome::Horizon => "horizon",
         }
     }
 }
@@ -75,4 +78,30 @@ pub struct RunResult {
     /// Robots that ran out of energy.
     pub stranded: Vec<u32>,
     pub robots: RobotStats,
+    /// Lifelong runs only: throughput, latency, utilisation, energy per delivery.
+    pub lifelong: Option<LifelongStats>,
+}
+
+/// The figures of a lifelong run (docs/model.md section 7).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LifelongStats {
+    /// Orders that arrived (the task list's count as arriving at step 0).
+    pub ordered: u64,
+    /// Orders a robot is fetching or carrying.
+    pub in_flight: u64,
+    /// Orders in the allocation queue.
+    pub queued: u64,
+    /// Orders waiting for their cell to restock.
+    pub waiting: u64,
+    /// Deliveries per 1,000 steps.
+    pub throughput: f64,
+    /// Order-to-delivery latency, steps: nearest-rank percentiles and the mean.
+    pub latency_p50: Option<u64>,
+    pub latency_p95: Option<u64>,
+    pub latency_p99: Option<u64>,
+    pub latency_mean: Option<f64>,
+    /// Share of robot-steps spent on orders (TO_PICKUP, LOADING, TO_DROP, UNLOADING).
+    pub utilisation: f64,
+    /// Energy the fleet used per delivery.
+    pub energy_per_delivery: Option<f64>,
 }

@@ -7,10 +7,11 @@ use crate::error::{Error, Result};
 use crate::graph::{self, HighwayGraph};
 use crate::ids::{CellId, GoodsId, NodeId, RobotId, NONE};
 use crate::layout::{Layout, NodeKind};
-use crate::metrics::{Outcome, RobotStats, RunResult};
+use crate::lifelong::{self, Lifelong, StockEvent};
+use crate::metrics::{LifelongStats, Outcome, RobotStats, RunResult};
 use crate::robot::{Robots, State, Target};
 use crate::route::{self, Place};
-use crate::scenario::{ChargingPolicy, Scenario};
+use crate::scenario::{ChargerUse, ChargingPolicy, Placement, Scenario};
 use std::collections::VecDeque;
 use std::sync::Arc;
 
@@ -96,6 +97,44 @@ pub struct Simulation {
     idle_buf: Vec<RobotId>,
     assign_buf: Vec<Assignment>,
     taken_buf: Vec<bool>,
+    /// Indexed by goods id: whether the goods are in the queue, and whether the allocator
+    /// handed them out in the current call. They make checking and removing assignments
+    /// O(1) per assignment instead of a scan of the queue.
+    in_queue: Vec<bool>,
+    handed: Vec<bool>,
+    /// The cell of every goods item, by goods id.
+    goods_cells: Vec<CellId>,
+    /// The unloading zone of each cell's goods (all `p.unload`, except `unload = "nearest"`).
+    unload_of_cell: Vec<NodeId>,
+    /// Spread placement: each robot's parking slot, its home (empty in the paper model).
+    park: Vec<Target>,
+    /// Lifelong orders and restocking (`None` in the paper model).
+    lifelong: Option<Lifelong>,
+    /// Shared chargers (extension): which robot holds each charger, and the robots waiting
+    /// for one, first come first served.
+    shared: bool,
+    charger_slot: Vec<u32>,
+    claim: Vec<u32>,
+    charge_queue: VecDeque<u32>,
+}
+
+/// Parking slots of spread placement: points strictly inside the highway edges, in edge
+/// order, `spacing` px or more apart and from either end node, so that robots standing on
+/// them neither block each other nor stand on a crossing.
+fn parking_slots(layout: &Layout, spacing: f64) -> Vec<Target> {
+    let mut slots = Vec::new();
+    for &(u, v) in &layout.edges {
+        let (ux, uy) = layout.pos(u);
+        let (vx, vy) = layout.pos(v);
+        let len = route::dist(ux, uy, vx, vy);
+        let m = (len / spacing).floor() as usize;
+        let m = m.saturating_sub(1);
+        for k in 1..=m {
+            let f = k as f64 / (m + 1) as f64;
+            slots.push(Target::Point { u, v, x: ux + (vx - ux) * f, y: uy + (vy - uy) * f });
+        }
+    }
+    slots
 }
 
 impl Simulation {
@@ -118,14 +157,20 @@ impl Simulation {
     pub fn with_world(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
         scenario.check_values()?;
         let layout = &world.layout;
-        let unload = layout
-            .node_named(&scenario.unload)
-            .ok_or_else(|| Error::scenario("unload", format!("\"{}\"", scenario.unload), "unknown node"))?;
+        // `unload = "nearest"` (extension): each cell's goods go to the unloading zone nearest
+        // its service point; allocators are told the first zone.
+        let unload = if scenario.unload == "nearest" {
+            layout.unloading[0]
+        } else {
+            layout.node_named(&scenario.unload).ok_or_else(|| Error::scenario("unload", format!("\"{}\"", scenario.unload), "unknown node"))?
+        };
         if !layout.unloading.contains(&unload) {
             return Err(Error::scenario("unload", format!("\"{}\"", scenario.unload), "is not an unloading zone"));
         }
         let n = scenario.robots as usize;
+        let spread = scenario.placement == Placement::Spread;
         let starts: Vec<NodeId> = match &scenario.starts {
+            _ if spread => Vec::new(),
             Some(names) => {
                 if names.len() != n {
                     return Err(Error::scenario("starts", format!("{names:?}"), format!("names {} start nodes for {} robots", names.len(), n)));
@@ -152,6 +197,7 @@ impl Simulation {
         };
         let cells = scenario.cells(layout)?;
         let r = &scenario.robot;
+        let g = &world.graph;
         let mut robots = Robots::default();
         for (i, &start) in starts.iter().enumerate() {
             let home = layout.charger_at(start).ok_or_else(|| {
@@ -159,15 +205,92 @@ impl Simulation {
             })?;
             robots.push(home, layout.pos(home), home, r.radius, r.speed, r.energy_full);
         }
+        let mut park = Vec::new();
+        if spread {
+            // Slots far enough apart that no two parked robots touch, even with the margin.
+            let spacing = layout.cell_size.max(2.0 * (2.0 * r.radius + scenario.collision.margin));
+            let slots = parking_slots(layout, spacing);
+            if n > slots.len() {
+                return Err(Error::scenario("robots", n, format!("more robots than parking slots ({}) in this layout: generate a larger one", slots.len())));
+            }
+            for i in 0..n {
+                // Evenly over the slot list, so every part of the warehouse gets robots.
+                let slot = slots[i * slots.len() / n];
+                let Target::Point { u, v, x, y } = slot else { unreachable!("slots are points") };
+                let at = Place { x, y, at_node: NONE, edge_u: u.0, edge_v: v.0 };
+                // Home charger: the nearest by route (ties: the first charger).
+                let mut home = layout.chargers[0];
+                let mut best = f64::INFINITY;
+                for &c in &layout.chargers {
+                    let d = route::length(g, at, Target::Node(c));
+                    if d < best {
+                        best = d;
+                        home = c;
+                    }
+                }
+                robots.push(home, (x, y), home, r.radius, r.speed, r.energy_full);
+                robots.at_node[i] = NONE;
+                robots.edge_u[i] = u.0;
+                robots.edge_v[i] = v.0;
+                park.push(slot);
+            }
+        }
         let mut cells_full = vec![false; layout.cells.len()];
-        let queue: VecDeque<Goods> = cells
-            .iter()
-            .enumerate()
-            .map(|(k, &c)| {
+        let mut queue: VecDeque<Goods> = VecDeque::with_capacity(layout.cells.len().max(cells.len()));
+        let mut lifelong = None;
+        if let Some(o) = &scenario.orders {
+            // A stocked warehouse: every cell holds goods at the start.
+            cells_full.fill(true);
+            let csv = match &o.csv {
+                Some(path) => lifelong::read_csv(std::path::Path::new(path), layout.cells.len())?,
+                None => Vec::new(),
+            };
+            let mut ll = Lifelong::new(o, layout.cells.len(), csv, cells.len());
+            ll.initial(&cells, &cells_full, &mut |id, cell| queue.push_back(Goods { id, cell }));
+            lifelong = Some(ll);
+        } else {
+            queue.extend(cells.iter().enumerate().map(|(k, &c)| {
                 cells_full[c as usize] = true;
                 Goods { id: GoodsId(k as u32), cell: CellId(c) }
-            })
-            .collect();
+            }));
+        }
+        let goods_cap = lifelong.as_ref().map_or(queue.len(), |l: &Lifelong| l.arrival.capacity());
+        let mut in_queue = Vec::with_capacity(goods_cap);
+        in_queue.resize(lifelong.as_ref().map_or(queue.len(), |l: &Lifelong| l.arrival.len()), false);
+        for gd in &queue {
+            in_queue[gd.id.index()] = true;
+        }
+        let mut handed = Vec::with_capacity(goods_cap);
+        handed.resize(in_queue.len(), false);
+        let mut goods_cells = Vec::with_capacity(goods_cap);
+        goods_cells.resize(in_queue.len(), CellId(NONE));
+        for gd in &queue {
+            goods_cells[gd.id.index()] = gd.cell;
+        }
+        let unload_of_cell: Vec<NodeId> = if scenario.unload == "nearest" {
+            layout
+                .cells
+                .iter()
+                .map(|c| {
+                    let at = Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 };
+                    let mut best = (f64::INFINITY, layout.unloading[0]);
+                    for &z in &layout.unloading {
+                        let d = route::length(g, at, Target::Node(z));
+                        if d < best.0 {
+                            best = (d, z);
+                        }
+                    }
+                    best.1
+                })
+                .collect()
+        } else {
+            vec![unload; layout.cells.len()]
+        };
+        let mut charger_slot = vec![NONE; layout.nodes.len()];
+        for (k, &c) in layout.chargers.iter().enumerate() {
+            charger_slot[c.index()] = k as u32;
+        }
+        let shared = scenario.charging.chargers == ChargerUse::Shared;
         // Chargers stand outside the warehouse: the grid must cover every node.
         let mut b = layout.bounds;
         for node in &layout.nodes {
@@ -211,6 +334,16 @@ impl Simulation {
             idle_buf: Vec::with_capacity(n),
             assign_buf: Vec::with_capacity(n),
             taken_buf: Vec::new(),
+            in_queue,
+            handed,
+            goods_cells,
+            unload_of_cell,
+            park,
+            lifelong,
+            shared,
+            charger_slot,
+            claim: vec![NONE; layout.chargers.len()],
+            charge_queue: VecDeque::with_capacity(n),
             robots,
             world,
         })
@@ -231,6 +364,9 @@ impl Simulation {
         }
         self.t += 1;
         self.events.clear();
+        if self.lifelong.is_some() {
+            self.orders();
+        }
         self.allocate()?;
         self.intend();
         self.block();
@@ -259,7 +395,12 @@ impl Simulation {
             return Ok(());
         }
         self.idle_buf.clear();
+        // Lifelong: robots parked for want of orders go back to work when orders are open.
+        let wake = self.lifelong.is_some() && !self.queue.is_empty();
         for i in 0..self.robots.len() {
+            if wake && self.robots.state[i] == State::Parked {
+                self.robots.state[i] = State::Idle;
+            }
             if self.robots.state[i] == State::Idle {
                 self.idle_buf.push(RobotId(i as u32));
             }
@@ -286,10 +427,20 @@ impl Simulation {
             self.allocator.allocate(&view, &mut self.assign_buf)?;
             self.check_assignments()?;
         }
+        if !self.assign_buf.is_empty() {
+            // One pass over the queue removes every assigned goods, keeping the others' order.
+            let in_queue = &mut self.in_queue;
+            let handed = &self.handed;
+            self.queue.retain(|g| {
+                let keep = !handed[g.id.index()];
+                in_queue[g.id.index()] = keep;
+                keep
+            });
+        }
         for k in 0..self.assign_buf.len() {
             let Assignment { robot, goods } = self.assign_buf[k];
-            let pos = self.queue.iter().position(|g| g.id == goods).expect("checked");
-            let g = self.queue.remove(pos).expect("checked");
+            self.handed[goods.index()] = false;
+            let g = Goods { id: goods, cell: self.goods_cell(goods) };
             let i = robot.index();
             let cell = &self.world.layout.cells[g.cell.index()];
             self.robots.goods[i] = g.id.0;
@@ -306,8 +457,8 @@ impl Simulation {
                 let i = self.idle_buf[k].index();
                 if self.robots.state[i] == State::Idle {
                     self.robots.state[i] = State::ToHome;
-                    let home = self.robots.home[i];
-                    self.route(i, Target::Node(home));
+                    let home = self.home_target(i);
+                    self.route(i, home);
                 }
             }
         }
@@ -316,31 +467,108 @@ impl Simulation {
     }
 
     fn check_assignments(&mut self) -> Result<()> {
-        let name = self.allocator.name().to_string();
-        let bad = |reason: String| Err(Error::Allocator { strategy: name.clone(), reason });
+        if let Err(reason) = self.check_each() {
+            self.clear_handed(self.assign_buf.len());
+            return Err(Error::Allocator { strategy: self.allocator.name().to_string(), reason });
+        }
+        Ok(())
+    }
+
+    /// Checks the assignments in order and marks their goods `handed`; the first problem
+    /// comes back as the error's reason.
+    fn check_each(&mut self) -> std::result::Result<(), String> {
         let n = self.robots.len();
         self.taken_buf.clear();
         self.taken_buf.resize(n, false);
         for (k, a) in self.assign_buf.iter().enumerate() {
             let i = a.robot.index();
             if i >= n {
-                return bad(format!("assignment {k}: unknown robot id {}", a.robot));
+                return Err(format!("assignment {k}: unknown robot id {}", a.robot));
             }
             if self.robots.state[i] != State::Idle {
-                return bad(format!("assignment {k}: robot {} is not idle (it is {})", a.robot, self.robots.state[i].name()));
+                return Err(format!("assignment {k}: robot {} is not idle (it is {})", a.robot, self.robots.state[i].name()));
             }
             if self.taken_buf[i] {
-                return bad(format!("assignment {k}: robot {} is given goods twice", a.robot));
+                return Err(format!("assignment {k}: robot {} is given goods twice", a.robot));
             }
             self.taken_buf[i] = true;
-            if !self.queue.iter().any(|g| g.id == a.goods) {
-                return bad(format!("assignment {k}: unknown or taken goods id {}", a.goods));
+            let gi = a.goods.index();
+            if !self.in_queue.get(gi).copied().unwrap_or(false) {
+                return Err(format!("assignment {k}: unknown or taken goods id {}", a.goods));
             }
-            if self.assign_buf[..k].iter().any(|b| b.goods == a.goods) {
-                return bad(format!("assignment {k}: goods {} handed out twice", a.goods));
+            if self.handed[gi] {
+                return Err(format!("assignment {k}: goods {} handed out twice", a.goods));
             }
+            self.handed[gi] = true;
         }
         Ok(())
+    }
+
+    /// Undoes the `handed` marks of the first `k` assignments (after a refused allocation).
+    fn clear_handed(&mut self, k: usize) {
+        for a in &self.assign_buf[..k] {
+            if let Some(h) = self.handed.get_mut(a.goods.index()) {
+                *h = false;
+            }
+        }
+    }
+
+    /// The cell of a goods item.
+    fn goods_cell(&self, goods: GoodsId) -> CellId {
+        self.goods_cells[goods.index()]
+    }
+
+    /// Where robot `i` parks: its parking slot (spread placement) or its home charger.
+    fn home_target(&self, i: usize) -> Target {
+        self.park.get(i).copied().unwrap_or(Target::Node(self.robots.home[i]))
+    }
+
+    /// Whether robot `i` stands at its home (phase 8).
+    fn at_home(&self, i: usize) -> bool {
+        match self.park.get(i) {
+            Some(&Target::Point { x, y, .. }) => self.robots.at_node[i] == NONE && self.robots.x[i] == x && self.robots.y[i] == y,
+            _ => self.robots.at_node[i] == self.robots.home[i].0,
+        }
+    }
+
+    /// Lifelong phase 0: restocks and arrivals of this step join the queue.
+    fn orders(&mut self) {
+        let t = self.t;
+        let Some(ll) = self.lifelong.as_mut() else { return };
+        let queue = &mut self.queue;
+        let in_queue = &mut self.in_queue;
+        let handed = &mut self.handed;
+        let goods_cells = &mut self.goods_cells;
+        let events = &mut self.events;
+        let mut grew = false;
+        ll.begin_step(
+            t,
+            &mut self.cells_full,
+            &mut |id, cell| {
+                queue.push_back(Goods { id, cell });
+                let k = id.index();
+                if in_queue.len() <= k {
+                    // Within the capacity reserved for the expected orders: no allocation.
+                    in_queue.resize(k + 1, false);
+                    handed.resize(k + 1, false);
+                    goods_cells.resize(k + 1, CellId(NONE));
+                }
+                in_queue[k] = true;
+                goods_cells[k] = cell;
+                grew = true;
+            },
+            &mut |e| {
+                let (kind, cell) = match e {
+                    StockEvent::Order(c) => (EventKind::Order, c),
+                    StockEvent::Restock(c) => (EventKind::Restock, c),
+                };
+                events.push(Event { step: t, kind, robot: NONE, cell });
+            },
+        );
+        self.goods_total = ll.ordered();
+        if grew {
+            self.alloc_due = true;
+        }
     }
 
     /// Phase 2: who wants to move, and where each is heading.
@@ -434,15 +662,21 @@ impl Simulation {
                 State::Loading if self.robots.dwell[i] >= self.p.loading => {
                     let cell = self.robots.cell[i];
                     self.cells_full[cell as usize] = false;
+                    if let Some(ll) = self.lifelong.as_mut() {
+                        ll.picked(self.t, cell);
+                    }
                     self.robots.carrying[i] = true;
                     self.robots.state[i] = State::ToDrop;
                     self.event(EventKind::Pickup, i, cell);
-                    self.route(i, Target::Node(self.p.unload));
+                    self.route(i, Target::Node(self.unload_of_cell[cell as usize]));
                 }
                 State::Unloading if self.robots.dwell[i] >= self.p.unloading => {
                     let cell = self.robots.cell[i];
                     self.delivered += 1;
                     self.stats.delivered[i] += 1;
+                    if let Some(ll) = self.lifelong.as_mut() {
+                        ll.delivered(self.t, self.robots.goods[i]);
+                    }
                     self.event(EventKind::Deliver, i, cell);
                     self.robots.goods[i] = NONE;
                     self.robots.cell[i] = NONE;
@@ -458,6 +692,9 @@ impl Simulation {
                 State::Charging if energy::is_full(self.robots.energy[i], self.p.energy_full) => {
                     self.robots.state[i] = State::Idle;
                     self.alloc_due = true;
+                    if self.shared {
+                        self.release_charger(self.robots.charger[i]);
+                    }
                 }
                 _ => {}
             }
@@ -467,6 +704,7 @@ impl Simulation {
                     State::ToPickup if !self.inside_service_edge(i) => {
                         let g = Goods { id: GoodsId(self.robots.goods[i]), cell: CellId(self.robots.cell[i]) };
                         self.queue.push_front(g);
+                        self.in_queue[g.id.index()] = true;
                         self.alloc_due = true;
                         self.event(EventKind::PutBack, i, g.cell.0);
                         self.robots.goods[i] = NONE;
@@ -483,6 +721,9 @@ impl Simulation {
                 }
             }
             if energy::exhausted(self.robots.energy[i]) && self.robots.state[i] != State::Stranded {
+                if self.shared && self.robots.state[i] == State::ToCharger {
+                    self.release_charger(self.robots.charger[i]);
+                }
                 self.robots.state[i] = State::Stranded;
                 self.robots.energy[i] = 0.0;
                 self.robots.routing[i] = false;
@@ -493,15 +734,74 @@ impl Simulation {
     }
 
     fn send_to_charge(&mut self, i: usize) {
+        if self.shared {
+            self.send_to_shared_charger(i);
+            return;
+        }
         self.robots.state[i] = State::ToCharger;
         let charger = self.charger_of(i);
         self.robots.charger[i] = charger.0;
         self.route(i, Target::Node(charger));
     }
 
+    /// Shared chargers: the nearest free charger by route length (ties: the first in the
+    /// layout), claimed until the robot is full; with none free, the robot stops where it is,
+    /// WAIT_CHARGER, in a first-come-first-served queue.
+    fn send_to_shared_charger(&mut self, i: usize) {
+        let layout = &self.world.layout;
+        let from = Place::of(&self.robots, i);
+        let mut best: Option<(f64, usize)> = None;
+        for (k, &c) in layout.chargers.iter().enumerate() {
+            if self.claim[k] != NONE {
+                continue;
+            }
+            let d = route::length(&self.world.graph, from, Target::Node(c));
+            if best.map_or(true, |(b, _)| d < b) {
+                best = Some((d, k));
+            }
+        }
+        match best {
+            Some((_, k)) => self.claim_charger(i, k),
+            None => {
+                self.robots.state[i] = State::WaitCharger;
+                self.robots.routing[i] = false;
+                self.charge_queue.push_back(i as u32);
+            }
+        }
+    }
+
+    fn claim_charger(&mut self, i: usize, k: usize) {
+        let charger = self.world.layout.chargers[k];
+        self.claim[k] = i as u32;
+        self.robots.state[i] = State::ToCharger;
+        self.robots.charger[i] = charger.0;
+        self.route(i, Target::Node(charger));
+    }
+
+    /// A charger became free: the longest-waiting robot (still waiting) takes it.
+    fn release_charger(&mut self, charger: u32) {
+        let k = self.charger_slot[charger as usize];
+        if k == NONE {
+            return;
+        }
+        self.claim[k as usize] = NONE;
+        while let Some(j) = self.charge_queue.pop_front() {
+            if self.robots.state[j as usize] == State::WaitCharger {
+                self.claim_charger(j as usize, k as usize);
+                break;
+            }
+        }
+    }
+
     /// Phase 8: completion first, then the step limit.
     fn end(&mut self) {
-        if self.delivered == self.goods_total && (0..self.robots.len()).all(|i| self.robots.at_node[i] == self.robots.home[i].0) {
+        if let Some(ll) = &self.lifelong {
+            if self.t >= ll.horizon {
+                self.outcome = Some(Outcome::Horizon);
+            }
+            return;
+        }
+        if self.delivered == self.goods_total && (0..self.robots.len()).all(|i| self.at_home(i)) {
             self.outcome = Some(Outcome::Complete);
         } else if self.t >= self.p.step_limit {
             self.outcome = Some(Outcome::Incomplete);
@@ -522,6 +822,28 @@ impl Simulation {
             goods_total: self.goods_total,
             stranded,
             robots: self.stats.clone(),
+            lifelong: self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll)),
+        }
+    }
+
+    fn lifelong_stats(&self, ll: &Lifelong) -> LifelongStats {
+        let mut lat = ll.latencies.clone();
+        lat.sort_unstable();
+        let steps = self.t.max(1);
+        let busy: u64 = self.stats.state_steps.iter().map(|s| s[State::ToPickup as usize] + s[State::Loading as usize] + s[State::ToDrop as usize] + s[State::Unloading as usize]).sum();
+        let energy: f64 = self.stats.energy_used.iter().sum();
+        LifelongStats {
+            ordered: ll.ordered(),
+            in_flight: (0..self.robots.len()).filter(|&i| self.robots.goods[i] != NONE).count() as u64,
+            queued: self.queue.len() as u64,
+            waiting: ll.waiting,
+            throughput: self.delivered as f64 * 1000.0 / steps as f64,
+            latency_p50: lifelong::percentile(&lat, 50.0),
+            latency_p95: lifelong::percentile(&lat, 95.0),
+            latency_p99: lifelong::percentile(&lat, 99.0),
+            latency_mean: (!lat.is_empty()).then(|| lat.iter().sum::<u64>() as f64 / lat.len() as f64),
+            utilisation: busy as f64 / (steps * self.robots.len() as u64) as f64,
+            energy_per_delivery: (self.delivered > 0).then(|| energy / self.delivered as f64),
         }
     }
 
