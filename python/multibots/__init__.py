@@ -13,8 +13,10 @@ from multibots.replay import Replay, ReplayError
 from multibots.result import STATE_NAMES, Result
 from multibots.scenario import Scenario
 from multibots.simulation import Simulation, layout_json, simulate, simulate_many
+from multibots.strategies import Allocator
 
 __all__ = [
+    "Allocator",
     "AllocatorError",
     "EngineError",
     "LayoutError",

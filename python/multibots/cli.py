@@ -119,11 +119,16 @@ def run(
     step_limit: Optional[str] = STEP_LIMIT,
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object on stdout."),
     record: Optional[Path] = typer.Option(None, "--record", help="Write a replay of every step to this file.", show_default=False),
+    allocator: Optional[str] = typer.Option(
+        None, "--allocator", help="Task-allocation strategy: a built-in (in-turn, nearest, hungarian, auction, energy-aware, min-cost) or package.module:Class.", show_default=False
+    ),
 ) -> None:
     """Run one scenario, from a file or from the quick-run flags on the paper layout."""
     from multibots.simulation import simulate
 
     s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit)
+    if allocator is not None:
+        s = s.replace(allocator=allocator)
     result = simulate(s, record=record)
     if as_json:
         print(json.dumps(result.to_dict(), separators=(",", ":")))
@@ -210,6 +215,9 @@ def _register_plugins() -> None:
     from multibots.viewer.cli import register as register_viewer
 
     register_viewer(app)
+    from multibots.strategies.cli import register as register_strategies
+
+    register_strategies(app)
 
 
 _register_plugins()

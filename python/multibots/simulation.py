@@ -21,24 +21,44 @@ def _scenario(s: Scenario | str | os.PathLike[str]) -> Scenario:
     return s if isinstance(s, Scenario) else Scenario.from_toml(s)
 
 
-def simulate(scenario: Scenario | str | os.PathLike[str], record: str | os.PathLike[str] | None = None) -> Result:
+def simulate(
+    scenario: Scenario | str | os.PathLike[str],
+    record: str | os.PathLike[str] | None = None,
+    allocator: Any = None,
+) -> Result:
     """Runs a scenario to its end.
 
     Args:
         scenario: a :class:`Scenario`, or the path of a scenario file.
         record: if given, the path of a replay file to write (see ``docs/replay-format.md``).
+        allocator: the task-allocation strategy, overriding the scenario's: a built-in's
+            name (``"hungarian"``), ``"package.module:Class"``, a
+            :class:`multibots.Allocator` or a function ``f(view)`` (``docs/strategies.md``).
 
     Example:
         >>> simulate(Scenario.paper(robots=1, goods=[42])).T
         726
     """
     s = _scenario(scenario)
-    return Result(_core.simulate(s._core, None if record is None else os.fspath(record)))
+    return Result(_core.simulate(s._core, None if record is None else os.fspath(record), allocator))
 
 
-def simulate_many(scenarios: Sequence[Scenario], workers: int = 0) -> list[Result]:
-    """Runs scenarios in parallel on ``workers`` threads (0: one per core), in order."""
-    return [Result(r) for r in _core.simulate_many([s._core for s in scenarios], workers)]
+def _built_in_name(allocator: Any) -> bool:
+    return isinstance(allocator, str) and ":" not in allocator
+
+
+def simulate_many(scenarios: Sequence[Scenario], workers: int = 0, allocator: Any = None) -> list[Result]:
+    """Runs scenarios in parallel on ``workers`` threads (0: one per core), in order.
+
+    ``allocator`` is as for :func:`simulate`. Built-in strategies run on the engine's threads;
+    a Python strategy needs the interpreter, so those runs go one after another.
+    """
+    if allocator is not None and _built_in_name(allocator):
+        scenarios = [s.replace(allocator=allocator) for s in scenarios]
+        allocator = None
+    if allocator is None and all(_built_in_name(s.to_dict()["allocator"]) for s in scenarios):
+        return [Result(r) for r in _core.simulate_many([s._core for s in scenarios], workers)]
+    return [Result(_core.simulate(s._core, None, allocator)) for s in scenarios]
 
 
 def layout_json(name: str = "paper") -> dict[str, Any]:
@@ -59,9 +79,9 @@ class Simulation:
         (2, 2)
     """
 
-    def __init__(self, scenario: Scenario | str | os.PathLike[str]) -> None:
+    def __init__(self, scenario: Scenario | str | os.PathLike[str], allocator: Any = None) -> None:
         self.scenario = _scenario(scenario)
-        self._sim = _core.Simulation(self.scenario._core)
+        self._sim = _core.Simulation(self.scenario._core, allocator)
 
     def step(self, n: int = 1) -> int:
         """Runs ``n`` steps, fewer if the run ends first; returns how many ran."""
