@@ -28,7 +28,7 @@ pub enum Error {
 }
 
 impl Error {
-    pub(crate) fn scenario(field: impl Into<String>, value: impl ToString, reason: impl Into<String>) -> Self {
+    pub(crate) fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
         Error::Scenario { field: field.into(), value: value.to_string(), reason: reason.into() }
     }
 

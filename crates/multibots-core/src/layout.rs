@@ -225,7 +225,7 @@ impl Layout {
             spurs.push((id, at));
         }
         let cells_per_group = p.group_width * p.group_height;
-        let mut cells = Vec::with_capacity((rows * cols) as usize * cells_per_group as usize);
+        let mut cells = Vec::with_capacity(rows * cols * cells_per_group as usize);
         for c in 0..cols {
             for r in 0..rows {
                 for b in 0..p.group_height as usize {

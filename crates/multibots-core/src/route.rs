@@ -95,7 +95,14 @@ pub fn plan(g: &HighwayGraph, from: Place, target: Target) -> Plan {
         p.moving = false;
         return p;
     }
-    if from.at_node != NONE {
+    if from.at_node == NONE {
+        let (u, v) = (from.edge_u, from.edge_v);
+        if has_final && goal == u && fv == v && strictly_ahead(g, u, v, from.x, from.y, fx, fy) {
+            direct(&mut p, u);
+        } else {
+            via(&mut p, u, v);
+        }
+    } else {
         let u = from.at_node;
         if u == goal {
             if has_final {
@@ -107,13 +114,6 @@ pub fn plan(g: &HighwayGraph, from: Place, target: Target) -> Plan {
             let next = g.next_hop(NodeId(u), NodeId(goal)).map_or(NONE, |n| n.0);
             debug_assert!(next != NONE, "validated layouts are strongly connected");
             via(&mut p, u, next);
-        }
-    } else {
-        let (u, v) = (from.edge_u, from.edge_v);
-        if has_final && goal == u && fv == v && strictly_ahead(g, u, v, from.x, from.y, fx, fy) {
-            direct(&mut p, u);
-        } else {
-            via(&mut p, u, v);
         }
     }
     p
