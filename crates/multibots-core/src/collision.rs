@@ -58,6 +58,9 @@ pub struct Collisions {
     edge_to: Vec<u32>,
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
+    /// Robots standing in a bay beside the aisle (an extension for large fleets, see
+    /// docs/model.md section 7): they neither block nor wait. Empty: nobody (the paper).
+    pub bay: Vec<bool>,
     // Tarjan's algorithm, iterative.
     index: Vec<u32>,
     low: Vec<u32>,
@@ -93,6 +96,7 @@ impl Collisions {
             stack: Vec::with_capacity(robots),
             call: Vec::with_capacity(robots),
             released: vec![false; robots],
+            bay: Vec::new(),
         }
     }
 
@@ -113,7 +117,12 @@ impl Collisions {
             return;
         }
         // Every robot can block, so every robot goes into the grid.
+        let bays = !self.bay.is_empty();
         for i in 0..n {
+            if bays && self.bay[i] {
+                self.cell_of[i] = u32::MAX;
+                continue;
+            }
             let (cx, cy) = self.grid_cell(x[i], y[i]);
             let c = cy * self.cols + cx;
             self.cell_of[i] = c as u32;
@@ -126,7 +135,7 @@ impl Collisions {
         let mut any_edge = false;
         for i in 0..n {
             self.edge_start[i] = self.edge_to.len() as u32;
-            if !wants[i] {
+            if !wants[i] || self.cell_of[i] == u32::MAX {
                 continue;
             }
             let first = self.edge_to.len();
@@ -151,7 +160,9 @@ impl Collisions {
         }
         self.edge_start[n] = self.edge_to.len() as u32;
         for i in 0..n {
-            self.head[self.cell_of[i] as usize] = u32::MAX;
+            if self.cell_of[i] != u32::MAX {
+                self.head[self.cell_of[i] as usize] = u32::MAX;
+            }
         }
         if !any_edge {
             return;

@@ -187,6 +187,35 @@ impl HighwayGraph {
         total
     }
 
+    /// Path lengths from every node to `t` (0 at `t` and where `t` cannot be reached), in
+    /// O(n): `len(u) = seg(u, next) + len(next)`, the table's own sum.
+    #[must_use]
+    pub fn lengths_to(&self, t: NodeId) -> Vec<f64> {
+        let n = self.n;
+        let mut len = vec![f64::NAN; n];
+        len[t.index()] = 0.0;
+        let mut chain = Vec::new();
+        for u in 0..n {
+            let mut at = NodeId(u as u32);
+            while len[at.index()].is_nan() {
+                chain.push(at);
+                match self.next_hop(at, t) {
+                    Some(v) => at = v,
+                    None => {
+                        len[at.index()] = 0.0;
+                        chain.pop();
+                        break;
+                    }
+                }
+            }
+            while let Some(w) = chain.pop() {
+                let v = self.next_hop(w, t).expect("on a chain to t");
+                len[w.index()] = self.segment(w.index(), v.index()) + len[v.index()];
+            }
+        }
+        len
+    }
+
     /// Bytes held by the routing tables (next hops and lengths).
     #[must_use]
     pub fn table_bytes(&self) -> usize {
@@ -352,6 +381,19 @@ mod tests {
         assert_eq!(g.path_length(n("A"), n("O")), 1100.0);
         assert_eq!(g.path_length(n("I"), n("M")), 850.0);
         assert_eq!(g.path_length(n("M"), n("CH0")), 540.0);
+    }
+
+    #[test]
+    fn lengths_to_a_target_equal_the_table() {
+        let l = Layout::paper();
+        let g = HighwayGraph::new(&l);
+        for t in 0..l.nodes.len() as u32 {
+            let row = g.lengths_to(NodeId(t));
+            for u in 0..l.nodes.len() as u32 {
+                assert_eq!(row[u as usize], g.path_length(NodeId(u), NodeId(t)));
+                assert_eq!(g.walk_length(NodeId(u), NodeId(t)), g.path_length(NodeId(u), NodeId(t)));
+            }
+        }
     }
 
     #[test]

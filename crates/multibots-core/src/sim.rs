@@ -116,6 +116,19 @@ pub struct Simulation {
     charger_slot: Vec<u32>,
     claim: Vec<u32>,
     charge_queue: VecDeque<u32>,
+    /// `to_charger[k * nodes + u]`: path length from node `u` to charger `k`, for O(1)
+    /// nearest-charger choices inside the step loop (shared chargers only).
+    to_charger: Vec<f64>,
+}
+
+/// Route length from a place to a node whose distances `row` (from every node) are known:
+/// the same route as [`route::length`], without walking the path.
+fn length_by_row(g: &HighwayGraph, from: Place, target: NodeId, row: &[f64]) -> f64 {
+    let p = route::plan(g, from, Target::Node(target));
+    if !p.moving {
+        return 0.0;
+    }
+    route::dist(from.x, from.y, p.wp_x, p.wp_y) + row[p.wp_node as usize]
 }
 
 /// Parking slots of spread placement: points strictly inside the highway edges, in edge
@@ -210,6 +223,7 @@ impl Simulation {
             // Slots far enough apart that no two parked robots touch, even with the margin.
             let spacing = layout.cell_size.max(2.0 * (2.0 * r.radius + scenario.collision.margin));
             let slots = parking_slots(layout, spacing);
+            let rows: Vec<Vec<f64>> = layout.chargers.iter().map(|&c| g.lengths_to(c)).collect();
             if n > slots.len() {
                 return Err(Error::scenario("robots", n, format!("more robots than parking slots ({}) in this layout: generate a larger one", slots.len())));
             }
@@ -221,8 +235,8 @@ impl Simulation {
                 // Home charger: the nearest by route (ties: the first charger).
                 let mut home = layout.chargers[0];
                 let mut best = f64::INFINITY;
-                for &c in &layout.chargers {
-                    let d = route::length(g, at, Target::Node(c));
+                for (k, &c) in layout.chargers.iter().enumerate() {
+                    let d = length_by_row(g, at, c, &rows[k]);
                     if d < best {
                         best = d;
                         home = c;
@@ -268,14 +282,15 @@ impl Simulation {
             goods_cells[gd.id.index()] = gd.cell;
         }
         let unload_of_cell: Vec<NodeId> = if scenario.unload == "nearest" {
+            let rows: Vec<Vec<f64>> = layout.unloading.iter().map(|&z| g.lengths_to(z)).collect();
             layout
                 .cells
                 .iter()
                 .map(|c| {
                     let at = Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 };
                     let mut best = (f64::INFINITY, layout.unloading[0]);
-                    for &z in &layout.unloading {
-                        let d = route::length(g, at, Target::Node(z));
+                    for (k, &z) in layout.unloading.iter().enumerate() {
+                        let d = length_by_row(g, at, z, &rows[k]);
                         if d < best.0 {
                             best = (d, z);
                         }
@@ -291,6 +306,7 @@ impl Simulation {
             charger_slot[c.index()] = k as u32;
         }
         let shared = scenario.charging.chargers == ChargerUse::Shared;
+        let to_charger = if shared { layout.chargers.iter().flat_map(|&c| g.lengths_to(c)).collect() } else { Vec::new() };
         // Chargers stand outside the warehouse: the grid must cover every node.
         let mut b = layout.bounds;
         for node in &layout.nodes {
@@ -344,6 +360,7 @@ impl Simulation {
             charger_slot,
             claim: vec![NONE; layout.chargers.len()],
             charge_queue: VecDeque::with_capacity(n),
+            to_charger,
             robots,
             world,
         })
@@ -587,6 +604,14 @@ impl Simulation {
 
     /// Phase 3: collision waiting and the count S.
     fn block(&mut self) {
+        if !self.park.is_empty() {
+            // Spread placement: parked robots and robots waiting for a charger stand in a
+            // bay beside the aisle, out of the traffic (docs/model.md section 7).
+            self.collisions.bay.resize(self.robots.len(), false);
+            for i in 0..self.robots.len() {
+                self.collisions.bay[i] = matches!(self.robots.state[i], State::Parked | State::WaitCharger);
+            }
+        }
         let r = &self.robots;
         self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, self.p.margin, self.p.angle);
         for i in 0..self.robots.len() {
@@ -749,13 +774,14 @@ impl Simulation {
     /// WAIT_CHARGER, in a first-come-first-served queue.
     fn send_to_shared_charger(&mut self, i: usize) {
         let layout = &self.world.layout;
+        let nodes = layout.nodes.len();
         let from = Place::of(&self.robots, i);
         let mut best: Option<(f64, usize)> = None;
         for (k, &c) in layout.chargers.iter().enumerate() {
             if self.claim[k] != NONE {
                 continue;
             }
-            let d = route::length(&self.world.graph, from, Target::Node(c));
+            let d = length_by_row(&self.world.graph, from, c, &self.to_charger[k * nodes..(k + 1) * nodes]);
             if best.map_or(true, |(b, _)| d < b) {
                 best = Some((d, k));
             }
