@@ -1,0 +1,1 @@
+"""A tiny importable package of strategies, for the ``allocator = "package.module:Class"`` tests."""
