@@ -77,8 +77,8 @@ def main() -> None:
     steps = sum(r.steps for r in r1)
     print(f"{runs} runs (paper lists, N = 1..6), {steps} steps, {events} allocation events "
           f"({events / runs:.1f} per run, one per {steps / events:.0f} steps), best of {args.repeat}, one thread")
-    print(f"{"strategy":<40} {'per run':>10} {'per event':>12} {'overhead per run':>17}")
-    print(f"{"in-turn, Rust built-in":<40} {rust / runs * 1e3:>8.3f} ms {'-':>12} {'-':>17}")
+    print(f"{'strategy':<40} {'per run':>10} {'per event':>12} {'overhead per run':>17}")
+    print(f"{'in-turn, Rust built-in':<40} {rust / runs * 1e3:>8.3f} ms {'-':>12} {'-':>17}")
     for label, t in (("in-turn, Python function", py), ("nearest-like, Python + route_lengths()", heavy)):
         over = (t - rust) / runs
         print(f"{label:<40} {t / runs * 1e3:>8.3f} ms {over * runs / events * 1e6:>9.1f} us {over * 1e3:>14.3f} ms")
