@@ -122,6 +122,7 @@ def run(
     allocator: Optional[str] = typer.Option(
         None, "--allocator", help="Task-allocation strategy: a built-in (in-turn, nearest, hungarian, auction, energy-aware, min-cost) or package.module:Class.", show_default=False
     ),
+    horizon: Optional[int] = typer.Option(None, "--horizon", help="Lifelong scenarios: steps to run (overrides orders.horizon).", show_default=False),
 ) -> None:
     """Run one scenario, from a file or from the quick-run flags on the paper layout."""
     from multibots.simulation import simulate
@@ -129,6 +130,11 @@ def run(
     s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit)
     if allocator is not None:
         s = s.replace(allocator=allocator)
+    if horizon is not None or s.to_dict().get("orders") is not None:
+        from multibots.layouts import run_lifelong
+
+        run_lifelong(s, record=record, as_json=as_json, horizon=horizon)
+        return
     result = simulate(s, record=record)
     if as_json:
         print(json.dumps(result.to_dict(), separators=(",", ":")))
@@ -218,6 +224,9 @@ def _register_plugins() -> None:
     from multibots.strategies.cli import register as register_strategies
 
     register_strategies(app)
+    from multibots.layouts import register as register_layouts
+
+    register_layouts(layout_app)
 
 
 _register_plugins()

@@ -111,7 +111,62 @@ fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound<'py, PyDic
     d.set_item("charges", PyArray1::from_slice(py, &st.charges))?;
     let flat: Vec<u64> = st.state_steps.iter().flat_map(|row| row.iter().copied()).collect();
     d.set_item("state_steps", PyArray1::from_vec(py, flat).reshape([st.state_steps.len(), State::COUNT])?)?;
+    match &r.lifelong {
+        Some(l) => {
+            let ll = PyDict::new(py);
+            ll.set_item("ordered", l.ordered)?;
+            ll.set_item("delivered", r.delivered)?;
+            ll.set_item("in_flight", l.in_flight)?;
+            ll.set_item("queued", l.queued)?;
+            ll.set_item("waiting", l.waiting)?;
+            ll.set_item("throughput", l.throughput)?;
+            ll.set_item("latency_p50", l.latency_p50)?;
+            ll.set_item("latency_p95", l.latency_p95)?;
+            ll.set_item("latency_p99", l.latency_p99)?;
+            ll.set_item("latency_mean", l.latency_mean)?;
+            ll.set_item("utilisation", l.utilisation)?;
+            ll.set_item("energy_per_delivery", l.energy_per_delivery)?;
+            d.set_item("lifelong", ll)?;
+        }
+        None => d.set_item("lifelong", py.None())?,
+    }
     Ok(d)
+}
+
+/// Generates a grid layout and returns its layout file text (TOML), checked.
+#[pyfunction]
+#[pyo3(signature = (params_json, name="generated"))]
+fn generate_layout_toml(py: Python<'_>, params_json: &str, name: &str) -> PyResult<String> {
+    let params: multibots_core::LayoutParams = serde_json::from_str(params_json).map_err(|e| ScenarioError::new_err(format!("layout parameters: {e}")))?;
+    let name = name.to_string();
+    engine(py, move || {
+        let layout = multibots_core::Layout::generate(&params, &name)?;
+        multibots_core::layout_file::check_layout(&layout)?;
+        Ok(multibots_core::layout_file::to_toml(&layout, Some(params)))
+    })
+}
+
+/// Reads and checks layout file text; returns the layout JSON.
+#[pyfunction]
+#[pyo3(signature = (text, source_name="layout"))]
+fn layout_file_json(py: Python<'_>, text: &str, source_name: &str) -> PyResult<String> {
+    let (text, source) = (text.to_string(), source_name.to_string());
+    engine(py, move || {
+        let layout = multibots_core::layout_file::from_toml(&text, &source)?;
+        multibots_core::layout_file::check_layout(&layout)?;
+        Ok(layout.to_json().to_string())
+    })
+}
+
+/// Bytes of the routing tables of a scenario's layout, and the world's node count.
+#[pyfunction]
+fn routing_table_bytes(py: Python<'_>, scenario: &PyScenario) -> PyResult<(usize, usize)> {
+    let s = scenario.inner.clone();
+    engine(py, move || {
+        let layout = s.resolve_layout()?;
+        let g = multibots_core::HighwayGraph::new(&layout);
+        Ok((g.table_bytes(), g.len()))
+    })
 }
 
 /// Runs a scenario to its end; records a replay to `record` if given.
@@ -364,6 +419,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(layout_json, m)?)?;
+    m.add_function(wrap_pyfunction!(generate_layout_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(layout_file_json, m)?)?;
+    m.add_function(wrap_pyfunction!(routing_table_bytes, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     strategy::register(m)?;
     m.add("BYTES_PER_ROBOT_STEP", multibots_core::replay::BYTES_PER_ROBOT_STEP)?;
