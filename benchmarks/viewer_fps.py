@@ -2,10 +2,10 @@
 
     .venv/bin/python benchmarks/viewer_fps.py [--robots 1000] [--steps 10000] [--seconds 5]
 
-1. Writes a replay of ROBOTS robots x STEPS steps (kept in out/bench/, reused if present):
-   with ``--layout NAME`` the engine records it (the layout must field that many robots);
-   by default it is synthetic (robots circling the storage blocks of a generated 8 x 30
-   grid layout, written in the documented format), which the reader and page treat alike.
+1. Records a replay of ROBOTS robots x STEPS steps with the engine (kept in out/bench/,
+   reused if present): a lifelong run on a generated 10 x 50-group warehouse, robots
+   spread over parking slots, shared chargers (BIG_SCENARIO below). ``--synthetic`` writes
+   a synthetic one instead (robots circling storage blocks, in the documented format).
 2. Open time: from starting the server (``Replay(path)`` opens the file) to the page having
    drawn its first frame in headless Chromium.
 3. Frame rate: the page plays the replay at 1x and 8x for SECONDS each; frames drawn per
@@ -138,13 +138,39 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 102
     os.replace(tmp, path)
 
 
-def engine_replay(path: Path, robots: int, steps: int, layout: str, goods: int) -> None:
-    """Record the replay with the engine on a layout that fields this many robots."""
+#: A lifelong run of 1,000 robots on a generated 10 x 50-group warehouse (1,000 x 10,000).
+BIG_SCENARIO = """\
+robots = {robots}
+placement = "spread"
+step_limit = {steps}
+unload = "nearest"
+tasks = {{ random = 1000, seed = 1 }}
+
+[layout_generate]
+group_rows = 10
+group_cols = 50
+chargers = 51
+
+[charging]
+chargers = "shared"
+
+[orders]
+rate = 5.0
+horizon = {steps}
+
+[robot]
+consumption = 0.0004
+"""
+
+
+def engine_replay(path: Path, robots: int, steps: int) -> None:
+    """Record the replay with the engine (BIG_SCENARIO)."""
     import multibots
 
-    scenario = multibots.Scenario.from_dict({"layout": layout, "robots": robots, "step_limit": steps,
-                                             "tasks": {"random": goods, "seed": 1}})
-    multibots.simulate(scenario, record=str(path))
+    toml = path.with_suffix(".toml")
+    toml.write_text(BIG_SCENARIO.format(robots=robots, steps=steps))
+    result = multibots.simulate(multibots.Scenario.from_toml(str(toml)), record=str(path))
+    print(f"  engine run: {result.steps} steps, S = {result.S}, delivered {result.delivered} ({result.outcome})")
 
 
 def main() -> None:
@@ -153,22 +179,20 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=10000)
     ap.add_argument("--seconds", type=float, default=5.0)
     ap.add_argument("--out", default=str(ROOT / "out" / "bench"))
-    ap.add_argument("--layout", default=None,
-                    help="record with the engine on this layout (it must field ROBOTS robots); "
-                         "default: a synthetic replay")
-    ap.add_argument("--goods", type=int, default=2000, help="with --layout: goods in the task list")
+    ap.add_argument("--synthetic", action="store_true",
+                    help="use a synthetic replay (robots circling blocks) instead of the engine's")
     args = ap.parse_args()
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    tag = args.layout or "synthetic"
+    tag = "synthetic" if args.synthetic else "engine"
     path = out / f"viewer-{tag}-{args.robots}x{args.steps}.mbr"
     if not path.exists():
         t0 = time.perf_counter()
-        if args.layout:
-            engine_replay(path, args.robots, args.steps, args.layout, args.goods)
-        else:
+        if args.synthetic:
             synthetic_replay(path, args.robots, args.steps)
+        else:
+            engine_replay(path, args.robots, args.steps)
         print(f"wrote {path} ({tag}) in {time.perf_counter() - t0:.1f} s")
     size = path.stat().st_size
     t0 = time.perf_counter()

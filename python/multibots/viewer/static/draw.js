@@ -62,9 +62,11 @@ export class Renderer {
     this.ui = this.fixedScale ? Math.max(1, this.fixedScale) : 1;
     this.zoom = 1; this.panX = 0; this.panY = 0;
     this.bg = document.createElement("canvas");
+    this.cellLayer = document.createElement("canvas");  // cells only, transparent elsewhere
     this.bgValid = false;
     this.cellsDrawn = null;
     this._world();
+    this._indexCells();
     this.groups = new Int32Array(this.n);
     this.groupCount = new Int32Array(GROUP_COLOURS.length);
   }
@@ -102,6 +104,37 @@ export class Renderer {
     this.goodsPerRow = Math.max(1, Math.floor((b[2] - b[0] - cell * 1.9 + this.goodsGap) / pitch));
   }
 
+  /** A bucket grid of the cells, to find the neighbours of a cell quickly. */
+  _indexCells() {
+    const cells = this.layout.cells;
+    let size = 1;
+    for (const c of cells) size = Math.max(size, c.w, c.h);
+    this.bucket = size * 2;
+    this.buckets = new Map();
+    for (let k = 0; k < cells.length; k++) {
+      const c = cells[k];
+      for (let gx = Math.floor(c.x / this.bucket); gx <= Math.floor((c.x + c.w) / this.bucket); gx++) {
+        for (let gy = Math.floor(c.y / this.bucket); gy <= Math.floor((c.y + c.h) / this.bucket); gy++) {
+          const key = gx * 1e6 + gy;
+          if (!this.buckets.has(key)) this.buckets.set(key, []);
+          this.buckets.get(key).push(k);
+        }
+      }
+    }
+  }
+
+  _cellsNear(x0, y0, x1, y1) {
+    const out = new Set();
+    for (let gx = Math.floor(x0 / this.bucket); gx <= Math.floor(x1 / this.bucket); gx++) {
+      for (let gy = Math.floor(y0 / this.bucket); gy <= Math.floor(y1 / this.bucket); gy++) {
+        const list = this.buckets.get(gx * 1e6 + gy);
+        if (list) for (const k of list) out.add(k);
+      }
+    }
+    const cells = this.layout.cells;
+    return [...out].map((k) => cells[k]).filter((c) => c.x <= x1 && c.x + c.w >= x0 && c.y <= y1 && c.y + c.h >= y0);
+  }
+
   /** Size the canvas. Page: css size of its box and devicePixelRatio. Export: fixed scale. */
   resize(cssW, cssH, dpr = 1) {
     const ui = this.ui;
@@ -125,6 +158,7 @@ export class Renderer {
       this.canvas.style.height = cssH + "px";
     }
     this.bg.width = this.canvas.width; this.bg.height = this.canvas.height;
+    this.cellLayer.width = this.canvas.width; this.cellLayer.height = this.canvas.height;
     const areaH = cssH - this.bannerH - this.legendH;
     this.areaTop = this.bannerH; this.areaH = areaH;
     const fit = this.fixedScale || Math.max(1e-6, Math.min(cssW / ww, areaH / wh));
@@ -274,9 +308,22 @@ export class Renderer {
     ctx.closePath(); ctx.fill();
   }
 
+  /** The world rectangle in view, grown by ``margin`` world px. */
+  _visibleWorld(margin) {
+    const [x0, y0] = this.toWorld(0, this.areaTop);
+    const [x1, y1] = this.toWorld(this.cssW, this.areaTop + this.areaH);
+    return [x0 - margin, y0 - margin, x1 + margin, y1 + margin];
+  }
+
+  _cellInView(c, v) { return c.x + c.w >= v[0] && c.x <= v[2] && c.y + c.h >= v[1] && c.y <= v[3]; }
+
   _drawBackground(cells) {
     const ctx = this.bg.getContext("2d", { alpha: false });
     const L = this.layout, s = this.scale, d = this.dpr;
+    const view = this._visibleWorld(this.aisle);
+    const inView = (x, y) => x >= view[0] && x <= view[2] && y >= view[1] && y <= view[3];
+    const segInView = (ax, ay, bx, by) => Math.max(ax, bx) >= view[0] && Math.min(ax, bx) <= view[2]
+      && Math.max(ay, by) >= view[1] && Math.min(ay, by) <= view[3];
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.fillStyle = COLOURS.backdrop;
     ctx.fillRect(0, 0, this.bg.width, this.bg.height);
@@ -297,20 +344,22 @@ export class Renderer {
     ctx.setLineDash([4 * px, 3 * px]);
     ctx.beginPath();
     for (const [c, u] of L.spurs || []) {
+      if (!segInView(nodes[c].x, nodes[c].y, nodes[u].x, nodes[u].y)) continue;
       ctx.moveTo(nodes[c].x, nodes[c].y); ctx.lineTo(nodes[u].x, nodes[u].y);
     }
     ctx.stroke();
     ctx.setLineDash([]);
     // highway edges with arrows
     ctx.beginPath();
-    for (const [u, v] of L.edges) { ctx.moveTo(nodes[u].x, nodes[u].y); ctx.lineTo(nodes[v].x, nodes[v].y); }
+    const edges = L.edges.filter(([u, v]) => segInView(nodes[u].x, nodes[u].y, nodes[v].x, nodes[v].y));
+    for (const [u, v] of edges) { ctx.moveTo(nodes[u].x, nodes[u].y); ctx.lineTo(nodes[v].x, nodes[v].y); }
     ctx.stroke();
     const arrow = Math.min(this.aisle * 0.16, 9 * px * Math.max(1, this.ui));
     if (arrow * s >= 2.5) {
       ctx.fillStyle = COLOURS.highway;
       ctx.beginPath();
       const spacing = Math.max(this.cell * 2, 60 * px);
-      for (const [u, v] of L.edges) {
+      for (const [u, v] of edges) {
         const ax = nodes[u].x, ay = nodes[u].y, bx = nodes[v].x, by = nodes[v].y;
         const len = Math.hypot(bx - ax, by - ay);
         if (len <= 0) continue;
@@ -328,26 +377,6 @@ export class Renderer {
       ctx.fill();
     }
 
-    // storage cells
-    const full = new Path2D(), empty = new Path2D();
-    for (let k = 0; k < L.cells.length; k++) {
-      const c = L.cells[k];
-      (cells && cells[k] ? full : empty).rect(c.x, c.y, c.w, c.h);
-    }
-    ctx.fillStyle = COLOURS.cellFull; ctx.fill(full);
-    ctx.fillStyle = COLOURS.cellEmpty; ctx.fill(empty);
-    ctx.strokeStyle = COLOURS.floor;
-    ctx.lineWidth = Math.min(1.5 * px, this.cell * 0.04);
-    ctx.beginPath();
-    for (const c of L.cells) ctx.rect(c.x, c.y, c.w, c.h);
-    ctx.stroke();
-    if (this.cell * s >= 16) {
-      ctx.fillStyle = "#ffffff";
-      ctx.textAlign = "center"; ctx.textBaseline = "middle";
-      ctx.font = `bold ${this.cell * 0.3}px ${FONT}`;
-      for (const c of L.cells) ctx.fillText(String(c.id), c.x + c.w / 2, c.y + c.h / 2);
-    }
-
     // warehouse outline
     ctx.strokeStyle = COLOURS.wall;
     ctx.lineWidth = 2.5 * px * Math.max(1, this.ui * 0.8);
@@ -355,9 +384,10 @@ export class Renderer {
 
     // zones
     const zr = this.aisle * 0.3;
-    for (const k of L.departure || []) this._departureIcon(ctx, nodes[k].x, nodes[k].y, zr, 2 * px);
-    for (const k of L.unloading || []) this._unloadingIcon(ctx, nodes[k].x, nodes[k].y, zr, 2 * px);
-    for (const k of L.chargers || []) {
+    const seen = (k) => inView(nodes[k].x, nodes[k].y);
+    for (const k of (L.departure || []).filter(seen)) this._departureIcon(ctx, nodes[k].x, nodes[k].y, zr, 2 * px);
+    for (const k of (L.unloading || []).filter(seen)) this._unloadingIcon(ctx, nodes[k].x, nodes[k].y, zr, 2 * px);
+    for (const k of (L.chargers || []).filter(seen)) {
       this._chargerIcon(ctx, nodes[k].x, nodes[k].y, this.aisle * 0.5, this.aisle * 0.3, 1.2 * px);
     }
     // labels: highway letters in the crossing's top-left corner, charger names beside them
@@ -367,10 +397,10 @@ export class Renderer {
       ctx.fillStyle = "#3a4048";
       ctx.textAlign = "left"; ctx.textBaseline = "top";
       const off = this.aisle * 0.44;
-      for (const nd of nodes) if (nd.kind !== "charger") ctx.fillText(nd.name, nd.x - off, nd.y - off);
+      for (const nd of nodes) if (nd.kind !== "charger" && inView(nd.x, nd.y)) ctx.fillText(nd.name, nd.x - off, nd.y - off);
       ctx.font = `${label * 0.85}px ${FONT}`;
       ctx.textBaseline = "middle";
-      for (const k of L.chargers || []) {
+      for (const k of (L.chargers || []).filter(seen)) {
         const nd = nodes[k];
         ctx.fillText(nd.name, nd.x + this.aisle * 0.3, nd.y);
       }
@@ -381,7 +411,81 @@ export class Renderer {
     ctx.fillText("delivered", this.goodsX0, this.goodsTop - this.goodsLabel * 0.1);
     ctx.restore();
     this._drawLegend(ctx);
+    // the cells, on their own layer
+    const cl = this.cellLayer.getContext("2d");
+    cl.setTransform(1, 0, 0, 1, 0, 0);
+    cl.clearRect(0, 0, this.cellLayer.width, this.cellLayer.height);
+    cl.save();
+    cl.beginPath();
+    cl.rect(0, this.areaTop * d, this.cellLayer.width, this.areaH * d);
+    cl.clip();
+    this._worldTransform(cl);
+    this._drawCells(cl, cells, L.cells.filter((c) => this._cellInView(c, view)));
+    cl.restore();
     this.bgValid = true;
+  }
+
+  /** Paint storage cells (world transform set): fill, white borders, ids when legible. */
+  _drawCells(ctx, cells, list) {
+    const s = this.scale, px = 1 / s;
+    const full = new Path2D(), empty = new Path2D(), edges = new Path2D();
+    for (const c of list) {
+      (cells && cells[c.id] ? full : empty).rect(c.x, c.y, c.w, c.h);
+      edges.rect(c.x, c.y, c.w, c.h);
+    }
+    ctx.fillStyle = COLOURS.cellFull; ctx.fill(full);
+    ctx.fillStyle = COLOURS.cellEmpty; ctx.fill(empty);
+    ctx.strokeStyle = COLOURS.floor;
+    ctx.lineWidth = Math.min(1.5 * px, this.cell * 0.04);
+    ctx.stroke(edges);
+    if (this.cell * s >= 16) {
+      ctx.fillStyle = "#ffffff";
+      ctx.textAlign = "center"; ctx.textBaseline = "middle";
+      ctx.font = `bold ${this.cell * 0.3}px ${FONT}`;
+      for (const c of list) ctx.fillText(String(c.id), c.x + c.w / 2, c.y + c.h / 2);
+    }
+  }
+
+  /** Repaint only the cells whose goods changed. Each changed cell's box (snapped out to
+   *  whole device pixels) is cleared and every cell touching it redrawn inside it, so the
+   *  pixels are exactly those of a fresh drawing. */
+  _updateCells(cells) {
+    const old = this.cellsDrawn, L = this.layout;
+    const changed = [];
+    for (let k = 0; k < cells.length; k++) {
+      if (cells[k] !== old[k]) {
+        changed.push(L.cells[k]);
+        if (changed.length > 400) return false;  // many: redraw everything instead
+      }
+    }
+    const view = this._visibleWorld(this.aisle);
+    const list = changed.filter((c) => this._cellInView(c, view));
+    if (list.length) {
+      const ctx = this.cellLayer.getContext("2d");
+      const d = this.dpr, s = this.scale, ox = this.ox, oy = this.oy;
+      const pad = 2 / (d * s);  // two device pixels, in world px
+      for (const c of list) {
+        // the box in device pixels, snapped outwards
+        const bx0 = Math.floor(d * (ox + (c.x - pad) * s)), by0 = Math.floor(d * (oy + (c.y - pad) * s));
+        const bx1 = Math.ceil(d * (ox + (c.x + c.w + pad) * s)), by1 = Math.ceil(d * (oy + (c.y + c.h + pad) * s));
+        const top = Math.round(this.areaTop * d), bottom = Math.round((this.areaTop + this.areaH) * d);
+        const cy0 = Math.max(by0, top), cy1 = Math.min(by1, bottom);
+        if (cy1 <= cy0) continue;
+        // back to world px, to find the cells that touch the box
+        const wx0 = (bx0 / d - ox) / s, wx1 = (bx1 / d - ox) / s, wy0 = (by0 / d - oy) / s, wy1 = (by1 / d - oy) / s;
+        ctx.save();
+        ctx.setTransform(1, 0, 0, 1, 0, 0);
+        ctx.beginPath();
+        ctx.rect(bx0, cy0, bx1 - bx0, cy1 - cy0);
+        ctx.clip();
+        ctx.clearRect(bx0, cy0, bx1 - bx0, cy1 - cy0);
+        this._worldTransform(ctx);
+        this._drawCells(ctx, cells, this._cellsNear(wx0, wy0, wx1, wy1));
+        ctx.restore();
+      }
+    }
+    this.cellsDrawn.set(cells);
+    return true;
   }
 
   // --------------------------------------------------------------- frame
@@ -395,12 +499,14 @@ export class Renderer {
   draw(frame, info) {
     const ctx = this.ctx, d = this.dpr;
     const cells = info.cells;
-    if (!this.bgValid || !sameCells(cells, this.cellsDrawn)) {
+    if (!this.bgValid || !cells || !this.cellsDrawn || cells.length !== this.cellsDrawn.length
+        || (!sameCells(cells, this.cellsDrawn) && !this._updateCells(cells))) {
       this.cellsDrawn = cells ? Uint8Array.from(cells) : null;
       this._drawBackground(cells);
     }
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.drawImage(this.bg, 0, 0);
+    ctx.drawImage(this.cellLayer, 0, 0);
     this._drawBanner(ctx, frame, info);
     if (!frame) return;
     ctx.save();
