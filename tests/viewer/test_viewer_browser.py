@@ -174,3 +174,42 @@ def test_export_has_the_expected_frames_and_colours(small_run, tmp_path):
 
     frames, _secs = imageio_ffmpeg.count_frames_and_secs(str(mp4))
     assert info["frames"] == frames == 60
+
+
+def test_a_generated_layout_is_drawn_from_its_data(page, tmp_path):
+    """Not the paper's warehouse: 3 x 4 groups of 1 x 3 cells of 30 px, 40 px aisles."""
+    from multibots.viewer import Viewer
+
+    scenario = multibots.Scenario.from_dict({
+        "robots": 3, "tasks": [0, 5, 20, 33], "unload": "nearest",
+        "layout_generate": {"group_rows": 3, "group_cols": 4, "group_width": 1, "group_height": 3,
+                            "chargers": 5, "aisle": 40, "cell": 30}})
+    path = tmp_path / "generated.mbr"
+    result = multibots.simulate(scenario, record=str(path))
+    with Replay(path) as rp:
+        layout = rp.layout
+        assert len(layout["cells"]) == 36 and layout["cell_size"] == 30
+        f = next(g for g in range(40, rp.frames) if rp.frame(g)["state"][0] == 1 and rp.frame(g)["y"][0] > 60)
+        fr = rp.frame(f)
+        cells = rp.cells_at(f)
+    with Viewer.for_replay(str(path)) as viewer:
+        open_viewer(page, viewer)
+        page.evaluate(f"() => window.mbViewer.seek({f})")
+        shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
+
+        def at(wx, wy):
+            p = page.evaluate(f"() => window.mbViewer.worldToClient({wx}, {wy})")
+            return shot.getpixel((int(math.floor(p["x"])), int(math.floor(p["y"]))))
+
+        for c in layout["cells"]:
+            want = RGB["cell_full"] if cells[c["id"]] else RGB["cell_empty"]
+            assert close_to(at(c["x"] + 4, c["y"] + 4), want), c["id"]
+        h = float(fr["heading"][0])
+        x = float(fr["x"][0]) - math.sin(h) * 6.25
+        y = float(fr["y"][0]) + math.cos(h) * 6.25
+        assert close_to(at(x, y), RGB["blue"])
+        page.select_option("#speed", "64")
+        page.click("#btn-play")
+        page.wait_for_function("() => { const s = window.mbViewer.state(); return s.frame === s.last; }",
+                               timeout=120_000)
+        assert text(page, "#c-T") == str(result.T)
