@@ -313,7 +313,10 @@ def _render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps
 
     from .viewer.server import Viewer
 
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.stem}.", suffix=f".partial{kind}", dir=str(out.parent or "."))
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{out.stem}.", suffix=f".partial{kind}", dir=str(out.parent or "."))
+    except OSError as exc:
+        raise ValueError(f"--out {out}: cannot write in {out.parent or '.'} ({exc.strerror})") from None
     os.close(fd)
     umask = os.umask(0)
     os.umask(umask)

@@ -145,7 +145,8 @@ def register(app: typer.Typer) -> None:
             try:
                 Replay(path).close()  # check it before binding anything
             except ReplayError as exc:
-                raise _fail(str(exc)) from None
+                hint = " (to run a scenario, add --live)" if str(path).endswith(".toml") else ""
+                raise _fail(f"{exc}{hint}") from None
             viewer = _make_viewer(lambda **kw: Viewer.for_replay(str(path), **kw), host, port)
             _serve(viewer, f"replay {path}", no_browser)
             return
