@@ -335,6 +335,10 @@ def _fmt_p(p: Optional[float]) -> str:
     return "<0.001" if p < 0.001 else f"{p:.3f}"
 
 
+def _p_is(p: Optional[float]) -> str:
+    return "p < 0.001" if p is not None and p < 0.001 else f"p = {_fmt_p(p)}"
+
+
 def headline(summary: Sequence[dict[str, Any]], metric: str) -> Optional[dict[str, Any]]:
     """The strategy with the lowest mean of ``metric`` pooled over N, with its pooled row."""
     pooled = [r for r in summary if r["N"] == "all" and r["metric"] == metric and r["mean"] is not None]
@@ -392,7 +396,7 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
         if base is not None and base["mean"] and best["strategy"] != BASELINE:
             d = best["mean"] - base["mean"]
             text += f", {abs(d):.1f} ({abs(100 * d / base['mean']):.1f}%) {'below' if d < 0 else 'above'} {BASELINE} ({_fmt(base['mean'], 1)})"
-            text += f"; paired t-test p = {_fmt_p(best['p_ttest'])}, Wilcoxon p = {_fmt_p(best['p_wilcoxon'])}"
+            text += f"; paired t-test {_p_is(best['p_ttest'])}, Wilcoxon {_p_is(best['p_wilcoxon'])}"
         lines.insert(0, text)
     return "\n".join(lines).lstrip("\n")
 

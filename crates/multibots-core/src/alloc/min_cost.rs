@@ -3,21 +3,25 @@
 //! # What it does
 //! The paper's future work asks for strategies that minimise
 //! Cost_total = w_d · distance + w_t · time + w_c · collisions. For every idle robot and open
-//! goods it estimates what the task adds to each term:
-//! - distance: the route to the service point plus the route to the unloading zone (px);
-//! - time: the task's steps (as for `auction`), plus the recharge time if the robot would
-//!   end below the threshold;
-//! - collisions: `collision_rate` × the traffic on the task's route
-//!   ([`AllocView::traffic`](super::AllocView::traffic): how often other robots' expected
-//!   paths meet it);
+//! goods it estimates what *this choice* adds to each term:
+//! - distance: the empty drive to the service point (px);
+//! - time: the steps of that drive, plus the recharge time if the robot would end the task
+//!   below the threshold (the task's steps estimated as for `auction`);
+//! - collisions: `collision_rate` × the traffic on the task's route, to the goods and on to
+//!   the unloading zone ([`AllocView::traffic`](super::AllocView::traffic): how often other
+//!   robots' expected paths meet it);
 //!
+//! The goods' own trip (loading, the drive to the unloading zone, unloading) is paid whichever
+//! robot fetches it and whenever, so it does not enter the choice; counting it would favour
+//! goods near the unloading zone and leave the long trips to the end, which lengthens T.
 //! weights them with the scenario's `[cost]` weights and gives out the assignment with the
 //! least total, solved exactly with the Hungarian method (`hungarian`'s solver). Every open
 //! goods is a candidate; ties go the same way on every run.
 //!
 //! # When to use it
 //! When collisions are expensive (a large w_c) or the fleet is dense: it trades a longer
-//! drive for a quieter route. With w_c = 0 it is `hungarian` on task length and time.
+//! drive for a quieter route. With w_c = 0 and robots far from the threshold it is
+//! `hungarian`.
 //!
 //! # Cost
 //! O(idle × goods × N × path length) for the traffic estimates plus the O(k² · m) solver per
@@ -63,12 +67,13 @@ impl MinCost {
         self
     }
 
-    /// The estimated Cost_total that robot `r` adds by taking `cell`.
+    /// The estimated Cost_total that robot `r` taking `cell` adds, beyond the goods' own trip.
     #[must_use]
     pub fn cost(&self, view: &AllocView<'_>, r: RobotId, cell: CellId) -> f64 {
         let w = &self.model.weights;
-        let distance = view.route_length(r, cell) + view.cell_to_unload(cell);
-        let time = self.model.task_steps(view, r, cell) + self.model.charge_penalty(view, r, cell);
+        let distance = view.route_length(r, cell);
+        let speed = view.robots().speed[r.index()];
+        let time = (distance / speed).ceil() + self.model.charge_penalty(view, r, cell);
         let collisions = if w.collision > 0.0 { self.collision_rate * f64::from(view.traffic(r, cell)) } else { 0.0 };
         w.distance * distance + w.time * time + w.collision * collisions
     }
