@@ -18,6 +18,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterator, List, Optional
 
@@ -28,7 +29,7 @@ __all__ = ["render", "RenderError", "chromium_path", "CHROMIUM_ARGS"]
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync",
                  "--font-render-hinting=none", "--force-color-profile=srgb"]
-_BATCH = 6
+_BATCH = 8
 
 
 class RenderError(RuntimeError):
@@ -88,6 +89,7 @@ class GifWriter:
         self.delay_ms = max(10, int(round(100.0 / fps)) * 10)
         self.palette: Any = None
         self.prev: Any = None
+        self.prev_rgb: Any = None
         self.frames = 0
 
     def _build_palette(self, keys: Any, counts: Any) -> None:
@@ -111,9 +113,19 @@ class GifWriter:
 
     def _indices(self, arr: Any) -> Any:
         """Palette index of every pixel, through a 2^24-entry lookup table filled lazily:
-        exact colours from the palette, any other colour its nearest entry."""
+        exact colours from the palette, any other colour its nearest entry. Only pixels
+        that changed since the previous frame are looked up."""
         import numpy as np
 
+        if self.prev_rgb is not None and self.prev_rgb.shape == arr.shape:
+            ne = arr != self.prev_rgb
+            moved = ne[..., 0] | ne[..., 1] | ne[..., 2]
+            idx = self.prev.copy()
+            if moved.any():
+                sub = arr[moved]
+                keys = (sub[:, 0].astype(np.int32) << 16) | (sub[:, 1].astype(np.int32) << 8) | sub[:, 2]
+                idx[moved] = self._lookup(keys)
+            return idx
         keys = (arr[..., 0].astype(np.int32) << 16) | (arr[..., 1].astype(np.int32) << 8) | arr[..., 2]
         if self.palette is None:
             uniq, counts = np.unique(keys.ravel(), return_counts=True)
@@ -123,7 +135,11 @@ class GifWriter:
             for k, i in self.lookup.items():
                 self.lut[k] = i
                 self.known[k] = True
-        flat = keys.ravel()
+        return self._lookup(keys.ravel()).reshape(keys.shape)
+
+    def _lookup(self, flat: Any) -> Any:
+        import numpy as np
+
         new = flat[~self.known[flat]]
         if len(new):
             u = np.unique(new)
@@ -132,7 +148,7 @@ class GifWriter:
                 d = ((cols[j:j + 4096, None, :] - self.palette_rgb[None, :, :]) ** 2).sum(axis=2)
                 self.lut[u[j:j + 4096]] = d.argmin(axis=1).astype(np.uint8)
             self.known[u] = True
-        return self.lut[flat].reshape(keys.shape)
+        return self.lut[flat]
 
     def add(self, im: Any) -> None:
         import numpy as np
@@ -155,15 +171,16 @@ class GifWriter:
         part = idx
         if self.prev is not None:
             changed = idx != self.prev
-            rows = np.flatnonzero(changed.any(axis=1))
+            rows = np.flatnonzero(changed.max(axis=1))
             if len(rows):
-                cols = np.flatnonzero(changed.any(axis=0))
+                cols = np.flatnonzero(changed[rows[0]:rows[-1] + 1].max(axis=0))
                 y0, y1, x0, x1 = int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
             else:
                 y0, y1, x0, x1 = 0, 1, 0, 1
             part = np.where(changed[y0:y1, x0:x1], idx[y0:y1, x0:x1], self.TRANSPARENT).astype(np.uint8)
             params.update(transparency=self.TRANSPARENT, disposal=1)
         self.prev = idx
+        self.prev_rgb = arr
         img = Image.frombytes("P", (part.shape[1], part.shape[0]), part.tobytes())
         for chunk in GifImagePlugin.getdata(img, offset=(x0, y0), **params):
             self.fh.write(chunk)
@@ -341,20 +358,33 @@ def _render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps
                     size = page.evaluate("() => window.mbViewer.size()")
                     origin = page.evaluate("() => window.mbViewer.worldToClient(0, 0)")
                     done = 0
-                    for b in range(0, len(frames), _BATCH):
-                        batch = frames[b:b + _BATCH]
-                        urls = page.evaluate("([f, k]) => window.mbViewer.renderFrames(f, k)", [batch, blink_every])
-                        if errors:
-                            raise RenderError(f"the page failed: {errors[0]}")
-                        for url in urls:
-                            png = base64.b64decode(url.split(",", 1)[1])
-                            with Image.open(io.BytesIO(png)) as im:
-                                writer.add(im)
+
+                    def decode(url: str) -> Any:
+                        with Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))) as im:
+                            return im.convert("RGB")
+
+                    def consume(futures: List[Any]) -> None:
+                        nonlocal done
+                        for fut in futures:
+                            writer.add(fut.result())
                             done += 1
                             if bar:
                                 bar.advance()
                             if on_frame:
                                 on_frame(done, len(frames))
+
+                    # PNGs are decoded in worker threads while the browser draws the next batch
+                    with ThreadPoolExecutor(max_workers=2) as pool:
+                        pending: List[Any] = []
+                        for b in range(0, len(frames), _BATCH):
+                            batch = frames[b:b + _BATCH]
+                            urls = page.evaluate("([f, k]) => window.mbViewer.renderFrames(f, k)",
+                                                 [batch, blink_every])
+                            if errors:
+                                raise RenderError(f"the page failed: {errors[0]}")
+                            consume(pending)
+                            pending = [pool.submit(decode, u) for u in urls]
+                        consume(pending)
                 finally:
                     browser.close()
         writer.close()
