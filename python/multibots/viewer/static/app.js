@@ -363,6 +363,7 @@ async function main() {
   const meta = app.meta;
   app.mode = meta.mode;
   const title = `MultiBots \u00b7 ${meta.name || meta.layout.name}`;
+  document.title = title;
   setText("mode", meta.mode);
   $("mode").classList.toggle("live", meta.mode === "live");
   setText("name", `${meta.name || ""} \u00b7 layout ${meta.layout.name} \u00b7 ${meta.robots} robots`);
