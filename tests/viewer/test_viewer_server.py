@@ -98,11 +98,18 @@ def test_absolute_and_odd_request_targets(replay_viewer):
         assert status_of(reply) in (400, 404), target
 
 
-def test_foreign_host_header_is_refused(replay_viewer):
-    code, _, _ = request(replay_viewer, "GET", "/api/meta", headers={"Host": "evil.example:80"})
-    assert code == 403
-    code, _, _ = request(replay_viewer, "GET", "/api/meta", headers={"Host": "localhost:9999"})
-    assert code == 200
+def test_foreign_host_header_is_refused(replay_viewer, paper_run):
+    for host in ("evil.example:80", "127.evil.example", "localhost.evil.example:8765", ""):
+        code, _, _ = request(replay_viewer, "GET", "/api/meta", headers={"Host": host})
+        assert code == 403, host
+    for host in ("localhost:9999", "127.0.0.1", "127.0.0.2:1", "[::1]:8765"):
+        code, _, _ = request(replay_viewer, "GET", "/api/meta", headers={"Host": host})
+        assert code == 200, host
+    from multibots.viewer import Viewer
+
+    with Viewer.for_replay(str(paper_run[0]), allow_hosts=("ide.example",)) as v:
+        assert request(v, "GET", "/api/meta", headers={"Host": "ide.example:443"})[0] == 200
+        assert request(v, "GET", "/api/meta", headers={"Host": "evil.example"})[0] == 403
 
 
 def test_oversized_and_malformed_requests(replay_viewer):

@@ -119,6 +119,7 @@ def register(app: typer.Typer) -> None:
         port: Optional[int] = typer.Option(None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken)."),
         host: str = typer.Option("127.0.0.1", "--host", help="Address to listen on. Only change it if you mean to share the viewer."),
         no_browser: bool = typer.Option(False, "--no-browser", help="Print the URL; do not open a browser."),
+        allow_host: List[str] = typer.Option([], "--allow-host", help="Also accept this Host name (behind a proxy that renames the host, such as a cloud IDE's port forwarding); repeatable.", show_default=False),
         speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second)."),
         paused: bool = typer.Option(False, "--paused", help="Live: start paused."),
         robots: Optional[int] = typer.Option(None, "--robots", help="Live quick run: number of robots."),
@@ -147,7 +148,8 @@ def register(app: typer.Typer) -> None:
             except ReplayError as exc:
                 hint = " (to run a scenario, add --live)" if str(path).endswith(".toml") else ""
                 raise _fail(f"{exc}{hint}") from None
-            viewer = _make_viewer(lambda **kw: Viewer.for_replay(str(path), **kw), host, port)
+            viewer = _make_viewer(lambda **kw: Viewer.for_replay(str(path), allow_hosts=tuple(allow_host), **kw),
+                                  host, port)
             _serve(viewer, f"replay {path}", no_browser)
             return
 
@@ -155,7 +157,8 @@ def register(app: typer.Typer) -> None:
             raise _fail(f"--speed {speed}: must be from 0.25 to 64")
         sim, name = _live_simulation(path, robots, goods, starts, unload, margin, step_limit)
         viewer = _make_viewer(
-            lambda **kw: Viewer.for_simulation(sim, name=name, speed=speed, paused=paused, **kw), host, port)
+            lambda **kw: Viewer.for_simulation(sim, name=name, speed=speed, paused=paused,
+                                               allow_hosts=tuple(allow_host), **kw), host, port)
         _serve(viewer, name, no_browser)
 
     @app.command("render")

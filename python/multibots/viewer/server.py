@@ -51,6 +51,16 @@ _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,100}$")
 _LOCAL_HOSTS = {"127.0.0.1", "localhost", "::1"}
 
 
+def _is_loopback(name: str) -> bool:
+    """localhost, or an IP address of the loopback network (not a name that looks like one)."""
+    if name.lower() == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(name).is_loopback
+    except ValueError:
+        return False
+
+
 def load_assets(directory: str = STATIC_DIR) -> Dict[str, Tuple[bytes, str]]:
     """The page's files, read once: {name: (content, content type)}; no subdirectories."""
     out: Dict[str, Tuple[bytes, str]] = {}
@@ -128,7 +138,7 @@ class ViewerHTTPServer(ThreadingHTTPServer):
     request_queue_size = 64
 
     def __init__(self, addr: Tuple[str, int], source: Any, assets: Dict[str, Tuple[bytes, str]],
-                 verbose: bool = False) -> None:
+                 verbose: bool = False, allow_hosts: Tuple[str, ...] = ()) -> None:
         host = addr[0]
         try:
             self.address_family = socket.AF_INET6 if ipaddress.ip_address(host).version == 6 else socket.AF_INET
@@ -141,7 +151,8 @@ class ViewerHTTPServer(ThreadingHTTPServer):
         self.stopping = threading.Event()
         self.streams = 0
         self.streams_lock = threading.Lock()
-        self.check_host = host in _LOCAL_HOSTS or host.startswith("127.")
+        self.check_host = _is_loopback(host)
+        self.allow_hosts = {h.lower() for h in allow_hosts}
 
     def handle_error(self, request: Any, client_address: Any) -> None:  # noqa: D401
         # A client that vanishes mid-response is normal; never print tracebacks for it.
@@ -213,7 +224,7 @@ class ViewerHandler(BaseHTTPRequestHandler):
             name = host[1:].split("]", 1)[0]
         else:
             name = host.rsplit(":", 1)[0] if host.count(":") == 1 else host
-        return name.lower() in _LOCAL_HOSTS or name.startswith("127.")
+        return _is_loopback(name) or name.lower() in self.server.allow_hosts
 
     def _route(self) -> Optional[Tuple[str, Dict[str, list]]]:
         """The request's path, if it is a clean one; None means 404."""
@@ -487,9 +498,11 @@ class Viewer:
     """A running viewer server. ``Viewer.for_replay(path)`` or ``Viewer.for_simulation(sim)``,
     then ``start()`` (background thread) or ``serve_forever()``; ``close()`` stops it."""
 
-    def __init__(self, source: Any, host: str = "127.0.0.1", port: int = 0, verbose: bool = False) -> None:
+    def __init__(self, source: Any, host: str = "127.0.0.1", port: int = 0, verbose: bool = False,
+                 allow_hosts: Tuple[str, ...] = ()) -> None:
         self.source = source
-        self.httpd = ViewerHTTPServer((host, port), source, load_assets(), verbose=verbose)
+        self.httpd = ViewerHTTPServer((host, port), source, load_assets(), verbose=verbose,
+                                      allow_hosts=tuple(allow_hosts))
         self.host = host
         self.port = self.httpd.server_address[1]
         self._thread: Optional[threading.Thread] = None
