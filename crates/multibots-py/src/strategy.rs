@@ -44,7 +44,7 @@ pub(crate) fn make_allocator(py: Python<'_>, scenario: &Scenario, allocator: Opt
             if let Ok(name) = b.downcast::<PyString>() {
                 return by_name(py, scenario, &name.to_cow()?);
             }
-            PyAllocator::new(py, scenario, obj)
+            PyAllocator::boxed(py, scenario, &obj)
         }
     }
 }
@@ -66,7 +66,7 @@ fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Box<dyn 
         let obj = class.call0().map_err(|e| {
             crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it with no arguments failed: {}", one_line(py, &e)))
         })?;
-        return PyAllocator::new(py, scenario, obj.unbind());
+        return PyAllocator::boxed(py, scenario, &obj.unbind());
     }
     let s = Scenario { allocator: name.to_string(), ..scenario.clone() };
     alloc::built_in(&s).map_err(crate::to_py)
@@ -91,7 +91,7 @@ fn resolve<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
 }
 
 fn one_line(py: Python<'_>, e: &PyErr) -> String {
-    let ty = e.get_type(py).name().map(|n| n.to_string()).unwrap_or_else(|_| "Exception".into());
+    let ty = e.get_type(py).name().map_or_else(|_| "Exception".into(), |n| n.to_string());
     let msg = e.value(py).str().map(|s| s.to_string()).unwrap_or_default();
     let msg = msg.split_whitespace().collect::<Vec<_>>().join(" ");
     if msg.is_empty() {
@@ -111,7 +111,7 @@ struct PyAllocator {
 }
 
 impl PyAllocator {
-    fn new(py: Python<'_>, scenario: &Scenario, obj: PyObject) -> PyResult<Box<dyn Allocator>> {
+    fn boxed(py: Python<'_>, scenario: &Scenario, obj: &PyObject) -> PyResult<Box<dyn Allocator>> {
         let b = obj.bind(py);
         if b.is_instance_of::<PyType>() {
             let what = b.getattr("__name__").map(|n| n.to_string()).unwrap_or_default();
@@ -180,11 +180,11 @@ impl PyAllocator {
 }
 
 fn type_name(v: &Bound<'_, PyAny>) -> String {
-    v.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "object".into())
+    v.get_type().name().map_or_else(|_| "object".into(), |n| n.to_string())
 }
 
 fn repr(v: &Bound<'_, PyAny>) -> String {
-    let s = v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+    let s = v.repr().map_or_else(|_| "?".into(), |r| r.to_string());
     if s.chars().count() > 60 {
         format!("{}...", s.chars().take(57).collect::<String>())
     } else {
@@ -249,7 +249,7 @@ pub(crate) struct PyAllocView {
     task_cells: Py<PyArray1<i64>>,
 }
 
-fn frozen<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(a: Bound<'py, numpy::PyArray<T, D>>) -> Py<numpy::PyArray<T, D>> {
+fn frozen<T: numpy::Element, D: numpy::ndarray::Dimension>(a: Bound<'_, numpy::PyArray<T, D>>) -> Py<numpy::PyArray<T, D>> {
     a.readwrite().make_nonwriteable();
     a.unbind()
 }

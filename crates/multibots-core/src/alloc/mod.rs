@@ -271,18 +271,16 @@ impl AllocView<'_> {
         } else if rb.edge_v[j] != NONE {
             out.push(rb.edge_v[j]);
         }
-        if rb.routing[j] {
-            if rb.wp_node[j] != NONE {
-                let goal = NodeId(rb.goal[j]);
-                let mut at = NodeId(rb.wp_node[j]);
-                out.push(at.0);
-                while at != goal {
-                    match self.graph.next_hop(at, goal) {
-                        Some(v) => at = v,
-                        None => break,
-                    }
-                    out.push(at.0);
+        if rb.routing[j] && rb.wp_node[j] != NONE {
+            let goal = NodeId(rb.goal[j]);
+            let mut at = NodeId(rb.wp_node[j]);
+            out.push(at.0);
+            while at != goal {
+                match self.graph.next_hop(at, goal) {
+                    Some(v) => at = v,
+                    None => break,
                 }
+                out.push(at.0);
             }
         }
         if matches!(rb.state[j], State::ToPickup | State::Loading) && rb.cell[j] != NONE {
