@@ -31,7 +31,8 @@ bench: develop ## benchmarks: criterion and Python scripts; figures go to docs/b
 
 lint: develop ## clippy, and the stubs against the binary
 	cargo clippy --workspace --all-targets -- -D warnings
-	$(PY) -m mypy.stubtest multibots._core
+	$(PY) -m pip install -q 'mypy>=1.10'
+	cd python && $(PY) -m mypy.stubtest multibots._core
 
 develop: $(EXT_STAMP) ## build the engine and install the package into .venv
 
