@@ -233,9 +233,15 @@ def test_an_exception_inside_the_strategy_surfaces_in_python_with_its_cause():
     assert isinstance(e.value.__cause__, ZeroDivisionError)
     # The next run is not affected by the earlier failure.
     assert simulate(Scenario.paper(robots=1, goods=[42]), allocator=lambda v: {0: 0}).T == 726
-    # And through the command line: one line, exit code 2.
     with pytest.raises(AllocatorError):
         Simulation(Scenario.paper(robots=1, goods=[42]), allocator=broken).run()
+
+    def interrupted(view):
+        raise KeyboardInterrupt
+
+    # Ctrl-C inside a strategy interrupts like anywhere else.
+    with pytest.raises(KeyboardInterrupt):
+        simulate(Scenario.paper(robots=1, goods=[42]), allocator=interrupted)
 
 
 def test_leaving_robots_idle_is_allowed():

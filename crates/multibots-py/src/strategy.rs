@@ -25,9 +25,13 @@ thread_local! {
     static CAUSE: RefCell<Option<PyErr>> = const { RefCell::new(None) };
 }
 
-/// Chains the exception a Python allocator raised (if any) to `err`.
+/// Chains the exception a Python allocator raised (if any) to `err`. Ctrl-C inside a
+/// strategy stays a `KeyboardInterrupt`, so that it interrupts as it would anywhere else.
 pub(crate) fn with_cause(py: Python<'_>, err: PyErr) -> PyErr {
     if let Some(cause) = CAUSE.with(|c| c.borrow_mut().take()) {
+        if cause.is_instance_of::<pyo3::exceptions::PyKeyboardInterrupt>(py) {
+            return cause;
+        }
         err.set_cause(py, Some(cause));
     }
     err
