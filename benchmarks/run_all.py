@@ -1,0 +1,230 @@
+"""All benchmarks of the project in one run; prints the table and writes docs/benchmarks.md.
+
+    .venv/bin/python benchmarks/run_all.py [--repetitions 5] [--no-peers] [--out docs/benchmarks.md]
+
+`make bench` runs the criterion bench first (cargo bench -p multibots-core --bench step --
+--quick) and then this script, which also quotes criterion's medians when it finds them in
+target/criterion. What it measures:
+
+1. robot-steps per second at the named sizes paper (N = 6), small (100), large (1,000),
+   huge (10,000), through the Python API on one thread (benchmarks/scale.py);
+2. memory per robot at each size (fresh subprocesses, benchmarks/scale.py);
+3. the engine time of the paper's 30-run experiment on one thread;
+4. the paper scenario against the plain pure-Python model (benchmarks/pure_python.py);
+5. the peers rware 2.0.0 and pogema 1.4.0 with random actions, in their own virtual
+   environment .venv-peers (benchmarks/peers.py), at the same agent counts, in the same run.
+
+The machine is shared and noisy: every speed is the median of repetitions, and the load
+average is recorded next to the figures.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any, Optional
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+
+import peers  # noqa: E402
+import pure_python  # noqa: E402
+import scale  # noqa: E402
+
+AGENT_COUNTS = (6, 100, 1000, 10000)
+SIZE_OF = {6: "paper", 100: "small", 1000: "large", 10000: "huge"}
+TARGETS = {"large": 10e6, "huge": 5e6, "paper": 10e6}
+
+
+def machine() -> dict[str, Any]:
+    info: dict[str, Any] = {"platform": platform.platform(), "python": platform.python_version(), "cpus": os.cpu_count()}
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+        fields = {k.strip(): v.strip() for k, v in (ln.split(":", 1) for ln in out.splitlines() if ":" in ln)}
+        info["cpu_model"] = fields.get("Model name", "unknown")
+        info["cores_per_socket"] = fields.get("Core(s) per socket")
+        info["threads_per_core"] = fields.get("Thread(s) per core")
+        info["lscpu_cpus"] = fields.get("CPU(s)")
+    except (OSError, subprocess.CalledProcessError):
+        info["cpu_model"] = "unknown (lscpu missing)"
+    return info
+
+
+def loadavg() -> Optional[float]:
+    try:
+        return round(os.getloadavg()[0], 2)
+    except OSError:
+        return None
+
+
+def criterion_medians() -> dict[str, float]:
+    """Median times (ns) of the criterion bench, from target/criterion, where present."""
+    out = {}
+    base = ROOT / "target" / "criterion"
+    for group, bench in [("paper", "run"), ("paper", "experiment-30"), ("step", "small"), ("step", "large"), ("step", "huge")]:
+        f = base / group / bench / "new" / "estimates.json"
+        if f.exists():
+            try:
+                out[f"{group}/{bench}"] = json.loads(f.read_text())["median"]["point_estimate"]
+            except (KeyError, ValueError):
+                pass
+    return out
+
+
+def fmt_rate(x: Optional[float]) -> str:
+    if x is None:
+        return "n/a"
+    return f"{x / 1e6:.2f} M" if x >= 1e6 else f"{x:,.0f}"
+
+
+def fmt_ratio(a: Optional[float], b: Optional[float]) -> str:
+    return "n/a" if not a or not b else f"{a / b:,.0f}x" if a / b >= 10 else f"{a / b:.1f}x"
+
+
+def build_markdown(d: dict[str, Any]) -> str:
+    m = d["machine"]
+    lines = [
+        "# Benchmarks",
+        "",
+        "Written by `benchmarks/run_all.py` (run by `make bench`); do not edit by hand.",
+        "",
+        f"- Command: `{d['command']}` (after `cargo bench -p multibots-core --bench step -- --quick`)",
+        f"- Date (UTC): {d['created_utc']}; total {d['total_seconds']:.0f} s",
+        f"- Machine: {m.get('cpu_model')}, {m.get('lscpu_cpus')} CPUs ({m.get('cores_per_socket')} cores per socket, {m.get('threads_per_core')} threads per core), {m['platform']}, Python {m['python']}",
+        f"- Load average (1 min) at start / end: {d['load'][0]} / {d['load'][1]}. The machine is shared: every speed is a median of {d['repetitions']} repetitions, one thread.",
+        "",
+        "## Engine speed and memory (named sizes, one thread)",
+        "",
+        "Sizes are the scenario files in `benchmarks/sizes/`, shared with the criterion bench. "
+        "paper: whole runs of the paper scenario (N = 6, task list group 1), 6 × T robot-steps per run. "
+        "small / large / huge: steps 101..1100 of a fresh lifelong fleet (spread placement, shared chargers, nearest unloading zone) on a generated warehouse of matching size. "
+        "Memory per robot: resident memory after 100 steps with N robots minus the same layout with 1 robot, over N − 1; the routing table is shared by all robots of a layout.",
+        "",
+        "| size | robots | layout nodes | robot-steps/s (median, Python API) | criterion median | target | memory per robot | routing table | peak RSS of the process |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    crit = d.get("criterion", {})
+    for r in d["scale"]:
+        name = r["size"]
+        mem = next(x for x in d["memory"] if x["size"] == name)
+        key = "paper/run" if name == "paper" else f"step/{name}"
+        c = crit.get(key)
+        crit_rate = None
+        if c:
+            per_iter = d["paper_robot_steps"] if name == "paper" else r["robots"]
+            crit_rate = per_iter / (c / 1e9)
+        target = TARGETS.get(name)
+        # Resident memory moves in 4 KiB pages: a few hundred robots are within its noise.
+        mem_txt = "n/a (6 robots)" if name == "paper" else f"{mem['bytes_per_robot']:,.0f} B" if r["robots"] >= 1000 else "below page noise"
+        lines.append(
+            f"| {name} | {r['robots']:,} | {mem['nodes']:,} | {fmt_rate(r['robot_steps_per_s'])} | {fmt_rate(crit_rate)} | "
+            f"{'≥ ' + fmt_rate(target) if target else ''} | {mem_txt} | {mem['routing_table_bytes'] / 1e6:.2f} MB | {mem['peak_rss_mb']:.0f} MB |"
+        )
+    e = d["experiment_30"]
+    c30 = crit.get("paper/experiment-30")
+    lines += [
+        "",
+        f"**The paper's 30-run experiment** (N = 1..6 × TABLE III): {e['ms']:.1f} ms engine time on one thread (median of {e['repetitions']}; min {e['min_ms']:.1f}, max {e['max_ms']:.1f})"
+        + (f", criterion median {c30 / 1e6:.1f} ms" if c30 else "")
+        + f"; target < 50 ms. That is {e['robot_steps']:,} robot-steps, {fmt_rate(e['robot_steps_per_s'])} robot-steps/s.",
+        "",
+        "## Against a plain pure-Python implementation of the same model",
+        "",
+    ]
+    p = d["pure_python"]
+    lines += [
+        f"Paper scenario (N = 6, group 1; both give T = {p['T']}, S = {p['S']}, C = {p['C']}): `benchmarks/reference_model.py` "
+        f"{fmt_rate(p['python_robot_steps_per_s'])} robot-steps/s, the engine {fmt_rate(p['engine_robot_steps_per_s'])}: **{fmt_ratio(p['engine_robot_steps_per_s'], p['python_robot_steps_per_s'])}**.",
+        "",
+        "## Side by side with rware and pogema",
+        "",
+    ]
+    if d.get("peers"):
+        lines += [
+            "Same run, same machine. The peers run in their own virtual environment `.venv-peers` (their pins clash with ours), one (peer, agent count) per subprocess, random actions, ~29.3 traversable cells per agent (the paper warehouse's density). "
+            "Our figure is robot-steps per second of the named size with the same robot count. A peer's agent-step is one grid move; ours is one 4 px step of the paper model (collision waiting, energy, allocation).",
+            "",
+            "| agents | MultiBots robot-steps/s | pogema agent-steps/s | ratio to pogema | rware agent-steps/s | ratio to rware |",
+            "|---:|---:|---:|---:|---:|---:|",
+        ]
+        for n in AGENT_COUNTS:
+            ours = next((r["robot_steps_per_s"] for r in d["scale"] if r["robots"] == n), None)
+            pog = next((r["agent_steps_per_s"] for r in d["peers"] if r["peer"] == "pogema" and r["agents"] == n), None)
+            rw = next((r["agent_steps_per_s"] for r in d["peers"] if r["peer"] == "rware" and r["agents"] == n), None)
+            lines.append(f"| {n:,} | {fmt_rate(ours)} | {fmt_rate(pog)} | {fmt_ratio(ours, pog)} | {fmt_rate(rw)} | {fmt_ratio(ours, rw)} |")
+        lines += ["", "Target: at least 40× pogema's agent-steps per second at equal agent counts.", "", "Peer details:", "", peers.format_table(d["peers"])]
+        na = [r for r in d["peers"] if r["status"] != "ok"]
+        if na:
+            lines += ["", "n/a: " + "; ".join(f"{r['peer']} at {r['agents']}: {r.get('reason')}" for r in na)]
+    else:
+        lines.append("Not measured in this run (`--no-peers`).")
+    lines += [
+        "",
+        "## How to reproduce",
+        "",
+        "```",
+        "make bench                                   # criterion (--quick) + this script",
+        "cargo bench -p multibots-core --bench step   # the criterion bench alone, full length",
+        ".venv/bin/python benchmarks/scale.py         # sizes and memory",
+        ".venv/bin/python benchmarks/pure_python.py   # ratio to the pure-Python model",
+        ".venv/bin/python benchmarks/peers.py         # rware and pogema alone",
+        "```",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--repetitions", type=int, default=5)
+    ap.add_argument("--no-peers", action="store_true", help="skip rware and pogema (about 3 minutes)")
+    ap.add_argument("--peer-repetitions", type=int, default=5)
+    ap.add_argument("--out", type=Path, default=ROOT / "docs" / "benchmarks.md")
+    ap.add_argument("--json", type=Path, default=ROOT / "benchmarks" / "results" / "run_all.json", dest="json_path")
+    a = ap.parse_args(argv)
+
+    started = time.perf_counter()
+    d: dict[str, Any] = {
+        "kind": "multibots-benchmarks",
+        "created_utc": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "command": " ".join([".venv/bin/python", os.path.relpath(Path(sys.argv[0]).resolve(), ROOT), *sys.argv[1:]]),
+        "machine": machine(),
+        "repetitions": a.repetitions,
+    }
+    load0 = loadavg()
+    print("engine speed at the named sizes ...", file=sys.stderr, flush=True)
+    d["scale"] = [scale.robot_steps_per_s(n, a.repetitions) for n in scale.SIZES]
+    d["memory"] = [scale.memory_per_robot(n) for n in scale.SIZES]
+    d["experiment_30"] = scale.experiment_30_ms()
+    from multibots import Scenario, simulate
+
+    d["paper_robot_steps"] = 6 * simulate(Scenario.paper(robots=6, goods=pure_python.GOODS)).steps
+    print("pure-Python model ...", file=sys.stderr, flush=True)
+    d["pure_python"] = pure_python.measure(a.repetitions)
+    d["criterion"] = criterion_medians()
+    if not a.no_peers:
+        print("peers (rware, pogema) in .venv-peers ...", file=sys.stderr, flush=True)
+        d["peers"] = peers.measure_peers(AGENT_COUNTS, repetitions=a.peer_repetitions)
+    d["load"] = [load0, loadavg()]
+    d["total_seconds"] = time.perf_counter() - started
+    md = build_markdown(d)
+    peers.write_json_atomic(a.json_path, d)
+    tmp = a.out.with_name(f".{a.out.name}.tmp")
+    a.out.parent.mkdir(parents=True, exist_ok=True)
+    tmp.write_text(md, encoding="utf-8")
+    os.replace(tmp, a.out)
+    print(md)
+    print(f"\nwrote {a.out} and {a.json_path}", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
