@@ -149,6 +149,9 @@ BAD_FLAGS = {
     "zero step limit": (["--goods", "1", "--step-limit", "0"], ["step_limit = 0"]),
     "nothing to run": ([], ["--goods"]),
     "unknown option": (["--bogus"], ["--bogus"]),
+    "allocator that is no allocator": (["--goods", "1", "--allocator", "os:getcwd"], ["allocator = \"os:getcwd\""]),
+    "unknown allocator": (["--goods", "1", "--allocator", "fastest"], ["allocator = \"fastest\""]),
+    "margin not finite": (["--goods", "1", "--margin", "nan"], ["--margin", "nan"]),
 }
 
 

@@ -26,3 +26,41 @@ def test_stepping_after_the_end_is_harmless():
         sim.step(-1)
     with pytest.raises(IndexError):
         sim.route(5)
+
+
+def test_an_allocator_error_ends_the_run_for_good():
+    calls = []
+
+    def flaky(view):
+        calls.append(view.step)
+        if len(calls) == 1:
+            raise RuntimeError("first call fails")
+        return {int(r): int(g) for r, g in zip(view.idle, view.goods)}
+
+    sim = multibots.Simulation(multibots.Scenario.paper(robots=1, goods=[42]), allocator=flaky)
+    with pytest.raises(multibots.AllocatorError, match="first call fails"):
+        sim.step()
+    # Phases 2-8 of that step never ran: the run must not go on as if they had.
+    with pytest.raises(multibots.AllocatorError, match="the run stopped at step 1"):
+        sim.step()
+    assert len(calls) == 1
+
+
+def test_ctrl_c_stops_a_long_run_with_one_line_and_no_half_written_replay(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    scenario = tmp_path / "long.toml"
+    # Stranded with goods undelivered, the robot leaves the run nothing to do but reach the limit.
+    scenario.write_text('robots = 1\ntasks = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]\nunload = "R"\nstep_limit = 2000000000\n[robot]\nthreshold = 0.0\n')
+    replay = tmp_path / "long.mbr"
+    p = subprocess.Popen([sys.executable, "-m", "multibots", "run", str(scenario), "--record", str(replay)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(3)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 130, (out, err)
+    assert err.strip() == "multibots: interrupted"
+    assert list(tmp_path.iterdir()) == [scenario]

@@ -7,6 +7,7 @@ Exit codes: 0 success, 2 bad input (one line on stderr naming the field and the 
 from __future__ import annotations
 
 import json
+import math
 import os
 import sys
 from pathlib import Path
@@ -55,11 +56,14 @@ def parse_names(value: str, flag: str = "--starts") -> list[str]:
 def _number(value: Optional[str], flag: str, kind: type) -> Any:
     if value is None:
         return None
+    what = "an integer" if kind is int else "a number"
     try:
-        return kind(value)
+        number = kind(value)
     except ValueError:
-        what = "an integer" if kind is int else "a number"
         raise BadInput(f"{flag} = {value!r}: not {what}") from None
+    if not math.isfinite(number):
+        raise BadInput(f"{flag} = {value!r}: must be a finite number")
+    return number
 
 
 def quick_scenario(
@@ -256,6 +260,14 @@ def main(argv: Optional[list[str]] = None) -> None:
         if os.environ.get("MULTIBOTS_DEBUG"):
             raise
         _fail(prog, f"internal error: {type(e).__name__}: {e} (set MULTIBOTS_DEBUG=1 for the traceback)", 1)
+    except BaseException as e:  # PyO3's PanicException derives from BaseException
+        if isinstance(e, (SystemExit, GeneratorExit)):
+            raise
+        if os.environ.get("MULTIBOTS_DEBUG"):
+            raise
+        _fail(prog, f"internal error: {type(e).__name__}: {e}", 1)
+    if rv == 130:  # typer turns Ctrl-C into a silent exit code
+        _fail(prog, "interrupted", 130)
     if isinstance(rv, int) and rv != 0:
         sys.exit(rv)
 

@@ -89,6 +89,8 @@ pub struct Simulation {
     allocator: Box<dyn Allocator>,
     /// An allocation event is due: robots became idle or goods joined the queue.
     alloc_due: bool,
+    /// Set when a step failed part-way: the run cannot go on.
+    failure: Option<String>,
     collisions: Collisions,
     wants: Vec<bool>,
     alpha: Vec<f64>,
@@ -342,6 +344,7 @@ impl Simulation {
             outcome: None,
             allocator,
             alloc_due: true,
+            failure: None,
             collisions: Collisions::new(b, reach, n),
             wants: vec![false; n],
             alpha: vec![0.0; n],
@@ -379,12 +382,19 @@ impl Simulation {
         if self.outcome.is_some() {
             return Ok(());
         }
+        if let Some(failure) = &self.failure {
+            // Phases after the allocator's error never ran: carrying on would skip them.
+            return Err(Error::Allocator { strategy: self.allocator.name().to_string(), reason: format!("the run stopped at step {}: {failure}", self.t) });
+        }
         self.t += 1;
         self.events.clear();
         if self.lifelong.is_some() {
             self.orders();
         }
-        self.allocate()?;
+        if let Err(e) = self.allocate() {
+            self.failure = Some(e.to_string());
+            return Err(e);
+        }
         self.intend();
         self.block();
         self.travel();

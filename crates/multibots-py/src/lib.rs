@@ -2,7 +2,7 @@
 //! No model logic lives here.
 
 use multibots_core::metrics::RunResult;
-use multibots_core::replay::run_recorded;
+use multibots_core::replay::ReplayWriter;
 use multibots_core::{Error, Scenario, Simulation, State};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::create_exception;
@@ -169,46 +169,96 @@ fn routing_table_bytes(py: Python<'_>, scenario: &PyScenario) -> PyResult<(usize
     })
 }
 
-/// Runs a scenario to its end; records a replay to `record` if given.
+/// Runs a scenario to its end; records a replay to `record` if given. Ctrl-C stops it.
 #[pyfunction]
 #[pyo3(signature = (scenario, record=None, allocator=None))]
 fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>, allocator: Option<PyObject>) -> PyResult<Bound<'py, PyDict>> {
     let s = scenario.inner.clone();
     let alloc = strategy::make_allocator(py, &s, allocator)?;
-    let r = engine(py, move || {
-        let mut sim = Simulation::with_allocator(&s, alloc)?;
-        match record {
-            Some(path) => run_recorded(&mut sim, &path, &s.to_toml()),
-            None => sim.run(),
+    let mut sim = {
+        let s = s.clone();
+        engine(py, move || Simulation::with_allocator(&s, alloc))?
+    };
+    let mut writer = match record {
+        Some(path) => {
+            let sim = &sim;
+            Some(engine(py, move || ReplayWriter::create(&path, sim, &s.to_toml()))?)
         }
-    })?;
+        None => None,
+    };
+    // In slices, so that a pending Ctrl-C is seen; an unfinished replay is removed on drop.
+    while !sim.done() {
+        let (sim, writer) = (&mut sim, &mut writer);
+        engine(py, move || {
+            let mut k = 0;
+            while k < SIGNAL_EVERY && !sim.done() {
+                sim.step()?;
+                if let Some(w) = writer.as_mut() {
+                    w.frame(sim)?;
+                }
+                k += 1;
+            }
+            Ok(())
+        })?;
+        py.check_signals()?;
+    }
+    let r = sim.result();
+    if let Some(w) = writer {
+        let r = r.clone();
+        engine(py, move || w.finish(&r))?;
+    }
     result_dict(py, &r)
 }
 
-/// Runs many scenarios on `workers` threads; results come back in the order given.
+/// Runs many scenarios on `workers` threads; results come back in the order given. Ctrl-C
+/// stops every worker.
 #[pyfunction]
 #[pyo3(signature = (scenarios, workers=0))]
 fn simulate_many<'py>(py: Python<'py>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let list: Vec<Scenario> = scenarios.into_iter().map(|s| s.inner).collect();
-    let results = engine(py, move || {
+    let interrupted: std::sync::Mutex<Option<PyErr>> = std::sync::Mutex::new(None);
+    let results = engine(py, || {
         let workers = if workers == 0 { std::thread::available_parallelism().map_or(1, usize::from) } else { workers }.min(list.len().max(1));
-        let next = std::sync::atomic::AtomicUsize::new(0);
+        let next = AtomicUsize::new(0);
+        let finished = AtomicUsize::new(0);
+        let cancel = AtomicBool::new(false);
         let mut slots: Vec<Option<Result<RunResult, Error>>> = (0..list.len()).map(|_| None).collect();
         let done = std::sync::Mutex::new(&mut slots);
         std::thread::scope(|scope| {
             for _ in 0..workers {
                 scope.spawn(|| loop {
-                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let k = next.fetch_add(1, Ordering::Relaxed);
                     if k >= list.len() {
                         break;
                     }
-                    let r = Simulation::new(&list[k]).and_then(|mut sim| sim.run());
+                    let r = Simulation::new(&list[k]).and_then(|mut sim| {
+                        while !sim.done() && !cancel.load(Ordering::Relaxed) {
+                            sim.step()?;
+                        }
+                        Ok(sim.result())
+                    });
                     done.lock().expect("no worker panics while holding the lock")[k] = Some(r);
+                    finished.fetch_add(1, Ordering::Release);
                 });
             }
+            // This thread watches for Ctrl-C while the workers run.
+            while finished.load(Ordering::Acquire) < list.len() && !cancel.load(Ordering::Relaxed) {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+                if let Err(e) = Python::with_gil(|py| py.check_signals()) {
+                    *interrupted.lock().expect("not poisoned") = Some(e);
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            }
         });
+        if cancel.load(Ordering::Relaxed) {
+            return Ok(Vec::new());
+        }
         slots.into_iter().map(|r| r.expect("every slot is filled")).collect::<Result<Vec<_>, Error>>()
     })?;
+    if let Some(e) = interrupted.into_inner().expect("not poisoned") {
+        return Err(e);
+    }
     results.iter().map(|r| result_dict(py, r)).collect()
 }
 
@@ -409,6 +459,8 @@ impl PySimulation {
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // Load NumPy's C API now: loaded lazily, a pending Ctrl-C would surface inside it.
+    let _ = PyArray1::<f64>::zeros(py, 0, false);
     m.add("MultibotsError", py.get_type::<MultibotsError>())?;
     m.add("ScenarioError", py.get_type::<ScenarioError>())?;
     m.add("LayoutError", py.get_type::<LayoutError>())?;

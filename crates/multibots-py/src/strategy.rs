@@ -70,7 +70,9 @@ fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Box<dyn 
         let obj = class.call0().map_err(|e| {
             crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it with no arguments failed: {}", one_line(py, &e)))
         })?;
-        return PyAllocator::boxed(py, scenario, &obj.unbind());
+        // A name from a file or the command line is user input: a wrong one is a scenario error.
+        return PyAllocator::boxed(py, scenario, &obj.unbind())
+            .map_err(|e| crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it returned no allocator ({})", one_line(py, &e))));
     }
     let s = Scenario { allocator: name.to_string(), ..scenario.clone() };
     alloc::built_in(&s).map_err(crate::to_py)
