@@ -22,7 +22,9 @@ each test used).
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
+import json
 import math
 import os
 import re
@@ -182,18 +184,58 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any], weights: dict[str, float
     }
 
 
-def _slim(r: Any) -> dict[str, Any]:
+def _slim_raw(raw: dict[str, Any]) -> dict[str, Any]:
+    """The engine's result dictionary reduced to what a row needs (JSON-ready)."""
     return {
-        "T": r.T, "S": r.S, "C": r.C, "distance": float(r.distance.sum()),
-        "outcome": r.outcome, "delivered": r.delivered, "goods_total": r.goods_total,
+        "T": raw["T"], "S": raw["S"], "C": raw["C"], "distance": float(raw["distance"].sum()),
+        "outcome": raw["outcome"], "delivered": raw["delivered"], "goods_total": raw["goods_total"],
     }
 
 
 def _run_in_process(toml: str) -> dict[str, Any]:
     """A worker process's job: one run of a scenario with a Python strategy."""
-    from multibots.simulation import simulate
+    from multibots import _core
 
-    return _slim(simulate(Scenario.from_toml_str(toml, "<study>")))
+    return _slim_raw(_core.simulate(Scenario.from_toml_str(toml, "<study>")._core))
+
+
+class Journal:
+    """Finished runs, appended one JSON line each and flushed to disk as they finish, so that
+    a study that is killed loses no finished run: run it again and it resumes.
+
+    A run is keyed by its scenario (which names its strategy), so a journal only ever
+    answers for the very same run. A line cut short by the kill is ignored.
+    """
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self.done: dict[str, dict[str, Any]] = {}
+        if self.path.exists():
+            for line in self.path.read_text(encoding="utf-8").splitlines():
+                try:
+                    entry = json.loads(line)
+                    self.done[entry["key"]] = entry["result"]
+                except (ValueError, KeyError, TypeError):
+                    continue
+
+    @staticmethod
+    def key(run: Run) -> str:
+        return hashlib.sha256(run.scenario.to_toml().encode()).hexdigest()
+
+    def record(self, entries: Sequence[tuple[Run, dict[str, Any]]]) -> None:
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with self.path.open("a+b") as f:
+            # A kill may have cut the last line short: start on a line of our own.
+            if f.tell() > 0:
+                f.seek(-1, os.SEEK_END)
+                if f.read(1) != b"\n":
+                    f.write(b"\n")
+            for run, result in entries:
+                key = self.key(run)
+                self.done[key] = result
+                f.write((json.dumps({"key": key, "result": result}, separators=(",", ":")) + "\n").encode())
+            f.flush()
+            os.fsync(f.fileno())
 
 
 def run_study(
@@ -204,10 +246,12 @@ def run_study(
     workers: int = 0,
     base: Optional[Scenario] = None,
     progress: Optional[Callable[[int], None]] = None,
+    journal: Optional[str | os.PathLike[str]] = None,
 ) -> list[dict[str, Any]]:
     """Runs the study and returns one row per run, in plan order (deterministic).
 
-    ``progress`` is called with the number of runs just finished.
+    ``progress`` is called with the number of runs just finished. With ``journal`` (a file),
+    every finished run is recorded there at once, and runs already recorded are not run again.
     """
     from multibots import _core
 
@@ -216,17 +260,30 @@ def run_study(
     workers = workers or os.cpu_count() or 1
     results: list[Optional[dict[str, Any]]] = [None] * len(runs)
     tick = progress or (lambda k: None)
-    engine_jobs = [k for k, r in enumerate(runs) if not is_python_allocator(r.strategy)]
-    python_jobs = [k for k, r in enumerate(runs) if is_python_allocator(r.strategy)]
+    book = Journal(journal) if journal is not None else None
+    if book is not None:
+        for k, run in enumerate(runs):
+            results[k] = book.done.get(Journal.key(run))
+        already = sum(r is not None for r in results)
+        if already:
+            tick(already)
+
+    def finished(entries: list[tuple[int, dict[str, Any]]]) -> None:
+        for k, raw in entries:
+            results[k] = raw
+        if book is not None:
+            book.record([(runs[k], raw) for k, raw in entries])
+        tick(len(entries))
+
+    engine_jobs = [k for k, r in enumerate(runs) if results[k] is None and not is_python_allocator(r.strategy)]
+    python_jobs = [k for k, r in enumerate(runs) if results[k] is None and is_python_allocator(r.strategy)]
     # Chunks a few times the thread count: big enough to keep every core busy, small enough
     # for the progress bar to move.
     chunk = max(4 * workers, 8)
     for start in range(0, len(engine_jobs), chunk):
         ks = engine_jobs[start:start + chunk]
         raws = _core.simulate_many([runs[k].scenario._core for k in ks], workers)
-        for k, raw in zip(ks, raws):
-            results[k] = {**raw, "distance": float(raw["distance"].sum())}
-        tick(len(ks))
+        finished([(k, _slim_raw(raw)) for k, raw in zip(ks, raws)])
     if python_jobs:
         import multiprocessing
 
@@ -234,9 +291,13 @@ def run_study(
         ctx = multiprocessing.get_context("spawn")
         with ProcessPoolExecutor(max_workers=min(workers, len(python_jobs)), mp_context=ctx) as pool:
             futures = {pool.submit(_run_in_process, runs[k].scenario.to_toml()): k for k in python_jobs}
-            for f in as_completed(futures):
-                results[futures[f]] = f.result()
-                tick(1)
+            try:
+                for f in as_completed(futures):
+                    finished([(futures[f], f.result())])
+            except BaseException:
+                # Finished runs are in the journal; do not wait for the others.
+                pool.shutdown(wait=False, cancel_futures=True)
+                raise
     return [_row(run, spec, raw, weights) for run, raw in zip(runs, results) if raw is not None]
 
 

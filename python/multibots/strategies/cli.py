@@ -45,7 +45,7 @@ def compare(
     total = len(study.plan_runs(names, ns, spec, seeds, base))
     start = time.perf_counter()
     with study.progress_bar(total, enabled=not quiet) as bar:
-        rows = study.run_study(names, ns, spec, seeds, workers, base, progress=bar.advance)
+        rows = study.run_study(names, ns, spec, seeds, workers, base, progress=bar.advance, journal=out / "runs.jsonl")
     seconds = time.perf_counter() - start
     summary = study.summarize(rows)
     text = study.format_summary(summary, spec.label)
