@@ -135,7 +135,9 @@ class Scenario:
         return isinstance(other, Scenario) and self._core == other._core
 
     def __hash__(self) -> int:
-        return hash(self._core.to_json())
+        # Coarser than equality on purpose: equal scenarios (even 0.0 against -0.0) hash alike.
+        d = self.to_dict()
+        return hash((d["layout"] if isinstance(d["layout"], str) else "table", d["robots"], tuple(self.cells)))
 
     def __repr__(self) -> str:
         d = self.to_dict()

@@ -192,14 +192,20 @@ impl ReplayWriter {
         let display = self.path.display().to_string();
         let mut out = self.out.take().expect("open until finished");
         let io = |e: std::io::Error| Error::io(&display, &e);
-        out.write_all(&footer).map_err(io)?;
-        out.write_all(&self.offset.to_le_bytes()).map_err(io)?;
-        out.write_all(&(footer.len() as u64).to_le_bytes()).map_err(io)?;
-        let file = out.into_inner().map_err(|e| Error::io(&display, e.error()))?;
-        file.sync_all().map_err(io)?;
-        drop(file);
-        std::fs::rename(&self.tmp, &self.path).map_err(io)?;
-        Ok(())
+        let written = (|| {
+            out.write_all(&footer).map_err(io)?;
+            out.write_all(&self.offset.to_le_bytes()).map_err(io)?;
+            out.write_all(&(footer.len() as u64).to_le_bytes()).map_err(io)?;
+            let file = out.into_inner().map_err(|e| Error::io(&display, e.error()))?;
+            file.sync_all().map_err(io)?;
+            drop(file);
+            std::fs::rename(&self.tmp, &self.path).map_err(io)
+        })();
+        if written.is_err() {
+            // Nothing half-written stays behind, here as on drop.
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+        written
     }
 }
 
