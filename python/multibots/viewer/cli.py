@@ -19,7 +19,7 @@ DEFAULT_PORT = 8765
 def _fail(message: str, code: int = 2) -> "typer.Exit":
     """Print a one-line error to stderr; the caller raises the returned Exit."""
     line = " ".join(str(message).split())
-    print(f"error: {line}", file=sys.stderr)
+    print(f"multibots: error: {line}", file=sys.stderr)
     return typer.Exit(code)
 
 

@@ -312,7 +312,11 @@ class ViewerHandler(BaseHTTPRequestHandler):
                 if m.group(1) == "chunk":
                     self._chunk(i, head_only)
                 else:
-                    cells = src.replay.base_cells(i)
+                    try:
+                        cells = src.replay.base_cells(i)
+                    except ReplayError as exc:
+                        self._error(500, str(exc))
+                        return
                     self._json({"chunk": i, "cells": cells.tolist()}, head_only=head_only)
                 return
             if path == "/replay/" + src.file_name:
