@@ -10,7 +10,7 @@
 //! distance, so the cost grows with N, not N². All buffers live in [`Collisions`] and are
 //! reused from step to step.
 
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Whether a robot at `(xi, yi)` heading `alpha` is blocked by one at `(xj, yj)`.
 #[inline]
@@ -45,7 +45,10 @@ pub struct Collisions {
     // Grid geometry.
     x0: f64,
     y0: f64,
-    size: f64,
+    /// `1 / size`: a multiplication instead of a division per coordinate. Any monotonic map
+    /// of coordinates to cells finds every neighbour, as long as insertion and search use
+    /// the same one.
+    inv_size: f64,
     /// Half-width of the box searched around a robot: the contact distance, a hair wider.
     reach: f64,
     cols: usize,
@@ -86,8 +89,8 @@ impl Collisions {
         Collisions {
             x0: bounds[0],
             y0: bounds[1],
-            size,
             reach: reach.max(1e-6) * (1.0 + 1e-9) + 1e-9,
+            inv_size: 1.0 / size,
             cols,
             rows,
             cell_of: vec![0; robots],
@@ -108,8 +111,8 @@ impl Collisions {
 
     #[inline]
     fn grid_cell(&self, x: f64, y: f64) -> (usize, usize) {
-        let cx = (((x - self.x0) / self.size).max(0.0) as usize).min(self.cols - 1);
-        let cy = (((y - self.y0) / self.size).max(0.0) as usize).min(self.rows - 1);
+        let cx = (((x - self.x0) * self.inv_size).max(0.0) as usize).min(self.cols - 1);
+        let cy = (((y - self.y0) * self.inv_size).max(0.0) as usize).min(self.rows - 1);
         (cx, cy)
     }
 
@@ -136,6 +139,9 @@ impl Collisions {
             self.head[c] = i as u32;
         }
 
+        // Half-width of the cone's box across the heading, with slack above rounding.
+        let narrow = angle <= FRAC_PI_2;
+        let side = self.reach * angle.sin() * 1.000_001 + 1e-9;
         // Build the "blocked by" edges, in ascending j for each i.
         self.edge_to.clear();
         let mut any_edge = false;
@@ -145,8 +151,27 @@ impl Collisions {
                 continue;
             }
             let first = self.edge_to.len();
-            let (gx0, gy0) = self.grid_cell(x[i] - self.reach, y[i] - self.reach);
-            let (gx1, gy1) = self.grid_cell(x[i] + self.reach, y[i] + self.reach);
+            // Only robots in the cone ahead can block. Moving along an aisle (heading exactly
+            // along an axis) with a cone of at most 90°, the cone lies in a box `reach` long
+            // ahead and `reach · sin(angle)` to each side (the robot's own point included, for
+            // dist = 0): fewer cells to read. Other headings search the whole square.
+            let (h, w) = (self.reach, side);
+            let a = alpha[i];
+            let (lx, ly, hx, hy) = if !narrow {
+                (x[i] - h, y[i] - h, x[i] + h, y[i] + h)
+            } else if a == 0.0 {
+                (x[i], y[i] - w, x[i] + h, y[i] + w)
+            } else if a == PI || a == -PI {
+                (x[i] - h, y[i] - w, x[i], y[i] + w)
+            } else if a == FRAC_PI_2 {
+                (x[i] - w, y[i], x[i] + w, y[i] + h)
+            } else if a == -FRAC_PI_2 {
+                (x[i] - w, y[i] - h, x[i] + w, y[i])
+            } else {
+                (x[i] - h, y[i] - h, x[i] + h, y[i] + h)
+            };
+            let (gx0, gy0) = self.grid_cell(lx, ly);
+            let (gx1, gy1) = self.grid_cell(hx, hy);
             for gy in gy0..=gy1 {
                 for gx in gx0..=gx1 {
                     let mut j = self.head[gy * self.cols + gx];

@@ -133,6 +133,23 @@ fn length_by_row(g: &HighwayGraph, from: Place, target: NodeId, row: &[f64]) -> 
     route::dist(from.x, from.y, p.wp_x, p.wp_y) + row[p.wp_node as usize]
 }
 
+/// `atan2(dy, dx)`, with the axis-parallel directions of aisles answered without the library
+/// call. The shortcuts return exactly what IEEE 754 specifies for `atan2` there (±0, ±π,
+/// ±π/2, signs included), so headings are bit-identical either way.
+#[inline]
+fn heading(dx: f64, dy: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    if dy == 0.0 && dx > 0.0 {
+        dy
+    } else if dy == 0.0 && dx < 0.0 {
+        PI.copysign(dy)
+    } else if dx == 0.0 && dy != 0.0 {
+        FRAC_PI_2.copysign(dy)
+    } else {
+        dy.atan2(dx)
+    }
+}
+
 /// Parking slots of spread placement: points strictly inside the highway edges, in edge
 /// order, `spacing` px or more apart and from either end node, so that robots standing on
 /// them neither block each other nor stand on a crossing.
@@ -605,7 +622,7 @@ impl Simulation {
             let w = r.routing[i] && r.state[i].travels();
             self.wants[i] = w;
             if w {
-                let a = (r.wp_y[i] - r.y[i]).atan2(r.wp_x[i] - r.x[i]);
+                let a = heading(r.wp_x[i] - r.x[i], r.wp_y[i] - r.y[i]);
                 self.alpha[i] = a;
                 r.heading[i] = a;
             }

@@ -1,0 +1,69 @@
+//! The collision grid's search boxes (cone boxes for axis-parallel headings, 2 x 2 cells)
+//! against the spec's definition computed by brute force, on crowded aisles.
+
+use multibots_core::collision::{blocks, Collisions};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Phase 3 by the book: O(N²) "blocked by", strongly connected components by reachability,
+/// the smallest id of each component of two or more released.
+fn brute(x: &[f64], y: &[f64], wants: &[bool], alpha: &[f64], reach: f64, angle: f64) -> Vec<bool> {
+    let n = x.len();
+    let edge: Vec<Vec<bool>> = (0..n).map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], reach, angle)).collect()).collect();
+    let mut reach_of = edge.clone();
+    for k in 0..n {
+        for i in 0..n {
+            if reach_of[i][k] {
+                for j in 0..n {
+                    if reach_of[k][j] {
+                        reach_of[i][j] = true;
+                    }
+                }
+            }
+        }
+    }
+    (0..n)
+        .map(|i| {
+            let blocked = edge[i].iter().any(|&e| e);
+            let in_cycle_with_smaller = (0..n).any(|j| j != i && reach_of[i][j] && reach_of[j][i] && j < i);
+            let in_cycle = (0..n).any(|j| j != i && reach_of[i][j] && reach_of[j][i]);
+            blocked && !(in_cycle && !in_cycle_with_smaller)
+        })
+        .collect()
+}
+
+#[test]
+fn grid_agrees_with_the_definition_on_crowded_aisles() {
+    let mut s = 987_654_321u64;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    let headings = [0.0, -0.0, PI, -PI, FRAC_PI_2, -FRAC_PI_2, 0.3, 2.0];
+    for round in 0..200 {
+        let n = 60;
+        // Robots on a lattice of aisles (x or y a multiple of 50), 1 px apart along them, so
+        // that contact distances and cone edges are hit exactly.
+        let mut x = Vec::with_capacity(n);
+        let mut y = Vec::with_capacity(n);
+        for _ in 0..n {
+            let along = (rnd() % 300) as f64;
+            let lane = (rnd() % 4) as f64 * 50.0;
+            if rnd() % 2 == 0 {
+                x.push(along);
+                y.push(lane);
+            } else {
+                x.push(lane);
+                y.push(along);
+            }
+        }
+        let alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() % headings.len() as u64) as usize]).collect();
+        let wants: Vec<bool> = (0..n).map(|_| rnd() % 5 != 0).collect();
+        for angle in [30f64.to_radians(), 90f64.to_radians(), 120f64.to_radians()] {
+            let mut c = Collisions::new([-50.0, -50.0, 350.0, 350.0], 25.0, n);
+            c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, angle);
+            assert_eq!(c.waits, brute(&x, &y, &wants, &alpha, 25.0, angle), "round {round}, angle {angle}");
+        }
+    }
+}
