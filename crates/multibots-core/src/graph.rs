@@ -199,13 +199,12 @@ impl HighwayGraph {
             let mut at = NodeId(u as u32);
             while len[at.index()].is_nan() {
                 chain.push(at);
-                match self.next_hop(at, t) {
-                    Some(v) => at = v,
-                    None => {
-                        len[at.index()] = 0.0;
-                        chain.pop();
-                        break;
-                    }
+                if let Some(v) = self.next_hop(at, t) {
+                    at = v;
+                } else {
+                    len[at.index()] = 0.0;
+                    chain.pop();
+                    break;
                 }
             }
             while let Some(w) = chain.pop() {

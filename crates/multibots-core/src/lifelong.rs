@@ -90,6 +90,7 @@ pub fn read_csv(path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
 
 impl Lifelong {
     /// Prepares a run over `cells` cells; `initial` orders (the task list) arrive at step 0.
+    #[must_use]
     pub fn new(o: &Orders, cells: usize, csv: Vec<(u64, u32)>, initial: usize) -> Lifelong {
         let expected = initial + csv.len() + (o.rate * o.horizon as f64 * 1.1) as usize + 64;
         Lifelong {

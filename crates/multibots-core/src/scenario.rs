@@ -74,6 +74,7 @@ pub enum Placement {
 }
 
 impl Placement {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
     fn is_departure(&self) -> bool {
         *self == Placement::Departure
     }
@@ -162,6 +163,7 @@ pub enum ChargerUse {
 }
 
 impl ChargerUse {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
     fn is_home(&self) -> bool {
         *self == ChargerUse::Home
     }
@@ -373,7 +375,7 @@ impl Scenario {
         }
         match self.layout.as_str() {
             "paper" => Ok(Layout::paper()),
-            path if path.ends_with(".toml") => crate::layout_file::read(std::path::Path::new(path)),
+            path if std::path::Path::new(path).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) => crate::layout_file::read(std::path::Path::new(path)),
             other => Err(Error::scenario("layout", format!("\"{other}\""), "unknown layout (known: paper, or a layout file ending in .toml)")),
         }
     }

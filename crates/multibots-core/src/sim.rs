@@ -813,13 +813,12 @@ impl Simulation {
                 best = Some((d, k));
             }
         }
-        match best {
-            Some((_, k)) => self.claim_charger(i, k),
-            None => {
-                self.robots.state[i] = State::WaitCharger;
-                self.robots.routing[i] = false;
-                self.charge_queue.push_back(i as u32);
-            }
+        if let Some((_, k)) = best {
+            self.claim_charger(i, k);
+        } else {
+            self.robots.state[i] = State::WaitCharger;
+            self.robots.routing[i] = false;
+            self.charge_queue.push_back(i as u32);
         }
     }
 

@@ -11,12 +11,11 @@ fn brute(x: &[f64], y: &[f64], wants: &[bool], alpha: &[f64], reach: f64, angle:
     let edge: Vec<Vec<bool>> = (0..n).map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], reach, angle)).collect()).collect();
     let mut reach_of = edge.clone();
     for k in 0..n {
-        for i in 0..n {
-            if reach_of[i][k] {
-                for j in 0..n {
-                    if reach_of[k][j] {
-                        reach_of[i][j] = true;
-                    }
+        let via = reach_of[k].clone();
+        for row in &mut reach_of {
+            if row[k] {
+                for (cell, &v) in row.iter_mut().zip(&via) {
+                    *cell |= v;
                 }
             }
         }
@@ -26,7 +25,8 @@ fn brute(x: &[f64], y: &[f64], wants: &[bool], alpha: &[f64], reach: f64, angle:
             let blocked = edge[i].iter().any(|&e| e);
             let in_cycle_with_smaller = (0..n).any(|j| j != i && reach_of[i][j] && reach_of[j][i] && j < i);
             let in_cycle = (0..n).any(|j| j != i && reach_of[i][j] && reach_of[j][i]);
-            blocked && !(in_cycle && !in_cycle_with_smaller)
+            let released = in_cycle && !in_cycle_with_smaller;
+            blocked && !released
         })
         .collect()
 }

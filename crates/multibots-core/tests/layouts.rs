@@ -84,7 +84,7 @@ fn paper_file() -> LayoutFile {
 fn err(f: &LayoutFile) -> String {
     match f.to_layout() {
         Err(e) => e.to_string(),
-        Ok(l) => layout_file::check_layout(&l).map(|_| "no error".to_string()).unwrap_or_else(|e| e.to_string()),
+        Ok(l) => layout_file::check_layout(&l).map_or_else(|e| e.to_string(), |_| "no error".to_string()),
     }
 }
 
