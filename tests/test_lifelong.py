@@ -68,3 +68,14 @@ def test_cli_lifelong_errors_exit_2(tmp_path):
     bad.write_text('tasks = []\nplacement = "spread"\n[orders]\nrate = 1\n', encoding="utf-8")
     p = cli("run", str(bad))
     assert p.returncode == 2 and 'placement = "spread": robots placed on aisles share chargers' in p.stderr
+
+
+def test_the_python_result_carries_the_lifelong_metrics():
+    import multibots
+
+    s = multibots.Scenario.from_toml(ROOT / "scenarios" / "warehouse-1000.toml").replace(robots=50, orders={"horizon": 300})
+    r = multibots.simulate(s)
+    assert r.lifelong is not None and r.to_dict()["lifelong"] == r.lifelong
+    ll = r.lifelong
+    assert ll["ordered"] == ll["delivered"] + ll["in_flight"] + ll["queued"] + ll["waiting"]
+    assert multibots.simulate(multibots.Scenario.paper(robots=1, goods=[42])).lifelong is None

@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import Any, Optional
 
 from multibots import _core
+from multibots._io import atomic_write_text
 from multibots.exceptions import ScenarioError
 
-__all__ = ["generate_layout", "parse_group_size", "write_text_atomic", "check_layout_file", "run_lifelong", "lifelong_lines", "register"]
+__all__ = ["generate_layout", "parse_group_size", "check_layout_file", "run_lifelong", "lifelong_lines", "register"]
 
 # Engine field names of the generator and the command-line flags that set them.
 _FLAGS = {
@@ -75,24 +75,6 @@ def generate_layout(
         if params[key] < 0:
             raise ScenarioError(f"{_FLAGS[key]} = {params[key]}: must be at least 1")
     return _core.generate_layout_toml(json.dumps(params), name)
-
-
-def write_text_atomic(path: Path, text: str) -> Path:
-    """Writes ``text`` to ``path`` through a temporary file and a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
 
 
 def check_layout_file(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -170,7 +152,7 @@ def register(layout_app: Any) -> None:
             for field, flag in _FLAGS.items():
                 msg = msg.replace(f"layout.{field} =", f"{flag} =")
             raise ScenarioError(msg) from None
-        path = write_text_atomic(out, text)
+        path = atomic_write_text(out, text)
         data = json.loads(_core.layout_file_json(text, str(path)))
         highway = sum(1 for n in data["nodes"] if n["kind"] == "highway")
         print(f"wrote {path}: {highway} crossings, {len(data['edges'])} edges, {len(data['cells'])} cells, {len(data['chargers'])} chargers")

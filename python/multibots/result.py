@@ -37,11 +37,14 @@ class Result:
         steps: steps run.
         delivered: goods delivered; goods_total: goods in the task list.
         stranded: ids of robots that ran out of energy.
+        lifelong: for lifelong runs (``[orders]``), throughput (deliveries per 1,000 steps),
+            latency_p50/p95/p99/mean (steps), utilisation, energy_per_delivery and the order
+            counts (ordered = delivered + in_flight + queued + waiting); None otherwise.
         distance, wait_steps, collisions, energy_used, robot_delivered, charges: one value
             per robot (NumPy arrays); state_steps: (N, 11) steps ending in each state.
     """
 
-    __slots__ = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "stranded", *_ARRAYS)
+    __slots__ = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "stranded", "lifelong", *_ARRAYS)
 
     T: int | None
     S: int
@@ -51,6 +54,7 @@ class Result:
     delivered: int
     goods_total: int
     stranded: list[int]
+    lifelong: dict[str, Any] | None
     distance: np.ndarray
     wait_steps: np.ndarray
     collisions: np.ndarray
@@ -61,7 +65,7 @@ class Result:
 
     def __init__(self, raw: dict[str, Any]) -> None:
         for key in self.__slots__:
-            value = raw[key]
+            value = raw.get(key)
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)
             object.__setattr__(self, key, value)
@@ -84,6 +88,7 @@ class Result:
             "delivered": self.delivered,
             "goods_total": self.goods_total,
             "stranded": list(self.stranded),
+            "lifelong": self.lifelong,
             "robots": robots,
         }
 
