@@ -213,7 +213,7 @@ fn min_cost_on_distance_alone_is_optimal_on_task_length() {
 struct Fixed(Vec<(u32, u32)>);
 
 impl Allocator for Fixed {
-    fn name(&self) -> &str {
+    fn name(&self) -> &'static str {
         "fixed-test"
     }
     fn allocate(&mut self, _view: &AllocView<'_>, out: &mut Vec<Assignment>) -> multibots_core::Result<()> {
@@ -245,7 +245,7 @@ fn a_robot_that_is_not_idle_is_rejected() {
     // strategy hands goods to the robot that is still busy.
     struct Busy;
     impl Allocator for Busy {
-        fn name(&self) -> &str {
+        fn name(&self) -> &'static str {
             "busy-test"
         }
         fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> multibots_core::Result<()> {

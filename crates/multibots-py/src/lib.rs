@@ -21,6 +21,7 @@ create_exception!(_core, AllocatorError, MultibotsError, "A strategy returned as
 create_exception!(_core, EngineError, MultibotsError, "An internal error of the engine (a bug: please report it).");
 
 /// The one place engine errors become Python exceptions.
+#[allow(clippy::needless_pass_by_value)] // by value so that it serves as `map_err(to_py)`
 fn to_py(e: Error) -> PyErr {
     let msg = e.to_string();
     match e {
@@ -214,7 +215,7 @@ fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>
 /// stops every worker.
 #[pyfunction]
 #[pyo3(signature = (scenarios, workers=0))]
-fn simulate_many<'py>(py: Python<'py>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Vec<Bound<'py, PyDict>>> {
+fn simulate_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Vec<Bound<'_, PyDict>>> {
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     let list: Vec<Scenario> = scenarios.into_iter().map(|s| s.inner).collect();
     let interrupted: std::sync::Mutex<Option<PyErr>> = std::sync::Mutex::new(None);
@@ -245,7 +246,9 @@ fn simulate_many<'py>(py: Python<'py>, scenarios: Vec<PyScenario>, workers: usiz
             // This thread watches for Ctrl-C while the workers run.
             while finished.load(Ordering::Acquire) < list.len() && !cancel.load(Ordering::Relaxed) {
                 std::thread::sleep(std::time::Duration::from_millis(20));
-                if let Err(e) = Python::with_gil(|py| py.check_signals()) {
+                #[allow(clippy::redundant_closure_for_method_calls)] // the method's lifetime is not general enough
+                let signals = Python::with_gil(|py| py.check_signals());
+                if let Err(e) = signals {
                     *interrupted.lock().expect("not poisoned") = Some(e);
                     cancel.store(true, Ordering::Relaxed);
                 }
@@ -352,7 +355,7 @@ impl PySimulation {
     }
     #[getter]
     fn outcome(&self) -> Option<&'static str> {
-        self.sim.outcome().map(|o| o.as_str())
+        self.sim.outcome().map(multibots_core::Outcome::as_str)
     }
     #[getter]
     fn energy_full(&self) -> f64 {
