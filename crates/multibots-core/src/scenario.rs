@@ -280,6 +280,16 @@ impl<'de> Deserialize<'de> for Tasks {
     }
 }
 
+/// The paper's TABLE III: the goods of task groups 1 to 5, fetched in this order (spec
+/// section 5). The experiment runs each with N = 1..6 robots.
+pub const PAPER_TASKS: [[u32; 10]; 5] = [
+    [11, 8, 39, 28, 53, 1, 69, 42, 79, 6],
+    [74, 50, 62, 15, 49, 34, 14, 72, 31, 37],
+    [68, 79, 56, 47, 48, 75, 23, 50, 76, 16],
+    [59, 6, 74, 2, 67, 49, 53, 28, 25, 79],
+    [14, 65, 41, 75, 22, 36, 54, 74, 9, 48],
+];
+
 /// Draws `count` distinct cells out of `cells` with a portable generator (`ChaCha8`).
 #[must_use]
 pub fn random_cells(count: u32, seed: u64, cells: usize) -> Vec<u32> {

@@ -263,13 +263,7 @@ fn a_robot_that_is_not_idle_is_rejected() {
     assert!(e.starts_with("allocator 'busy-test': ") && e.contains("is not idle"), "{e}");
 }
 
-const PAPER: [[u32; 10]; 5] = [
-    [11, 8, 39, 28, 53, 1, 69, 42, 79, 6],
-    [74, 50, 62, 15, 49, 34, 14, 72, 31, 37],
-    [68, 79, 56, 47, 48, 75, 23, 50, 76, 16],
-    [59, 6, 74, 2, 67, 49, 53, 28, 25, 79],
-    [14, 65, 41, 75, 22, 36, 54, 74, 9, 48],
-];
+use multibots_core::scenario::PAPER_TASKS as PAPER;
 
 #[test]
 fn every_built_in_completes_the_paper_runs_and_is_deterministic() {
