@@ -34,11 +34,21 @@ fn main() {
         let dist: f64 = sim.stats().distance.iter().sum();
         eprintln!("states {hist:?} queue {} wait share {:.3} mean distance {:.0}", sim.queue().len(), waits as f64 / (n * sim.t() as f64), dist / n);
     }
+    // FNV-1a over positions, states and energies: a change of behaviour shows as a new
+    // fingerprint, while optimisations must keep it.
+    let r = sim.robots();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for i in 0..r.len() {
+        for w in [r.x[i].to_bits(), r.y[i].to_bits(), r.energy[i].to_bits(), r.state[i] as u64] {
+            h = (h ^ w).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
     println!(
-        "{{\"robots\":{},\"steps\":{k},\"seconds\":{secs},\"robot_steps_per_s\":{},\"build_seconds\":{build},\"delivered\":{},\"s\":{}}}",
+        "{{\"robots\":{},\"steps\":{k},\"seconds\":{secs},\"robot_steps_per_s\":{},\"build_seconds\":{build},\"delivered\":{},\"s\":{},\"c\":{},\"fingerprint\":\"{h:016x}\"}}",
         n,
         n * k as f64 / secs,
         sim.delivered(),
-        sim.s()
+        sim.s(),
+        sim.c()
     );
 }

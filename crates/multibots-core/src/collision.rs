@@ -39,25 +39,64 @@ pub fn folded_angle(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Reusable state of the collision phase.
-#[derive(Clone, Debug, Default)]
-pub struct Collisions {
-    // Grid geometry.
+/// The uniform grid's geometry: a cheap map from positions to cells.
+#[derive(Clone, Copy, Debug, Default)]
+struct Grid {
     x0: f64,
     y0: f64,
     /// `1 / size`: a multiplication instead of a division per coordinate. Any monotonic map
     /// of coordinates to cells finds every neighbour, as long as insertion and search use
     /// the same one.
     inv_size: f64,
+    cols: usize,
+    last_col: i32,
+    last_row: i32,
+}
+
+impl Grid {
+    /// A point in grid units: its cell is the integer part.
+    #[inline]
+    fn scaled(&self, x: f64, y: f64) -> (f64, f64) {
+        ((x - self.x0) * self.inv_size, (y - self.y0) * self.inv_size)
+    }
+
+    /// The cell column and row of a point in grid units, clamped into the grid (robots never
+    /// leave it: it has a free cell around everything they can reach). `as i32` truncates
+    /// like `floor` for the non-negative values that occur, and saturates on the rest.
+    #[inline]
+    fn cell(&self, tx: f64, ty: f64) -> (u32, u32) {
+        ((tx as i32).clamp(0, self.last_col) as u32, (ty as i32).clamp(0, self.last_row) as u32)
+    }
+}
+
+/// The range of cells from `c` (the cell of `t`, in grid units) that a box from `t - lo` to
+/// `t + hi` overlaps, with `lo, hi` at most one cell: one comparison on each side instead of
+/// two float-to-integer conversions. These are the cells `floor` gives for the box's ends,
+/// so every robot inside the box is found.
+#[inline]
+fn span(t: f64, c: u32, lo: f64, hi: f64) -> (usize, usize) {
+    let (c, cf) = (c as usize, f64::from(c));
+    (c - usize::from(t - lo < cf), c + usize::from(t + hi >= cf + 1.0))
+}
+
+/// Reusable state of the collision phase.
+#[derive(Clone, Debug, Default)]
+pub struct Collisions {
+    grid: Grid,
     /// Half-width of the box searched around a robot: the contact distance, a hair wider.
     reach: f64,
-    cols: usize,
-    rows: usize,
-    // Robots by grid cell, as singly linked lists: `head[cell]`, then `link[robot]`. Built
-    // and cleared in O(N), so a step never sweeps the whole grid.
+    /// Each robot's cell (`u32::MAX`: in a bay, out of the grid), column and row.
     cell_of: Vec<u32>,
-    head: Vec<u32>,
-    link: Vec<u32>,
+    cx: Vec<u32>,
+    cy: Vec<u32>,
+    // Robots sorted by cell (a counting sort each step), with their positions and radii
+    // copied alongside: the robots of cell `c` are `first[c]..first[c + 1]`, so the cells of
+    // a grid row that a search box covers are one contiguous run, read without chasing links.
+    first: Vec<u32>,
+    by_cell: Vec<u32>,
+    sx: Vec<f64>,
+    sy: Vec<f64>,
+    sr: Vec<f64>,
     // "Blocked by" graph in compressed rows.
     edge_start: Vec<u32>,
     edge_to: Vec<u32>,
@@ -84,18 +123,21 @@ impl Collisions {
         // then overlaps at most 2 × 2 cells (4 list heads to read instead of 9), and the grid
         // is 4 times smaller, so it stays in cache.
         let size = 2.0 * reach.max(1e-6);
-        let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 1;
-        let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 1;
+        // One free cell on every side: a search box never reaches past the grid.
+        let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 3;
+        let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;
+        let last = |k: usize| i32::try_from(k - 2).unwrap_or(i32::MAX);
         Collisions {
-            x0: bounds[0],
-            y0: bounds[1],
+            grid: Grid { x0: bounds[0] - size, y0: bounds[1] - size, inv_size: 1.0 / size, cols, last_col: last(cols), last_row: last(rows) },
             reach: reach.max(1e-6) * (1.0 + 1e-9) + 1e-9,
-            inv_size: 1.0 / size,
-            cols,
-            rows,
             cell_of: vec![0; robots],
-            head: vec![u32::MAX; cols * rows],
-            link: vec![u32::MAX; robots],
+            cx: vec![0; robots],
+            cy: vec![0; robots],
+            first: vec![0; cols * rows + 1],
+            by_cell: vec![0; robots],
+            sx: vec![0.0; robots],
+            sy: vec![0.0; robots],
+            sr: vec![0.0; robots],
             edge_start: vec![0; robots + 1],
             edge_to: Vec::with_capacity(robots),
             waits: vec![false; robots],
@@ -109,104 +151,120 @@ impl Collisions {
         }
     }
 
-    #[inline]
-    fn grid_cell(&self, x: f64, y: f64) -> (usize, usize) {
-        let cx = (((x - self.x0) * self.inv_size).max(0.0) as usize).min(self.cols - 1);
-        let cy = (((y - self.y0) * self.inv_size).max(0.0) as usize).min(self.rows - 1);
-        (cx, cy)
-    }
-
     /// Decides who waits. `alpha[i]` is used only where `wants[i]`; `margin` widens every
     /// contact distance and `angle` is the collision angle in radians. Fills `self.waits`.
     #[allow(clippy::too_many_arguments)]
     pub fn resolve(&mut self, x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], margin: f64, angle: f64) {
         let n = x.len();
-        self.waits.fill(false);
-        if !wants.iter().any(|&w| w) {
+        // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
+        let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
+        self.waits[..n].fill(false);
+        if !wants.contains(&true) {
             return;
         }
-        // Every robot can block, so every robot goes into the grid.
-        let bays = !self.bay.is_empty();
+        let grid = self.grid;
+        let cell_of = &mut self.cell_of[..n];
+        let (cxs, cys) = (&mut self.cx[..n], &mut self.cy[..n]);
+        let bay: &[bool] = if self.bay.is_empty() { &[] } else { &self.bay[..n] };
+        // Counting sort by cell. Every robot can block, so every robot goes into the grid.
+        let first = &mut self.first[..];
+        first.fill(0);
         for i in 0..n {
-            if bays && self.bay[i] {
-                self.cell_of[i] = u32::MAX;
+            if !bay.is_empty() && bay[i] {
+                cell_of[i] = u32::MAX;
                 continue;
             }
-            let (cx, cy) = self.grid_cell(x[i], y[i]);
-            let c = cy * self.cols + cx;
-            self.cell_of[i] = c as u32;
-            self.link[i] = self.head[c];
-            self.head[c] = i as u32;
+            let (tx, ty) = grid.scaled(x[i], y[i]);
+            let (cx, cy) = grid.cell(tx, ty);
+            (cxs[i], cys[i]) = (cx, cy);
+            let c = cy as usize * grid.cols + cx as usize;
+            cell_of[i] = c as u32;
+            first[c] += 1;
         }
+        // Running totals: `first[c]` is the end of cell `c`; placing robots from the last
+        // back to the first turns it into the start, with ids ascending within a cell.
+        let mut total = 0;
+        for f in first.iter_mut() {
+            total += *f;
+            *f = total;
+        }
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        for i in (0..n).rev() {
+            let c = cell_of[i];
+            if c != u32::MAX {
+                first[c as usize] -= 1;
+                let k = first[c as usize] as usize;
+                (by_cell[k], sx[k], sy[k], sr[k]) = (i as u32, x[i], y[i], radius[i]);
+            }
+        }
+        let first = &self.first[..];
 
-        // Half-width of the cone's box across the heading, with slack above rounding.
+        // Half-width of the cone's box across the heading, with slack above rounding; both
+        // in grid units, at most half a cell.
         let narrow = angle <= FRAC_PI_2;
-        let side = self.reach * angle.sin() * 1.000_001 + 1e-9;
-        // Build the "blocked by" edges, in ascending j for each i.
-        self.edge_to.clear();
-        let mut any_edge = false;
+        let h = self.reach * grid.inv_size;
+        let w = (self.reach * angle.sin() * 1.000_001 + 1e-9) * grid.inv_size;
+        // Build the "blocked by" edges (in no particular order: the components, and so who
+        // is released, do not depend on it).
+        let edge_start = &mut self.edge_start[..=n];
+        let edge_to = &mut self.edge_to;
+        edge_to.clear();
         for i in 0..n {
-            self.edge_start[i] = self.edge_to.len() as u32;
-            if !wants[i] || self.cell_of[i] == u32::MAX {
+            edge_start[i] = edge_to.len() as u32;
+            if !wants[i] || cell_of[i] == u32::MAX {
                 continue;
             }
-            let first = self.edge_to.len();
             // Only robots in the cone ahead can block. Moving along an aisle (heading exactly
             // along an axis) with a cone of at most 90°, the cone lies in a box `reach` long
             // ahead and `reach · sin(angle)` to each side (the robot's own point included, for
             // dist = 0): fewer cells to read. Other headings search the whole square.
-            let (h, w) = (self.reach, side);
-            let a = alpha[i];
-            let (lx, ly, hx, hy) = if !narrow {
-                (x[i] - h, y[i] - h, x[i] + h, y[i] + h)
+            let (xi, yi, a) = (x[i], y[i], alpha[i]);
+            // The box's reach left, right, down and up of the robot.
+            let (l, r, d, u) = if !narrow {
+                (h, h, h, h)
             } else if a == 0.0 {
-                (x[i], y[i] - w, x[i] + h, y[i] + w)
+                (0.0, h, w, w)
             } else if a == PI || a == -PI {
-                (x[i] - h, y[i] - w, x[i], y[i] + w)
+                (h, 0.0, w, w)
             } else if a == FRAC_PI_2 {
-                (x[i] - w, y[i], x[i] + w, y[i] + h)
+                (w, w, 0.0, h)
             } else if a == -FRAC_PI_2 {
-                (x[i] - w, y[i] - h, x[i] + w, y[i])
+                (w, w, h, 0.0)
             } else {
-                (x[i] - h, y[i] - h, x[i] + h, y[i] + h)
+                (h, h, h, h)
             };
-            let (gx0, gy0) = self.grid_cell(lx, ly);
-            let (gx1, gy1) = self.grid_cell(hx, hy);
-            for gy in gy0..=gy1 {
-                for gx in gx0..=gx1 {
-                    let mut j = self.head[gy * self.cols + gx];
-                    while j != u32::MAX {
-                        let ju = j as usize;
-                        let r = radius[i] + radius[ju] + margin;
-                        let (dx, dy) = (x[ju] - x[i], y[ju] - y[i]);
-                        // Clearly out of reach (with a relative slack far above rounding):
-                        // skip the square root and the angle. Near the boundary, `blocks`
-                        // decides exactly as before.
-                        let far = dx.abs() > r * 1.000_001 || dy.abs() > r * 1.000_001 || dx * dx + dy * dy > r * r * 1.000_001;
-                        if ju != i && !far && blocks(x[i], y[i], alpha[i], x[ju], y[ju], r, angle) {
-                            self.edge_to.push(j);
-                        }
-                        j = self.link[ju];
+            let (tx, ty) = grid.scaled(xi, yi);
+            let (gx0, gx1) = span(tx, cxs[i], l, r);
+            let (gy0, gy1) = span(ty, cys[i], d, u);
+            let ri = radius[i];
+            // One or two rows; in each, the box's one or two cells are one run of robots.
+            let (mut row, last_row) = (gy0 * grid.cols, gy1 * grid.cols);
+            loop {
+                for k in first[row + gx0] as usize..first[row + gx1 + 1] as usize {
+                    let r = ri + sr[k] + margin;
+                    let (dx, dy) = (sx[k] - xi, sy[k] - yi);
+                    // Clearly out of reach (with a relative slack far above rounding): skip
+                    // the square root and the angle. Near the boundary, `blocks` decides
+                    // exactly.
+                    let far = dx * dx + dy * dy > r * r * 1.000_001;
+                    if !far && by_cell[k] as usize != i && blocks(xi, yi, a, sx[k], sy[k], r, angle) {
+                        edge_to.push(by_cell[k]);
                     }
                 }
-            }
-            if self.edge_to.len() > first {
-                self.edge_to[first..].sort_unstable();
-                any_edge = true;
-            }
-        }
-        self.edge_start[n] = self.edge_to.len() as u32;
-        for i in 0..n {
-            if self.cell_of[i] != u32::MAX {
-                self.head[self.cell_of[i] as usize] = u32::MAX;
+                if row == last_row {
+                    break;
+                }
+                row += grid.cols;
             }
         }
-        if !any_edge {
+        edge_start[n] = edge_to.len() as u32;
+        if edge_to.is_empty() {
             return;
         }
         self.release_cycles(n);
-        for i in 0..n {
-            self.waits[i] = self.edge_start[i] < self.edge_start[i + 1] && !self.released[i];
+        let (edge_start, released) = (&self.edge_start[..=n], &self.released[..n]);
+        for (i, w) in self.waits[..n].iter_mut().enumerate() {
+            *w = edge_start[i] < edge_start[i + 1] && !released[i];
         }
     }
 
@@ -377,8 +435,9 @@ mod tests {
         c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
         for i in 0..n {
             let brute: Vec<u32> = (0..n).filter(|&j| j != i && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], 25.0, ANGLE)).map(|j| j as u32).collect();
-            let got = &c.edge_to[c.edge_start[i] as usize..c.edge_start[i + 1] as usize];
-            assert_eq!(got, brute.as_slice(), "robot {i}");
+            let mut got = c.edge_to[c.edge_start[i] as usize..c.edge_start[i + 1] as usize].to_vec();
+            got.sort_unstable();
+            assert_eq!(got, brute, "robot {i}");
         }
     }
 }
