@@ -112,6 +112,8 @@ pub struct Collisions {
     stack: Vec<u32>,
     call: Vec<(u32, u32)>,
     released: Vec<bool>,
+    /// Robots with at least one blocker this step, ascending.
+    blocked: Vec<u32>,
 }
 
 impl Collisions {
@@ -147,6 +149,7 @@ impl Collisions {
             stack: Vec::with_capacity(robots),
             call: Vec::with_capacity(robots),
             released: vec![false; robots],
+            blocked: Vec::with_capacity(robots),
             bay: Vec::new(),
         }
     }
@@ -261,23 +264,30 @@ impl Collisions {
         if edge_to.is_empty() {
             return;
         }
-        self.release_cycles(n);
-        let (edge_start, released) = (&self.edge_start[..=n], &self.released[..n]);
-        for (i, w) in self.waits[..n].iter_mut().enumerate() {
-            *w = edge_start[i] < edge_start[i + 1] && !released[i];
+        // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's
+        // work is in proportion to them, not to the fleet.
+        self.blocked.clear();
+        self.blocked.extend((0..n).filter(|&i| edge_start[i] < edge_start[i + 1]).map(|i| i as u32));
+        self.release_cycles();
+        for &i in &self.blocked {
+            let i = i as usize;
+            self.waits[i] = !self.released[i];
+            // Back to the resting state for the next step.
+            self.released[i] = false;
+            self.index[i] = u32::MAX;
         }
     }
 
     /// Marks in `released` the smallest id of every strongly connected component of two or
-    /// more robots (Tarjan's algorithm without recursion).
-    fn release_cycles(&mut self, n: usize) {
-        self.released.fill(false);
-        self.index.fill(u32::MAX);
-        self.on_stack.fill(false);
+    /// more robots (Tarjan's algorithm without recursion), over the robots in `blocked`. A
+    /// robot that is not blocked has no way out, so it is never on a cycle, and edges to it
+    /// are skipped. Expects `index` all `u32::MAX`, `released` and `on_stack` all false.
+    fn release_cycles(&mut self) {
         self.stack.clear();
         let mut next_index = 0u32;
-        for root in 0..n {
-            if self.index[root] != u32::MAX || self.edge_start[root] == self.edge_start[root + 1] {
+        for k in 0..self.blocked.len() {
+            let root = self.blocked[k] as usize;
+            if self.index[root] != u32::MAX {
                 continue;
             }
             self.call.push((root as u32, self.edge_start[root]));
@@ -291,6 +301,9 @@ impl Collisions {
                 if *e < self.edge_start[v + 1] {
                     let w = self.edge_to[*e as usize] as usize;
                     *e += 1;
+                    if self.edge_start[w] == self.edge_start[w + 1] {
+                        continue;
+                    }
                     if self.index[w] == u32::MAX {
                         self.index[w] = next_index;
                         self.low[w] = next_index;

@@ -413,9 +413,7 @@ impl Simulation {
             return Err(e);
         }
         self.intend();
-        self.block();
-        self.travel();
-        self.dwell_and_consume();
+        self.block_and_move();
         self.transitions();
         self.end();
         Ok(())
@@ -617,68 +615,71 @@ impl Simulation {
 
     /// Phase 2: who wants to move, and where each is heading.
     fn intend(&mut self) {
+        let n = self.robots.len();
         let r = &mut self.robots;
-        for i in 0..r.len() {
-            let w = r.routing[i] && r.state[i].travels();
-            self.wants[i] = w;
+        // Slices of exactly `n` (here and in the phases below): indexing by `i < n` needs
+        // no bounds checks.
+        let (routing, state, x, y, wp_x, wp_y) = (&r.routing[..n], &r.state[..n], &r.x[..n], &r.y[..n], &r.wp_x[..n], &r.wp_y[..n]);
+        let (wants, alpha, head) = (&mut self.wants[..n], &mut self.alpha[..n], &mut r.heading[..n]);
+        for i in 0..n {
+            let w = routing[i] && state[i].travels();
+            wants[i] = w;
             if w {
-                let a = heading(r.wp_x[i] - r.x[i], r.wp_y[i] - r.y[i]);
-                self.alpha[i] = a;
-                r.heading[i] = a;
+                let a = heading(wp_x[i] - x[i], wp_y[i] - y[i]);
+                alpha[i] = a;
+                head[i] = a;
             }
         }
-    }
-
-    /// Phase 3: collision waiting and the count S.
-    fn block(&mut self) {
         if !self.park.is_empty() {
             // Spread placement: parked robots and robots waiting for a charger stand in a
             // bay beside the aisle, out of the traffic (docs/model.md section 7).
-            self.collisions.bay.resize(self.robots.len(), false);
-            for i in 0..self.robots.len() {
-                self.collisions.bay[i] = matches!(self.robots.state[i], State::Parked | State::WaitCharger);
+            self.collisions.bay.resize(n, false);
+            for (b, s) in self.collisions.bay.iter_mut().zip(state) {
+                *b = matches!(s, State::Parked | State::WaitCharger);
             }
         }
+    }
+
+    /// Phases 3 to 6: collision waiting and the count S, then travel, dwell counters,
+    /// charging and consumption. After the collision decision every robot's phases 3 to 6
+    /// touch only that robot, so one pass does them all, robot by robot.
+    fn block_and_move(&mut self) {
+        let n = self.robots.len();
+        let p = &self.p;
         let r = &self.robots;
-        self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, self.p.margin, self.p.angle);
-        for i in 0..self.robots.len() {
-            let w = self.collisions.waits[i];
+        self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle);
+        let g = &self.world.graph;
+        let (wants, waits) = (&self.wants[..n], &self.collisions.waits[..n]);
+        let st = &mut self.stats;
+        let (wait_steps, collisions, distance, energy_used) = (&mut st.wait_steps[..n], &mut st.collisions[..n], &mut st.distance[..n], &mut st.energy_used[..n]);
+        for i in 0..n {
+            // Phase 3: a wait that begins is a collision.
+            let w = waits[i];
             if w {
-                self.stats.wait_steps[i] += 1;
+                wait_steps[i] += 1;
                 if !self.robots.waited[i] {
                     self.s += 1;
-                    self.stats.collisions[i] += 1;
-                    self.event(EventKind::Wait, i, NONE);
+                    collisions[i] += 1;
+                    self.events.push(Event { step: self.t, kind: EventKind::Wait, robot: i as u32, cell: NONE });
                 }
             }
-            self.robots.waited[i] = w;
-        }
-    }
-
-    /// Phase 4: robots that may move travel `speed` px along their routes.
-    fn travel(&mut self) {
-        let g = &self.world.graph;
-        for i in 0..self.robots.len() {
-            if self.wants[i] && !self.collisions.waits[i] {
-                let speed = self.robots.speed[i];
-                self.stats.distance[i] += route::advance(&mut self.robots, g, i, speed);
+            let r = &mut self.robots;
+            r.waited[i] = w;
+            // Phase 4: robots that may move travel `speed` px along their routes.
+            if wants[i] && !w {
+                let speed = r.speed[i];
+                distance[i] += route::advance(r, g, i, speed);
             }
-        }
-    }
-
-    /// Phases 5 and 6: dwell counters, charging, consumption.
-    fn dwell_and_consume(&mut self) {
-        let p = &self.p;
-        let r = &mut self.robots;
-        for i in 0..r.len() {
-            match r.state[i] {
+            // Phases 5 and 6.
+            let state = r.state[i];
+            match state {
                 State::Loading | State::Unloading => r.dwell[i] += 1,
                 State::Charging => r.energy[i] = energy::charge(r.energy[i], p.charge_rate, p.energy_full),
                 _ => {}
             }
-            if !matches!(r.state[i], State::Charging | State::Parked | State::Stranded) {
+            if !matches!(state, State::Charging | State::Parked | State::Stranded) {
                 let e = energy::consume(r.energy[i], p.consumption);
-                self.stats.energy_used[i] += r.energy[i] - e;
+                energy_used[i] += r.energy[i] - e;
                 r.energy[i] = e;
             }
         }
