@@ -439,11 +439,11 @@ impl Simulation {
         self.idle_buf.clear();
         // Lifelong: robots parked for want of orders go back to work when orders are open.
         let wake = self.lifelong.is_some() && !self.queue.is_empty();
-        for i in 0..self.robots.len() {
-            if wake && self.robots.state[i] == State::Parked {
-                self.robots.state[i] = State::Idle;
+        for (i, s) in self.robots.state.iter_mut().enumerate() {
+            if wake && *s == State::Parked {
+                *s = State::Idle;
             }
-            if self.robots.state[i] == State::Idle {
+            if *s == State::Idle {
                 self.idle_buf.push(RobotId(i as u32));
             }
         }
@@ -693,7 +693,31 @@ impl Simulation {
 
     /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
     fn transitions(&mut self) {
+        let p = self.p.clone();
         for i in 0..self.robots.len() {
+            let r = &self.robots;
+            let (state, e) = (r.state[i], r.energy[i]);
+            // Most robots have nothing due: under way, dwelling or charging, with energy to
+            // spare. Only the others take the full rules below.
+            let due = match state {
+                State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !r.routing[i],
+                State::Loading => r.dwell[i] >= p.loading,
+                State::Unloading => r.dwell[i] >= p.unloading,
+                State::Charging => energy::is_full(e, p.energy_full),
+                _ => false,
+            } || energy::below(e, p.threshold)
+                || energy::exhausted(e)
+                || p.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level));
+            if due {
+                self.transition(i);
+            }
+            self.stats.state_steps[i][self.robots.state[i] as usize] += 1;
+        }
+    }
+
+    /// Phase 7 for robot `i`.
+    fn transition(&mut self, i: usize) {
+        {
             let state = self.robots.state[i];
             let arrived = !self.robots.routing[i];
             match state {
@@ -782,7 +806,6 @@ impl Simulation {
                 self.robots.routing[i] = false;
                 self.event(EventKind::Strand, i, NONE);
             }
-            self.stats.state_steps[i][self.robots.state[i] as usize] += 1;
         }
     }
 
