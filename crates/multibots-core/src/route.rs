@@ -194,6 +194,22 @@ fn polyline(g: &HighwayGraph, start: (f64, f64), waypoint: Option<(f64, f64, u32
     pts
 }
 
+/// `√(dx² + dy²)`, without the square root along the axes, where aisles run. There
+/// `√(dx²)` is exactly `|dx|` in IEEE 754 arithmetic, as long as `dx²` neither overflows nor
+/// loses precision to underflow: the range checked here.
+#[inline]
+#[must_use]
+pub fn axis_dist(dx: f64, dy: f64) -> f64 {
+    const NORMAL: std::ops::RangeInclusive<f64> = 1e-150..=1e150;
+    if dy == 0.0 && NORMAL.contains(&dx.abs()) {
+        dx.abs()
+    } else if dx == 0.0 && NORMAL.contains(&dy.abs()) {
+        dy.abs()
+    } else {
+        (dx * dx + dy * dy).sqrt()
+    }
+}
+
 /// Moves robot `i` up to `budget` px along its route, through waypoints without losing
 /// distance, stopping exactly at the route's end. Returns the distance travelled.
 #[inline]
@@ -201,7 +217,7 @@ pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, mut budget: f64) -> f
     let mut moved = 0.0;
     while r.routing[i] {
         let (dx, dy) = (r.wp_x[i] - r.x[i], r.wp_y[i] - r.y[i]);
-        let d = (dx * dx + dy * dy).sqrt();
+        let d = axis_dist(dx, dy);
         if budget < d {
             // dx / d is exactly ±1 or 0 on axis-parallel aisles, so positions stay exact.
             r.x[i] += dx / d * budget;

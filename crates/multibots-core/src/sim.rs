@@ -1,7 +1,7 @@
 //! One step of the paper model (spec section 4), phase by phase.
 
 use crate::alloc::{self, service_target, AllocView, Allocator, Assignment, Goods};
-use crate::collision::Collisions;
+use crate::collision::{bearing, Collisions};
 use crate::energy;
 use crate::error::{Error, Result};
 use crate::graph::{self, HighwayGraph};
@@ -131,23 +131,6 @@ fn length_by_row(g: &HighwayGraph, from: Place, target: NodeId, row: &[f64]) -> 
         return 0.0;
     }
     route::dist(from.x, from.y, p.wp_x, p.wp_y) + row[p.wp_node as usize]
-}
-
-/// `atan2(dy, dx)`, with the axis-parallel directions of aisles answered without the library
-/// call. The shortcuts return exactly what IEEE 754 specifies for `atan2` there (±0, ±π,
-/// ±π/2, signs included), so headings are bit-identical either way.
-#[inline]
-fn heading(dx: f64, dy: f64) -> f64 {
-    use std::f64::consts::{FRAC_PI_2, PI};
-    if dy == 0.0 && dx > 0.0 {
-        dy
-    } else if dy == 0.0 && dx < 0.0 {
-        PI.copysign(dy)
-    } else if dx == 0.0 && dy != 0.0 {
-        FRAC_PI_2.copysign(dy)
-    } else {
-        dy.atan2(dx)
-    }
 }
 
 /// Parking slots of spread placement: points strictly inside the highway edges, in edge
@@ -625,7 +608,7 @@ impl Simulation {
             let w = routing[i] && state[i].travels();
             wants[i] = w;
             if w {
-                let a = heading(wp_x[i] - x[i], wp_y[i] - y[i]);
+                let a = bearing(wp_x[i] - x[i], wp_y[i] - y[i]);
                 alpha[i] = a;
                 head[i] = a;
             }
