@@ -262,15 +262,33 @@ impl Collisions {
             // One or two rows; in each, the box's one or two cells are one run of robots.
             let (mut row, last_row) = (gy0 * grid.cols, gy1 * grid.cols);
             loop {
-                for k in first[row + gx0] as usize..first[row + gx1 + 1] as usize {
+                let (k0, k1) = (first[row + gx0] as usize, first[row + gx1 + 1] as usize);
+                // Clearly out of reach (with a relative slack far above rounding): skip the
+                // square root and the angle. Near the boundary, `blocks` decides exactly.
+                let near = |k: usize| {
                     let r = ri + sr[k] + margin;
                     let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    // Clearly out of reach (with a relative slack far above rounding): skip
-                    // the square root and the angle. Near the boundary, `blocks` decides
-                    // exactly.
-                    let far = dx * dx + dy * dy > r * r * 1.000_001;
-                    if !far && by_cell[k] as usize != i && blocks(xi, yi, a, sx[k], sy[k], r, angle) {
-                        edge_to.push(by_cell[k]);
+                    !(dx * dx + dy * dy > r * r * 1.000_001) & (by_cell[k] as usize != i)
+                };
+                if k1 - k0 <= 64 {
+                    // Most candidates are far: flag the near ones without a branch each (the
+                    // outcome is hard to predict), then test only those.
+                    let mut mask = 0u64;
+                    for k in k0..k1 {
+                        mask |= u64::from(near(k)) << (k - k0);
+                    }
+                    while mask != 0 {
+                        let k = k0 + mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
+                        if blocks(xi, yi, a, sx[k], sy[k], ri + sr[k] + margin, angle) {
+                            edge_to.push(by_cell[k]);
+                        }
+                    }
+                } else {
+                    for k in k0..k1 {
+                        if near(k) && blocks(xi, yi, a, sx[k], sy[k], ri + sr[k] + margin, angle) {
+                            edge_to.push(by_cell[k]);
+                        }
                     }
                 }
                 if row == last_row {
