@@ -210,13 +210,19 @@ impl Collisions {
             total += *f;
             *f = total;
         }
+        // One radius for the whole fleet (the usual case): one contact distance, and no
+        // radii to copy or read per candidate.
+        let uniform = radius.iter().all(|&r| r == radius[0]);
         let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
         for i in (0..n).rev() {
             let c = cell_of[i];
             if c != u32::MAX {
                 first[c as usize] -= 1;
                 let k = first[c as usize] as usize;
-                (by_cell[k], sx[k], sy[k], sr[k]) = (i as u32, x[i], y[i], radius[i]);
+                (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+                if !uniform {
+                    sr[k] = radius[i];
+                }
             }
         }
         let first = &self.first[..];
@@ -265,28 +271,31 @@ impl Collisions {
                 let (k0, k1) = (first[row + gx0] as usize, first[row + gx1 + 1] as usize);
                 // Clearly out of reach (with a relative slack far above rounding): skip the
                 // square root and the angle. Near the boundary, `blocks` decides exactly.
+                let contact = |k: usize| if uniform { ri + ri + margin } else { ri + sr[k] + margin };
                 let near = |k: usize| {
-                    let r = ri + sr[k] + margin;
+                    let r = contact(k);
                     let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    !(dx * dx + dy * dy > r * r * 1.000_001) & (by_cell[k] as usize != i)
+                    let far = dx * dx + dy * dy > r * r * 1.000_001;
+                    // 1 or 0, combined without a branch.
+                    u64::from(!far) & u64::from(by_cell[k] as usize != i)
                 };
                 if k1 - k0 <= 64 {
                     // Most candidates are far: flag the near ones without a branch each (the
                     // outcome is hard to predict), then test only those.
                     let mut mask = 0u64;
                     for k in k0..k1 {
-                        mask |= u64::from(near(k)) << (k - k0);
+                        mask |= near(k) << (k - k0);
                     }
                     while mask != 0 {
                         let k = k0 + mask.trailing_zeros() as usize;
                         mask &= mask - 1;
-                        if blocks(xi, yi, a, sx[k], sy[k], ri + sr[k] + margin, angle) {
+                        if blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
                             edge_to.push(by_cell[k]);
                         }
                     }
                 } else {
                     for k in k0..k1 {
-                        if near(k) && blocks(xi, yi, a, sx[k], sy[k], ri + sr[k] + margin, angle) {
+                        if near(k) == 1 && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
                             edge_to.push(by_cell[k]);
                         }
                     }

@@ -6,9 +6,10 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Phase 3 by the book: O(N²) "blocked by", strongly connected components by reachability,
 /// the smallest id of each component of two or more released.
-fn brute(x: &[f64], y: &[f64], wants: &[bool], alpha: &[f64], reach: f64, angle: f64) -> Vec<bool> {
+fn brute(x: &[f64], y: &[f64], radius: &[f64], margin: f64, wants: &[bool], alpha: &[f64], angle: f64) -> Vec<bool> {
     let n = x.len();
-    let edge: Vec<Vec<bool>> = (0..n).map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], reach, angle)).collect()).collect();
+    let edge: Vec<Vec<bool>> =
+        (0..n).map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, angle)).collect()).collect();
     let mut reach_of = edge.clone();
     for k in 0..n {
         let via = reach_of[k].clone();
@@ -33,6 +34,16 @@ fn brute(x: &[f64], y: &[f64], wants: &[bool], alpha: &[f64], reach: f64, angle:
 
 #[test]
 fn grid_agrees_with_the_definition_on_crowded_aisles() {
+    crowded_aisles(|_| 12.5, 0.0);
+}
+
+#[test]
+fn grid_agrees_with_the_definition_with_mixed_radii_and_a_margin() {
+    crowded_aisles(|k| [8.0, 10.0, 12.5][(k % 3) as usize], 3.0);
+}
+
+/// 200 rounds of 60 robots on aisles, radii from `radius_of(random)`.
+fn crowded_aisles(radius_of: impl Fn(u64) -> f64, margin: f64) {
     let mut s = 987_654_321u64;
     let mut rnd = move || {
         s ^= s << 13;
@@ -60,10 +71,33 @@ fn grid_agrees_with_the_definition_on_crowded_aisles() {
         }
         let alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() % headings.len() as u64) as usize]).collect();
         let wants: Vec<bool> = (0..n).map(|_| rnd() % 5 != 0).collect();
+        let radius: Vec<f64> = (0..n).map(|_| radius_of(rnd())).collect();
+        let reach = 2.0 * radius.iter().copied().fold(0.0, f64::max) + margin;
         for angle in [30f64.to_radians(), 90f64.to_radians(), 120f64.to_radians()] {
-            let mut c = Collisions::new([-50.0, -50.0, 350.0, 350.0], 25.0, n);
-            c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, angle);
-            assert_eq!(c.waits, brute(&x, &y, &wants, &alpha, 25.0, angle), "round {round}, angle {angle}");
+            let mut c = Collisions::new([-50.0, -50.0, 350.0, 350.0], reach, n);
+            c.resolve(&x, &y, &radius, &wants, &alpha, margin, angle);
+            assert_eq!(c.waits, brute(&x, &y, &radius, margin, &wants, &alpha, angle), "round {round}, angle {angle}");
         }
     }
+}
+
+#[test]
+fn grid_agrees_with_the_definition_in_a_pile_of_more_than_64_robots() {
+    // 150 robots within 40 px: a grid cell holds more than the 64 candidates flagged at once.
+    let mut s = 42u64;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s % 4001) as f64 / 100.0
+    };
+    let n = 150;
+    let x: Vec<f64> = (0..n).map(|_| 100.0 + rnd()).collect();
+    let y: Vec<f64> = (0..n).map(|_| 100.0 + rnd()).collect();
+    let alpha: Vec<f64> = (0..n).map(|_| rnd() / 40.0 * 2.0 * PI - PI).collect();
+    let wants: Vec<bool> = (0..n).map(|i| i % 4 != 0).collect();
+    let mut c = Collisions::new([-50.0, -50.0, 350.0, 350.0], 25.0, n);
+    c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, 30f64.to_radians());
+    assert_eq!(c.waits, brute(&x, &y, &vec![12.5; n], 0.0, &wants, &alpha, 30f64.to_radians()));
+    assert!(c.waits.iter().any(|&w| w), "the pile must block someone");
 }
