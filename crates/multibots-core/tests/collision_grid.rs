@@ -74,9 +74,16 @@ fn crowded_aisles(radius_of: impl Fn(u64) -> f64, margin: f64) {
         let radius: Vec<f64> = (0..n).map(|_| radius_of(rnd())).collect();
         let reach = 2.0 * radius.iter().copied().fold(0.0, f64::max) + margin;
         for angle in [30f64.to_radians(), 90f64.to_radians(), 120f64.to_radians()] {
-            let mut c = Collisions::new([-50.0, -50.0, 350.0, 350.0], reach, n);
-            c.resolve(&x, &y, &radius, &wants, &alpha, margin, angle);
-            assert_eq!(c.waits, brute(&x, &y, &radius, margin, &wants, &alpha, angle), "round {round}, angle {angle}");
+            // A grid with few cells per robot (counting sort) and one with many (the order
+            // kept from step to step); two steps each, so the kept order is used.
+            for far_corner in [350.0, 2000.0] {
+                let mut c = Collisions::new([-50.0, -50.0, far_corner, far_corner], reach, n);
+                for shift in [0.0, 1.0] {
+                    let x: Vec<f64> = x.iter().map(|v| v + shift).collect();
+                    c.resolve(&x, &y, &radius, &wants, &alpha, margin, angle);
+                    assert_eq!(c.waits, brute(&x, &y, &radius, margin, &wants, &alpha, angle), "round {round}, angle {angle}, grid to {far_corner}, shift {shift}");
+                }
+            }
         }
     }
 }
