@@ -244,7 +244,7 @@ impl Collisions {
         let run = |c0: usize, c1: usize| -> (usize, usize) {
             if !stamp.is_empty() {
                 let (mut k0, mut k1) = (u32::MAX, 0);
-                for c in c0..c1 + 1 {
+                for c in c0..=c1 {
                     if stamp[c] == epoch {
                         k0 = k0.min(start[c]);
                         k1 = end[c];
