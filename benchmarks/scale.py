@@ -11,8 +11,10 @@ large (1,000), huge (10,000) robots on generated warehouses of matching size.
   criterion bench). Median over repetitions (a shared, noisy machine).
 - the 30-run paper experiment: engine time on one thread (simulate_many, workers=1).
 - memory per robot: a fresh subprocess per size builds the fleet and runs 100 steps;
-  (resident memory at N - resident memory of the same layout with 1 robot) / (N - 1), and
-  the process's peak (VmHWM), which the layout's table building sets.
+  (resident memory at N - resident memory of the same layout with N/2 robots) / (N - N/2),
+  the marginal cost of a robot (a fleet of one would also change how the collision grid
+  sorts, see collision.rs), and the process's peak (VmHWM), which the layout's table
+  building sets.
 """
 
 from __future__ import annotations
@@ -108,7 +110,7 @@ print(json.dumps({"hwm_kb": status["VmHWM"], "rss_kb": status["VmRSS"], "table_b
 
 
 def memory_per_robot(name: str) -> dict[str, Any]:
-    """Peak memory per robot of a named size, from two fresh subprocesses (N and 1 robot)."""
+    """Memory per robot of a named size, from two fresh subprocesses (N and N/2 robots)."""
     path = SIZES_DIR / f"{name}.toml"
     n = size_scenario(name).to_dict()["robots"]
 
@@ -116,10 +118,11 @@ def memory_per_robot(name: str) -> dict[str, Any]:
         out = subprocess.run([sys.executable, "-c", _MEMORY_CHILD, str(path), str(k)], capture_output=True, text=True, check=True, cwd=ROOT)
         return json.loads(out.stdout.strip().splitlines()[-1])
 
-    full, one = child(n), child(1)
+    half = max(n // 2, 1)
+    full, one = child(n), child(half)
     # Resident memory after 100 steps, not the peak: the peak is reached while the layout's
     # tables are built, before any robot exists, so it does not grow with the fleet.
-    per_robot = (full["rss_kb"] - one["rss_kb"]) * 1024 / max(n - 1, 1)
+    per_robot = (full["rss_kb"] - one["rss_kb"]) * 1024 / max(n - half, 1)
     return {"size": name, "robots": n, "peak_rss_mb": full["hwm_kb"] / 1024, "baseline_rss_mb": one["hwm_kb"] / 1024, "bytes_per_robot": per_robot, "routing_table_bytes": full["table_bytes"], "nodes": full["nodes"]}
 
 
