@@ -166,8 +166,9 @@ impl Collisions {
         let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;
         let last = |k: usize| i32::try_from(k - 2).unwrap_or(i32::MAX);
         let cells = cols * rows;
-        // Measured: the counting sort wins up to some 10 cells per robot (1,000 robots in
-        // 6,400 cells), the repaired order beyond (the paper's 6 robots in 266 cells).
+        // Measured at two points: at 6.4 cells per robot (1,000 robots) the counting sort is
+        // about 10% faster; at 44 (the paper's 6 robots in 266 cells) keeping the order is
+        // about 45% faster. The switch lies between.
         let dense = cells <= 16 * robots;
         Collisions {
             grid: Grid { x0: bounds[0] - size, y0: bounds[1] - size, inv_size: 1.0 / size, cols, last_col: last(cols), last_row: last(rows) },
