@@ -257,7 +257,8 @@ impl Collisions {
         };
 
         // Half-width of the cone's box across the heading, with slack above rounding; both
-        // in grid units, at most half a cell.
+        // in grid units, about half a cell (a hair more, so a box can touch three cells of a
+        // row: `run` takes any number).
         let narrow = angle <= FRAC_PI_2;
         let h = self.reach * grid.inv_size;
         let w = (self.reach * angle.sin() * 1.000_001 + 1e-9) * grid.inv_size;

@@ -56,7 +56,7 @@ pub struct Event {
 }
 
 /// The model's numbers, taken from a validated scenario.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 struct Params {
     speed: f64,
     energy_full: f64,
@@ -676,7 +676,7 @@ impl Simulation {
 
     /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
     fn transitions(&mut self) {
-        let p = self.p.clone();
+        let p = self.p;
         for i in 0..self.robots.len() {
             let r = &self.robots;
             let (state, e) = (r.state[i], r.energy[i]);
