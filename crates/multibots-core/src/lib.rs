@@ -9,20 +9,26 @@
 //! ```
 
 pub mod alloc;
+pub mod charging;
 pub mod collision;
 pub mod energy;
 pub mod error;
+pub mod events;
+pub mod goods_queue;
 pub mod graph;
 pub mod ids;
 pub mod layout;
 pub mod layout_file;
 pub mod lifelong;
 pub mod metrics;
+pub mod placement;
 pub mod replay;
 pub mod robot;
 pub mod route;
 pub mod scenario;
 pub mod sim;
+pub mod tasks;
+pub mod world;
 
 pub use alloc::{Allocator, AllocView, Assignment, Goods};
 pub use error::{Error, Result};
@@ -32,4 +38,7 @@ pub use layout::{Layout, LayoutParams};
 pub use metrics::{Outcome, RobotStats, RunResult};
 pub use robot::{State, Target};
 pub use scenario::Scenario;
-pub use sim::{Event, EventKind, Simulation, World};
+pub use events::{Event, EventKind};
+pub use scenario::Unload;
+pub use sim::Simulation;
+pub use world::World;

@@ -119,6 +119,18 @@ pub fn plan(g: &HighwayGraph, from: Place, target: Target) -> Plan {
     p
 }
 
+/// Route length from a place to `target`, whose distances from every node (`row`, from
+/// [`HighwayGraph::lengths_to`]) are known: the same figure as [`length`], without walking the
+/// node path. For choices made inside the step loop (the nearest charger, unloading zone).
+#[must_use]
+pub fn length_via_row(g: &HighwayGraph, from: Place, target: NodeId, row: &[f64]) -> f64 {
+    let p = plan(g, from, Target::Node(target));
+    if !p.moving {
+        return 0.0;
+    }
+    dist(from.x, from.y, p.wp_x, p.wp_y) + row[p.wp_node as usize]
+}
+
 /// Gives robot `i` the route to `target`; returns whether it has anywhere to go.
 pub fn assign(r: &mut Robots, g: &HighwayGraph, i: usize, target: Target) -> bool {
     let p = plan(g, Place::of(r, i), target);

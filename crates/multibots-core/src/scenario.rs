@@ -22,9 +22,11 @@ pub struct Scenario {
     /// zones in order (A, B, C, … in the paper layout).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub starts: Option<Vec<String>>,
-    /// The unloading zone every robot delivers to. Default: `"M"`.
-    #[serde(default = "defaults::unload")]
-    pub unload: String,
+    /// Where goods are delivered: `"first"` (the layout's first unloading zone: `M` in the
+    /// paper layout), `"nearest"` (each cell's goods to the zone nearest its service point),
+    /// or an unloading zone's node name. Default: `"first"`.
+    #[serde(default, skip_serializing_if = "Unload::is_first")]
+    pub unload: Unload,
     /// The goods to fetch, in order: a list of cell ids, or `{ random = COUNT, seed = SEED }`.
     pub tasks: Tasks,
     /// Steps after which an unfinished run ends incomplete. Default: 100000.
@@ -59,6 +61,56 @@ pub struct Scenario {
     /// Lifelong operation (extension): orders arrive over time and the run lasts a horizon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orders: Option<Orders>,
+}
+
+/// Where goods are delivered.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Unload {
+    /// The layout's first unloading zone (`M` in the paper layout): works on any layout.
+    #[default]
+    First,
+    /// Each cell's goods go to the unloading zone nearest its service point (extension).
+    Nearest,
+    /// This unloading zone, by node name.
+    Node(String),
+}
+
+impl Unload {
+    fn is_first(&self) -> bool {
+        *self == Unload::First
+    }
+
+    /// The text a scenario file uses.
+    #[must_use]
+    pub fn as_str(&self) -> &str {
+        match self {
+            Unload::First => "first",
+            Unload::Nearest => "nearest",
+            Unload::Node(name) => name,
+        }
+    }
+}
+
+impl From<&str> for Unload {
+    fn from(s: &str) -> Unload {
+        match s {
+            "first" => Unload::First,
+            "nearest" => Unload::Nearest,
+            name => Unload::Node(name.to_string()),
+        }
+    }
+}
+
+impl Serialize for Unload {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for Unload {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        String::deserialize(d).map(|s| Unload::from(s.as_str()))
+    }
 }
 
 /// Where robots start.
@@ -224,9 +276,6 @@ mod defaults {
     pub fn robots() -> u32 {
         3
     }
-    pub fn unload() -> String {
-        "M".into()
-    }
     pub fn step_limit() -> u64 {
         100_000
     }
@@ -354,7 +403,7 @@ impl Scenario {
             layout: defaults::layout(),
             robots,
             starts: None,
-            unload: defaults::unload(),
+            unload: Unload::First,
             tasks: Tasks::Cells(cells.iter().map(|&c| i64::from(c)).collect()),
             step_limit: defaults::step_limit(),
             allocator: defaults::allocator(),

@@ -1,0 +1,180 @@
+//! Where robots start, where they park when there is no work, and where goods are delivered
+//! (spec section 2, and the spread placement of `docs/model.md` section 7).
+//!
+//! - **Departure placement** (the paper): robot i starts on the charger of the i-th start
+//!   node, which is its home; it parks there.
+//! - **Spread placement** (big fleets): robots start idle on parking slots strictly inside
+//!   the aisle edges, spread evenly over the warehouse; a robot's slot is where it parks and
+//!   its home charger is the nearest one by route.
+//! - **Unloading**: one zone for every cell (the layout's first, or a named one), or each
+//!   cell's nearest zone.
+
+use crate::error::{Error, Result};
+use crate::ids::{NodeId, NONE};
+use crate::layout::Layout;
+use crate::robot::{Robots, Target};
+use crate::route::{self, Place};
+use crate::scenario::{Placement, Scenario, Unload};
+use crate::world::World;
+
+/// Where each robot parks and where each cell's goods are delivered.
+#[derive(Clone, Debug)]
+pub(crate) struct Homes {
+    /// Spread placement: each robot's parking slot (empty under departure placement, where
+    /// robots park on their home charger).
+    park: Vec<Target>,
+    /// The unloading zone allocators are told about (the first zone under `"nearest"`).
+    pub unload: NodeId,
+    /// The unloading zone of each cell's goods.
+    unload_of_cell: Vec<NodeId>,
+}
+
+impl Homes {
+    /// Where robot `i` parks: its parking slot (spread placement) or its home charger.
+    pub fn target(&self, robots: &Robots, i: usize) -> Target {
+        self.park.get(i).copied().unwrap_or(Target::Node(robots.home[i]))
+    }
+
+    /// Whether robot `i` stands where it parks (phase 8).
+    pub fn at_home(&self, robots: &Robots, i: usize) -> bool {
+        match self.park.get(i) {
+            Some(&Target::Point { x, y, .. }) => robots.at_node[i] == NONE && robots.x[i] == x && robots.y[i] == y,
+            _ => robots.at_node[i] == robots.home[i].0,
+        }
+    }
+
+    /// Whether robots park on aisle slots (spread placement).
+    pub fn spread(&self) -> bool {
+        !self.park.is_empty()
+    }
+
+    /// The unloading zone of a cell's goods.
+    pub fn unload_of(&self, cell: u32) -> NodeId {
+        self.unload_of_cell[cell as usize]
+    }
+}
+
+/// The unloading zone a scenario names, checked against the layout.
+pub(crate) fn unload_zone(layout: &Layout, unload: &Unload) -> Result<NodeId> {
+    let first = *layout.unloading.first().ok_or_else(|| Error::layout("unloading", "the layout has no unloading zone"))?;
+    match unload {
+        Unload::First | Unload::Nearest => Ok(first),
+        Unload::Node(name) => {
+            let node = layout.node_named(name).ok_or_else(|| Error::scenario("unload", format!("\"{name}\""), "unknown node"))?;
+            if !layout.unloading.contains(&node) {
+                return Err(Error::scenario("unload", format!("\"{name}\""), "is not an unloading zone"));
+            }
+            Ok(node)
+        }
+    }
+}
+
+/// The start nodes of departure placement: the scenario's `starts`, or the layout's
+/// departure zones in order.
+pub(crate) fn start_nodes(layout: &Layout, scenario: &Scenario) -> Result<Vec<NodeId>> {
+    let n = scenario.robots as usize;
+    if scenario.placement == Placement::Spread {
+        return Ok(Vec::new());
+    }
+    let Some(names) = &scenario.starts else {
+        if n > layout.departure.len() {
+            return Err(Error::scenario("robots", n, format!("more robots than start nodes ({})", layout.departure.len())));
+        }
+        return Ok(layout.departure[..n].to_vec());
+    };
+    if names.len() != n {
+        return Err(Error::scenario("starts", format!("{names:?}"), format!("names {} start nodes for {} robots", names.len(), n)));
+    }
+    let mut v = Vec::with_capacity(n);
+    for (i, name) in names.iter().enumerate() {
+        let node = layout.node_named(name).ok_or_else(|| Error::scenario(format!("starts[{i}]"), format!("\"{name}\""), "unknown node"))?;
+        if !layout.departure.contains(&node) {
+            return Err(Error::scenario(format!("starts[{i}]"), format!("\"{name}\""), "is not a departure zone"));
+        }
+        if v.contains(&node) {
+            return Err(Error::scenario(format!("starts[{i}]"), format!("\"{name}\""), "start nodes must be distinct"));
+        }
+        v.push(node);
+    }
+    Ok(v)
+}
+
+/// Parking slots of spread placement: points strictly inside the highway edges, in edge
+/// order, `spacing` px or more apart and from either end node, so that robots standing on
+/// them neither block each other nor stand on a crossing.
+fn parking_slots(layout: &Layout, spacing: f64) -> Vec<Target> {
+    let mut slots = Vec::new();
+    for &(u, v) in &layout.edges {
+        let (ux, uy) = layout.pos(u);
+        let (vx, vy) = layout.pos(v);
+        let len = route::dist(ux, uy, vx, vy);
+        let m = (len / spacing).floor() as usize;
+        let m = m.saturating_sub(1);
+        for k in 1..=m {
+            let f = k as f64 / (m + 1) as f64;
+            slots.push(Target::Point { u, v, x: ux + (vx - ux) * f, y: uy + (vy - uy) * f });
+        }
+    }
+    slots
+}
+
+/// The nearest of `zones` from `at` by route (ties: the first listed), given each zone's
+/// distance row.
+fn nearest(world: &World, at: Place, zones: &[NodeId], rows: &[Vec<f64>]) -> NodeId {
+    let mut best = (f64::INFINITY, zones[0]);
+    for (k, &z) in zones.iter().enumerate() {
+        let d = route::length_via_row(&world.graph, at, z, &rows[k]);
+        if d < best.0 {
+            best = (d, z);
+        }
+    }
+    best.1
+}
+
+/// The fleet at the start of a run, and where it parks and delivers.
+pub(crate) fn place(world: &World, scenario: &Scenario, starts: &[NodeId], unload: NodeId) -> Result<(Robots, Homes)> {
+    let layout = &world.layout;
+    let g = &world.graph;
+    let r = &scenario.robot;
+    let n = scenario.robots as usize;
+    let mut robots = Robots::default();
+    for (i, &start) in starts.iter().enumerate() {
+        let home = layout.charger_at(start).ok_or_else(|| {
+            Error::scenario(format!("starts[{i}]"), format!("\"{}\"", layout.nodes[start.index()].name), "has no charger to be the robot's home")
+        })?;
+        robots.push(home, layout.pos(home), home, r.radius, r.speed, r.energy_full);
+    }
+    let mut park = Vec::new();
+    if scenario.placement == Placement::Spread {
+        // Slots far enough apart that no two parked robots touch, even with the margin.
+        let spacing = layout.cell_size.max(2.0 * (2.0 * r.radius + scenario.collision.margin));
+        let slots = parking_slots(layout, spacing);
+        if n > slots.len() {
+            return Err(Error::scenario("robots", n, format!("more robots than parking slots ({}) in this layout: generate a larger one", slots.len())));
+        }
+        let rows: Vec<Vec<f64>> = layout.chargers.iter().map(|&c| g.lengths_to(c)).collect();
+        for i in 0..n {
+            // Evenly over the slot list, so every part of the warehouse gets robots.
+            let slot = slots[i * slots.len() / n];
+            let Target::Point { u, v, x, y } = slot else { unreachable!("slots are points") };
+            let at = Place { x, y, at_node: NONE, edge_u: u.0, edge_v: v.0 };
+            let home = nearest(world, at, &layout.chargers, &rows);
+            robots.push(home, (x, y), home, r.radius, r.speed, r.energy_full);
+            robots.at_node[i] = NONE;
+            robots.edge_u[i] = u.0;
+            robots.edge_v[i] = v.0;
+            park.push(slot);
+        }
+    }
+    let unload_of_cell = if scenario.unload == Unload::Nearest {
+        let rows: Vec<Vec<f64>> = layout.unloading.iter().map(|&z| g.lengths_to(z)).collect();
+        layout
+            .cells
+            .iter()
+            .map(|c| nearest(world, Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 }, &layout.unloading, &rows))
+            .collect()
+    } else {
+        vec![unload; layout.cells.len()]
+    };
+    Ok((robots, Homes { park, unload, unload_of_cell }))
+}
