@@ -4,7 +4,7 @@
 use thiserror::Error;
 
 /// Everything the engine can refuse or fail at.
-#[derive(Debug, Error)]
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
 pub enum Error {
     /// A scenario field has a value the model cannot run with.
     #[error("{field} = {value}: {reason}")]
@@ -17,6 +17,11 @@ pub enum Error {
     /// A layout whose graph or geometry cannot carry robots.
     #[error("layout {field}: {reason}")]
     Layout { field: String, reason: String },
+
+    /// A layout file that cannot be read, is not valid TOML, or whose fields have the wrong
+    /// type.
+    #[error("{path}: {message}")]
+    LayoutFile { path: String, message: String },
 
     /// An allocation strategy returned assignments the engine cannot carry out.
     #[error("allocator '{strategy}': {reason}")]
@@ -42,3 +47,18 @@ impl Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// One line for a TOML file that does not fit its schema: the field's path, or the line for
+/// a syntax error, then the first line of the parser's message.
+pub(crate) fn toml_message(text: &str, e: serde_path_to_error::Error<toml::de::Error>) -> String {
+    let path = e.path().to_string();
+    let inner = e.into_inner();
+    let msg = inner.message().lines().next().unwrap_or_default().trim().to_string();
+    if !path.is_empty() && path != "." {
+        return format!("{path}: {msg}");
+    }
+    match inner.span() {
+        Some(span) => format!("line {}: {msg}", text[..span.start.min(text.len())].matches('\n').count() + 1),
+        None => msg,
+    }
+}

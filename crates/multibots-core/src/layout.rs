@@ -62,7 +62,7 @@ pub struct Layout {
 
 /// The generator's parameters: a grid of storage groups between one-way aisles. Omitted
 /// fields take the paper's values.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct LayoutParams {
     /// Rows of storage groups (R).

@@ -5,7 +5,7 @@
 //! ids in file order (highway nodes first, then chargers), which is the order a generated
 //! layout has, so `generate → write → read` gives back the very same [`Layout`].
 
-use crate::error::{Error, Result};
+use crate::error::{toml_message, Error, Result};
 use crate::graph::{self, HighwayGraph, MAX_OUT_DEGREE};
 use crate::ids::{CellId, NodeId};
 use crate::layout::{Cell, Layout, LayoutParams, Node, NodeKind};
@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 /// The layout file, field for field.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LayoutFile {
     /// The layout's name.
@@ -40,7 +40,7 @@ pub struct LayoutFile {
 }
 
 /// A highway node and its out-edges.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct NodeEntry {
     pub name: String,
@@ -51,7 +51,7 @@ pub struct NodeEntry {
 }
 
 /// A charger and its spur.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ChargerEntry {
     pub name: String,
@@ -62,7 +62,7 @@ pub struct ChargerEntry {
 }
 
 /// A storage cell and its service point.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CellEntry {
     /// Top-left corner and size of the cell's rectangle, px.
@@ -251,27 +251,14 @@ pub fn check_layout(layout: &Layout) -> Result<HighwayGraph> {
 /// layout's names and numbers are checked, not yet its graph (see [`check_layout`]).
 pub fn from_toml(text: &str, source_name: &str) -> Result<Layout> {
     let de = toml::Deserializer::new(text);
-    let file: LayoutFile = serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let mut msg = inner.message().lines().next().unwrap_or_default().trim().to_string();
-        if path.is_empty() || path == "." {
-            if let Some(span) = inner.span() {
-                let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-                msg = format!("line {line}: {msg}");
-            }
-        } else {
-            msg = format!("{path}: {msg}");
-        }
-        Error::Parse { source_name: source_name.to_string(), message: msg }
-    })?;
+    let file: LayoutFile = serde_path_to_error::deserialize(de).map_err(|e| Error::LayoutFile { path: source_name.to_string(), message: toml_message(text, e) })?;
     file.to_layout()
 }
 
 /// Reads and checks a layout file (its graph too).
 pub fn read(path: &Path) -> Result<Layout> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(&shown, &e))?;
+    let text = crate::files::read_text(path, crate::files::MAX_INPUT_BYTES).map_err(|message| Error::LayoutFile { path: shown.clone(), message })?;
     let layout = from_toml(&text, &shown)?;
     check_layout(&layout)?;
     Ok(layout)

@@ -9,11 +9,14 @@
 //! ```
 
 pub mod alloc;
+pub mod batch;
 pub mod charging;
+pub mod codec;
 pub mod collision;
 pub mod energy;
 pub mod error;
 pub mod events;
+pub mod files;
 pub mod goods_queue;
 pub mod graph;
 pub mod ids;
@@ -26,6 +29,7 @@ pub mod replay;
 pub mod robot;
 pub mod route;
 pub mod scenario;
+pub mod schema;
 pub mod sim;
 pub mod tasks;
 pub mod world;

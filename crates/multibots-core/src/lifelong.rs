@@ -58,7 +58,7 @@ pub enum StockEvent {
 /// and lines starting with `#` are skipped.
 pub fn read_csv(path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
     let shown = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::scenario("orders.csv", format!("\"{shown}\""), format!("cannot read: {e}")))?;
+    let text = crate::files::read_text(path, crate::files::MAX_INPUT_BYTES).map_err(|e| Error::scenario("orders.csv", format!("\"{shown}\""), format!("cannot read: {e}")))?;
     let mut rows = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.trim();

@@ -1,25 +1,27 @@
 //! The scenario schema: the one definition of every field, its default and its checks.
 //! TOML files, Python dictionaries and the command line all land here.
 
-use crate::error::{Error, Result};
+use crate::error::{toml_message, Error, Result};
 use crate::layout::{Layout, LayoutParams};
 use rand::{Rng, SeedableRng};
 use serde::de::{self, MapAccess, SeqAccess, Visitor};
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::{Deserialize, Deserializer, Serialize};
+use std::borrow::Cow;
 use std::fmt;
 
 /// A whole run: layout, fleet, tasks and model parameters.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// The warehouse layout. Default: `"paper"`.
     #[serde(default = "defaults::layout")]
     pub layout: String,
-    /// Number of robots, N ≥ 1. Default: 3.
+    /// N, the number of robots (≥ 1). Default: 3.
     #[serde(default = "defaults::robots")]
     pub robots: u32,
-    /// Start node of each robot (departure zones, distinct). Default: the layout's departure
-    /// zones in order (A, B, C, … in the paper layout).
+    /// Robot i starts at the charger of the i-th start node: distinct departure zones, one per
+    /// robot. Default: the layout's departure zones in order (A, B, C, … in the paper layout).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub starts: Option<Vec<String>>,
     /// Where goods are delivered: `"first"` (the layout's first unloading zone: `M` in the
@@ -27,12 +29,16 @@ pub struct Scenario {
     /// or an unloading zone's node name. Default: `"first"`.
     #[serde(default, skip_serializing_if = "Unload::is_first")]
     pub unload: Unload,
-    /// The goods to fetch, in order: a list of cell ids, or `{ random = COUNT, seed = SEED }`.
+    /// The goods to fetch, in order: a list of distinct cell ids, or `{ random = COUNT, seed =
+    /// SEED }` for COUNT distinct cells drawn with a portable generator (ChaCha8), the same on
+    /// every machine.
     pub tasks: Tasks,
-    /// Steps after which an unfinished run ends incomplete. Default: 100000.
+    /// A run not finished after this many steps ends `incomplete` (≥ 1). Default: 100000.
     #[serde(default = "defaults::step_limit")]
     pub step_limit: u64,
-    /// Task-allocation strategy. Default: `"in-turn"`.
+    /// Task-allocation strategy: a built-in (`in-turn`, `nearest`, `hungarian`, `auction`,
+    /// `energy-aware`, `min-cost`; docs/strategies.md) or a Python `module:Class`. Default:
+    /// `"in-turn"`.
     #[serde(default = "defaults::allocator")]
     pub allocator: String,
     /// When robots go to charge.
@@ -55,8 +61,10 @@ pub struct Scenario {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layout_generate: Option<LayoutParams>,
     /// Where robots start (extension): `"departure"` (the paper: one per departure zone, at
-    /// its charger) or `"spread"` (parked evenly along the aisles, for large fleets).
+    /// its charger) or `"spread"` (parked evenly along the aisles, for large fleets). Default:
+    /// `"departure"`.
     #[serde(default, skip_serializing_if = "Placement::is_departure")]
+    #[schemars(extend("default" = "departure"))]
     pub placement: Placement,
     /// Lifelong operation (extension): orders arrive over time and the run lasts a horizon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -107,6 +115,19 @@ impl Serialize for Unload {
     }
 }
 
+impl JsonSchema for Unload {
+    fn schema_name() -> Cow<'static, str> {
+        "Unload".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "type": "string",
+            "description": "\"first\" (the layout's first unloading zone), \"nearest\" (each cell's nearest zone), or an unloading zone's node name.",
+            "default": "first",
+        })
+    }
+}
+
 impl<'de> Deserialize<'de> for Unload {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         String::deserialize(d).map(|s| Unload::from(s.as_str()))
@@ -114,7 +135,7 @@ impl<'de> Deserialize<'de> for Unload {
 }
 
 /// Where robots start.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Placement {
     /// The paper: robot i starts at the charger of the i-th start node.
@@ -133,17 +154,17 @@ impl Placement {
 }
 
 /// Lifelong orders: a Poisson stream and/or a CSV of `(step, cell)` rows.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Orders {
-    /// Mean orders per step (Poisson), each for a uniformly drawn cell. Default: 0.
+    /// Mean orders per step (Poisson), each for a uniformly drawn cell (≥ 0). Default: 0.
     pub rate: f64,
     /// A CSV file of `step,cell` rows (path relative to the working directory).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub csv: Option<String>,
-    /// Steps the run lasts. Default: 10000.
+    /// Steps the run lasts (≥ 1). Default: 10000.
     pub horizon: u64,
-    /// Steps after a pickup until the cell holds goods again. Default: 200.
+    /// Steps after a pickup until the cell holds goods again (≥ 1). Default: 200.
     pub restock: u64,
     /// Seed of the Poisson stream. Default: 0.
     pub seed: u64,
@@ -156,45 +177,46 @@ impl Default for Orders {
 }
 
 /// Robot body, motion and battery.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct RobotParams {
-    /// Disc radius, px. Default: 12.5.
+    /// Disc radius, px (> 0). Default: 12.5.
     pub radius: f64,
-    /// Distance per step, px. Default: 4.
+    /// Distance travelled per step, px (> 0). Default: 4.
     pub speed: f64,
-    /// Full energy. Default: 10.
+    /// Full battery (> 0). Default: 10.
     pub energy_full: f64,
-    /// Below this a robot is sent to charge. Default: 3.5.
+    /// Below this a robot is sent to charge (0 ≤ threshold < energy_full). Default: 3.5.
     pub threshold: f64,
-    /// Energy used per step while not charging or parked. Default: 0.005.
+    /// Energy used per step, except while charging, parked or stranded (> 0). Default: 0.005.
     pub consumption: f64,
-    /// Energy gained per step while charging. Default: 0.05.
+    /// Energy gained per step at the charger (> 0). Default: 0.05.
     pub charge_rate: f64,
 }
 
 /// Steps spent standing to load and to unload.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Dwell {
-    /// Steps at the service point. Default: 10.
+    /// Steps standing at the service point (≥ 1). Default: 10.
     pub loading: u32,
-    /// Steps on the unloading node. Default: 20.
+    /// Steps standing on the unloading node (≥ 1). Default: 20.
     pub unloading: u32,
 }
 
 /// Parameters of the collision-waiting rule.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct CollisionParams {
-    /// Added to r_i + r_j, px. Default: 0 (the authors' code used 8).
+    /// Added to r_i + r_j in the contact distance, px (≥ 0); the authors' code used 8.
+    /// Default: 0.
     pub margin: f64,
-    /// Collision angle, degrees. Default: 30.
+    /// Collision angle, degrees, in (0, 180]. Default: 30.
     pub angle: f64,
 }
 
 /// Charging policies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ChargingPolicy {
     /// The paper's rule: charge only when below the threshold.
@@ -204,7 +226,7 @@ pub enum ChargingPolicy {
 }
 
 /// Which charger a robot uses.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ChargerUse {
     /// The paper: every robot charges at its own home charger.
@@ -222,16 +244,18 @@ impl ChargerUse {
 }
 
 /// When robots go to charge. The threshold rule always applies.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Charging {
     /// `"threshold"` (the paper's rule) or `"opportunistic"`. Default: `"threshold"`.
     pub policy: ChargingPolicy,
-    /// With `"opportunistic"`: an idle robot below this energy goes to charge. Default: 7.
+    /// With `"opportunistic"`: an idle robot below this energy goes to charge (threshold <
+    /// level ≤ energy_full). Default: 7.
     pub level: f64,
     /// `"home"` (the paper) or `"shared"` (nearest free charger, queue when none). Default:
     /// `"home"`.
     #[serde(skip_serializing_if = "ChargerUse::is_home")]
+    #[schemars(extend("default" = "home"))]
     pub chargers: ChargerUse,
 }
 
@@ -242,7 +266,7 @@ impl Default for Charging {
 }
 
 /// Weights of Cost_total = w_d·distance (px) + w_t·T (steps) + w_c·S (collisions).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct CostWeights {
     /// w_d, per px travelled by the fleet. Default: 0.25 (one step of travel at 4 px/step).
@@ -302,6 +326,29 @@ impl Default for CollisionParams {
     }
 }
 
+impl JsonSchema for Tasks {
+    fn schema_name() -> Cow<'static, str> {
+        "Tasks".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "The goods to fetch, in order: a list of distinct cell ids, or { random = COUNT, seed = SEED } for COUNT distinct cells drawn with SEED.",
+            "oneOf": [
+                { "type": "array", "items": { "type": "integer", "minimum": 0 } },
+                {
+                    "type": "object",
+                    "properties": {
+                        "random": { "type": "integer", "minimum": 1, "description": "Number of distinct cells to draw." },
+                        "seed": { "type": "integer", "minimum": 0, "default": 0, "description": "Seed of the portable generator (ChaCha8)." },
+                    },
+                    "required": ["random"],
+                    "additionalProperties": false,
+                },
+            ],
+        })
+    }
+}
+
 impl<'de> Deserialize<'de> for Tasks {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         struct TasksVisitor;
@@ -354,34 +401,21 @@ pub fn random_cells(count: u32, seed: u64, cells: usize) -> Vec<u32> {
     pool
 }
 
-fn parse_error(source_name: &str, path: &str, message: &str) -> Error {
-    let message = message.lines().next().unwrap_or(message).trim();
-    let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
-    Error::Parse { source_name: source_name.to_string(), message: format!("{at}{message}") }
-}
-
 impl Scenario {
     /// Parses TOML text; `source_name` (a file name) prefixes error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Scenario> {
         let de = toml::Deserializer::new(text);
-        serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            let mut msg = inner.message().to_string();
-            if path.is_empty() || path == "." {
-                if let Some(span) = inner.span() {
-                    let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-                    msg = format!("line {line}: {msg}");
-                }
-            }
-            parse_error(source_name, &path, &msg)
-        })
+        serde_path_to_error::deserialize(de).map_err(|e| Error::Parse { source_name: source_name.to_string(), message: toml_message(text, e) })
     }
 
     /// Parses JSON text (what the Python API sends).
     pub fn from_json(text: &str) -> Result<Scenario> {
         let mut de = serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(&mut de).map_err(|e| parse_error("scenario", &e.path().to_string(), &e.inner().to_string()))
+        serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let path = e.path().to_string();
+            let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
+            Error::Parse { source_name: "scenario".to_string(), message: format!("{at}{}", e.inner().to_string().lines().next().unwrap_or_default().trim()) }
+        })
     }
 
     /// The scenario as TOML.

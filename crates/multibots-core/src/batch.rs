@@ -1,0 +1,131 @@
+//! Many runs at once, on a pool of threads: the engine of `simulate_many`, `compare` and
+//! sweeps.
+//!
+//! Workers take the next scenario from a shared counter, so long and short runs balance
+//! themselves. Runs on the same layout share one [`World`] (its routing table is built once,
+//! by whichever worker needs it first). The calling thread sleeps on a condition variable
+//! and wakes when a run finishes (or after `poll`, so that it can look for Ctrl-C); a batch
+//! of tiny runs costs what its runs cost, with no polling floor. Setting `cancel` stops every
+//! worker at its next step.
+
+use crate::error::Result;
+use crate::metrics::RunResult;
+use crate::scenario::Scenario;
+use crate::sim::Simulation;
+use crate::world::World;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Condvar, Mutex, OnceLock};
+use std::time::Duration;
+
+/// The worker threads to use: `workers`, or one per core when 0, never more than runs.
+#[must_use]
+pub fn worker_count(workers: usize, runs: usize) -> usize {
+    let w = if workers == 0 { std::thread::available_parallelism().map_or(1, usize::from) } else { workers };
+    w.min(runs.max(1))
+}
+
+/// What a layout is built from: scenarios with equal keys share a world.
+fn layout_key(s: &Scenario) -> String {
+    match &s.layout_generate {
+        Some(p) => format!("generate:{}", serde_json::to_string(p).expect("parameters serialise")),
+        None => format!("layout:{}", s.layout),
+    }
+}
+
+struct Progress {
+    finished: usize,
+    slots: Vec<Option<Result<RunResult>>>,
+}
+
+/// Runs every scenario with its built-in allocator on `workers` threads (0: one per core).
+///
+/// `watch` runs on the calling thread each time a run finishes, and at least every `poll`;
+/// it gets the number of finished runs and returns `false` to cancel the batch. Returns the
+/// results in the order given, or `None` when cancelled.
+pub fn run_many(scenarios: &[Scenario], workers: usize, poll: Duration, mut watch: impl FnMut(usize) -> bool) -> Option<Vec<Result<RunResult>>> {
+    let n = scenarios.len();
+    let keys: Vec<String> = scenarios.iter().map(layout_key).collect();
+    let mut distinct: Vec<&String> = keys.iter().collect();
+    distinct.sort();
+    distinct.dedup();
+    let worlds: Vec<OnceLock<Result<Arc<World>>>> = distinct.iter().map(|_| OnceLock::new()).collect();
+    let world_of = |k: usize| -> Result<Arc<World>> {
+        let slot = distinct.binary_search(&&keys[k]).expect("every key is listed");
+        worlds[slot].get_or_init(|| World::of(&scenarios[k])).clone()
+    };
+    let next = AtomicUsize::new(0);
+    let cancel = AtomicBool::new(false);
+    let progress = Mutex::new(Progress { finished: 0, slots: (0..n).map(|_| None).collect() });
+    let changed = Condvar::new();
+    std::thread::scope(|scope| {
+        for _ in 0..worker_count(workers, n) {
+            scope.spawn(|| loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                if k >= n || cancel.load(Ordering::Relaxed) {
+                    break;
+                }
+                let s = &scenarios[k];
+                let r = s.check_values().and_then(|()| {
+                    let mut sim = Simulation::with_world(world_of(k)?, s, crate::alloc::built_in(s)?)?;
+                    while !sim.done() && !cancel.load(Ordering::Relaxed) {
+                        sim.step()?;
+                    }
+                    Ok(sim.result())
+                });
+                let mut p = progress.lock().expect("no worker panics while holding the lock");
+                p.slots[k] = Some(r);
+                p.finished += 1;
+                changed.notify_one();
+            });
+        }
+        let mut p = progress.lock().expect("not poisoned");
+        while p.finished < n {
+            p = changed.wait_timeout(p, poll).expect("not poisoned").0;
+            let finished = p.finished;
+            drop(p);
+            if !watch(finished) {
+                cancel.store(true, Ordering::Relaxed);
+                return;
+            }
+            p = progress.lock().expect("not poisoned");
+        }
+    });
+    if cancel.load(Ordering::Relaxed) {
+        return None;
+    }
+    let p = progress.into_inner().expect("not poisoned");
+    Some(p.slots.into_iter().map(|r| r.expect("every slot is filled")).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::PAPER_TASKS;
+
+    #[test]
+    fn results_come_back_in_order_and_equal_single_runs() {
+        let list: Vec<Scenario> = (1..=6).flat_map(|n| PAPER_TASKS.iter().map(move |g| Scenario::paper(n, g))).collect();
+        let mut calls = 0;
+        let many = run_many(&list, 2, Duration::from_millis(50), |_| {
+            calls += 1;
+            true
+        })
+        .unwrap();
+        assert!(calls >= 1);
+        for (s, r) in list.iter().zip(many) {
+            assert_eq!(r.unwrap(), Simulation::new(s).unwrap().run().unwrap());
+        }
+    }
+
+    #[test]
+    fn errors_stay_with_their_run_and_cancel_stops() {
+        let mut bad = Scenario::paper(3, &[1, 2]);
+        bad.robot.speed = -1.0;
+        let list = vec![Scenario::paper(1, &[5]), bad];
+        let r = run_many(&list, 1, Duration::from_millis(10), |_| true).unwrap();
+        assert!(r[0].is_ok());
+        assert_eq!(r[1].as_ref().unwrap_err().to_string(), "robot.speed = -1: must be greater than 0");
+        let long: Vec<Scenario> = (0..50).map(|_| Scenario::paper(1, &PAPER_TASKS[0])).collect();
+        assert!(run_many(&long, 1, Duration::from_millis(1), |_| false).is_none());
+    }
+}

@@ -1,0 +1,45 @@
+//! The engine's names and its replay codec, for the Python reader and the viewer.
+
+use crate::errors::MultibotsError;
+use multibots_core::codec;
+use multibots_core::{EventKind, State};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+/// Inflates and decodes a replay chunk's zlib stream into NumPy arrays, refusing to inflate
+/// past `limit` bytes. Errors are one line (`ValueError` subclasses of `MultibotsError` are
+/// raised by the reader, which adds the file and the chunk).
+#[pyfunction]
+pub(crate) fn decode_chunk<'py>(py: Python<'py>, compressed: &Bound<'py, PyBytes>, limit: usize) -> PyResult<Bound<'py, PyDict>> {
+    let bytes = compressed.as_bytes().to_vec();
+    let c = py.allow_threads(move || codec::inflate(&bytes, limit).and_then(|raw| codec::decode(&raw))).map_err(MultibotsError::new_err)?;
+    let (k, n, e) = (c.frames as usize, c.robots as usize, c.events.len() / 4);
+    let d = PyDict::new(py);
+    d.set_item("first_frame", c.first_frame)?;
+    d.set_item("frames", c.frames)?;
+    d.set_item("robots", c.robots)?;
+    d.set_item("counters", PyArray1::from_vec(py, c.counters).reshape([k, 3])?)?;
+    d.set_item("x", PyArray1::from_vec(py, c.x).reshape([k, n])?)?;
+    d.set_item("y", PyArray1::from_vec(py, c.y).reshape([k, n])?)?;
+    d.set_item("events", PyArray1::from_vec(py, c.events).reshape([e, 4])?)?;
+    d.set_item("energy_u16", PyArray1::from_vec(py, c.energy).reshape([k, n])?)?;
+    d.set_item("heading_u8", PyArray1::from_vec(py, c.heading).reshape([k, n])?)?;
+    d.set_item("state_raw", PyArray1::from_vec(py, c.state).reshape([k, n])?)?;
+    Ok(d)
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("STATE_NAMES", pyo3::types::PyTuple::new(py, State::ALL.iter().map(|s| s.name()))?)?;
+    let events = PyDict::new(py);
+    for k in EventKind::ALL {
+        events.set_item(k.code(), k.name())?;
+    }
+    m.add("EVENT_NAMES", events)?;
+    m.add("PAPER_TASKS", pyo3::types::PyTuple::new(py, multibots_core::scenario::PAPER_TASKS.iter().map(|g| g.to_vec()))?)?;
+    m.add("BYTES_PER_ROBOT_STEP", codec::BYTES_PER_ROBOT_STEP)?;
+    m.add("REPLAY_VERSION", codec::VERSION)?;
+    m.add_function(wrap_pyfunction!(decode_chunk, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,49 @@
+//! A run's result as a Python dictionary (NumPy arrays for per-robot columns).
+
+use multibots_core::metrics::RunResult;
+use multibots_core::State;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("T", r.t)?;
+    d.set_item("S", r.s)?;
+    d.set_item("C", r.c)?;
+    d.set_item("outcome", r.outcome.map_or("running", |o| o.as_str()))?;
+    d.set_item("steps", r.steps)?;
+    d.set_item("delivered", r.delivered)?;
+    d.set_item("goods_total", r.goods_total)?;
+    d.set_item("stranded", r.stranded.clone())?;
+    d.set_item("cost", r.cost)?;
+    let st = &r.robots;
+    d.set_item("distance", PyArray1::from_slice(py, &st.distance))?;
+    d.set_item("wait_steps", PyArray1::from_slice(py, &st.wait_steps))?;
+    d.set_item("collisions", PyArray1::from_slice(py, &st.collisions))?;
+    d.set_item("energy_used", PyArray1::from_slice(py, &st.energy_used))?;
+    d.set_item("robot_delivered", PyArray1::from_slice(py, &st.delivered))?;
+    d.set_item("charges", PyArray1::from_slice(py, &st.charges))?;
+    let flat: Vec<u64> = st.state_steps.iter().flat_map(|row| row.iter().copied()).collect();
+    d.set_item("state_steps", PyArray1::from_vec(py, flat).reshape([st.state_steps.len(), State::COUNT])?)?;
+    match &r.lifelong {
+        Some(l) => {
+            let ll = PyDict::new(py);
+            ll.set_item("ordered", l.ordered)?;
+            ll.set_item("delivered", r.delivered)?;
+            ll.set_item("in_flight", l.in_flight)?;
+            ll.set_item("queued", l.queued)?;
+            ll.set_item("waiting", l.waiting)?;
+            ll.set_item("throughput", l.throughput)?;
+            ll.set_item("latency_p50", l.latency_p50)?;
+            ll.set_item("latency_p95", l.latency_p95)?;
+            ll.set_item("latency_p99", l.latency_p99)?;
+            ll.set_item("latency_mean", l.latency_mean)?;
+            ll.set_item("utilisation", l.utilisation)?;
+            ll.set_item("energy_per_delivery", l.energy_per_delivery)?;
+            d.set_item("lifelong", ll)?;
+        }
+        None => d.set_item("lifelong", py.None())?,
+    }
+    Ok(d)
+}

@@ -1,0 +1,68 @@
+//! Whole runs: `simulate` (one run, optionally recorded) and `simulate_many` (a batch on the
+//! engine's thread pool). Both release the GIL and stop on Ctrl-C.
+
+use crate::errors::{engine, SIGNAL_EVERY};
+use crate::results::result_dict;
+use crate::scenario::PyScenario;
+use multibots_core::replay::{self, ReplayWriter};
+use multibots_core::{batch, Simulation};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// How often a waiting batch looks for Ctrl-C.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs a scenario to its end; records a replay to `record` if given. Ctrl-C stops it.
+#[pyfunction]
+#[pyo3(signature = (scenario, record=None, allocator=None))]
+pub(crate) fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>, allocator: Option<PyObject>) -> PyResult<Bound<'py, PyDict>> {
+    let s = scenario.inner.clone();
+    let alloc = crate::strategy::make_allocator(py, &s, allocator)?;
+    let mut sim = {
+        let s = s.clone();
+        engine(py, move || Simulation::with_allocator(&s, alloc))?
+    };
+    let mut writer = match record {
+        Some(path) => {
+            let sim = &sim;
+            Some(engine(py, move || ReplayWriter::create(&path, sim, &s.to_toml()))?)
+        }
+        None => None,
+    };
+    // In slices, so that a pending Ctrl-C is seen; an unfinished replay is removed on drop.
+    while !sim.done() {
+        let (sim, writer) = (&mut sim, &mut writer);
+        engine(py, move || replay::step_recorded(sim, writer.as_mut(), SIGNAL_EVERY))?;
+        py.check_signals()?;
+    }
+    let r = sim.result();
+    if let Some(w) = writer {
+        let r = r.clone();
+        engine(py, move || w.finish(&r))?;
+    }
+    result_dict(py, &r)
+}
+
+/// Runs many scenarios on `workers` threads (0: one per core); results come back in the
+/// order given. Ctrl-C stops every worker.
+#[pyfunction]
+#[pyo3(signature = (scenarios, workers=0))]
+pub(crate) fn simulate_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    let list: Vec<_> = scenarios.into_iter().map(|s| s.inner).collect();
+    let mut interrupted = None;
+    let results = engine(py, || {
+        Ok(batch::run_many(&list, workers, SIGNAL_POLL, |_| {
+            #[allow(clippy::redundant_closure_for_method_calls)] // the method's lifetime is not general enough
+            let signals = Python::with_gil(|py| py.check_signals());
+            interrupted = signals.err();
+            interrupted.is_none()
+        }))
+    })?;
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let results = results.expect("only an interrupt cancels the batch");
+    results.into_iter().map(|r| r.map_err(crate::errors::to_py).and_then(|r| result_dict(py, &r))).collect()
+}

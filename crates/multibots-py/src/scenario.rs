@@ -1,0 +1,51 @@
+//! `Scenario`: the engine's scenario schema, parsed and printed by the engine.
+
+use crate::errors::{engine, to_py};
+use multibots_core::{Scenario, Simulation};
+use pyo3::prelude::*;
+
+#[pyclass(module = "multibots._core", name = "Scenario", frozen)]
+#[derive(Clone)]
+pub(crate) struct PyScenario {
+    pub inner: Scenario,
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Parses TOML text; `source_name` prefixes error messages.
+    #[staticmethod]
+    fn from_toml(text: &str, source_name: &str) -> PyResult<Self> {
+        Scenario::from_toml(text, source_name).map(|inner| PyScenario { inner }).map_err(to_py)
+    }
+
+    /// Parses JSON text.
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        Scenario::from_json(text).map(|inner| PyScenario { inner }).map_err(to_py)
+    }
+
+    fn to_toml(&self) -> String {
+        self.inner.to_toml()
+    }
+
+    fn to_json(&self) -> String {
+        self.inner.to_json()
+    }
+
+    /// Checks every field, against the layout too.
+    fn validate(&self, py: Python<'_>) -> PyResult<()> {
+        let s = self.inner.clone();
+        let alloc = crate::strategy::for_validation(py, &s)?;
+        engine(py, move || Simulation::with_allocator(&s, alloc).map(drop))
+    }
+
+    /// The scenario's task list as cell ids (random lists drawn).
+    fn cells(&self, py: Python<'_>) -> PyResult<Vec<u32>> {
+        let s = self.inner.clone();
+        engine(py, move || s.cells(&s.resolve_layout()?))
+    }
+
+    fn __eq__(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
+}
