@@ -10,7 +10,8 @@
 
 use crate::lifelong::{self, Lifelong};
 use crate::robot::State;
-use crate::scenario::CostWeights;
+use crate::ids::NONE;
+use crate::scenario::{CostWeights, MetricsParams};
 use crate::sim::Simulation;
 
 /// How a run ended.
@@ -20,18 +21,31 @@ pub enum Outcome {
     Complete,
     /// The step limit came first.
     Incomplete,
-    /// A lifelong run reached its horizon (the only way a lifelong run ends).
+    /// A lifelong run reached its horizon.
     Horizon,
+    /// No robot moved, dwelt or charged for `metrics.gridlock` steps while work remained:
+    /// the fleet is jammed (see [`RunResult::gridlock`] for where).
+    Gridlock,
+    /// Robots ran out of energy while work remained, and the others could do nothing for
+    /// `metrics.gridlock` steps (or every robot ran out: nothing more can happen).
+    Stranded,
+    /// Nothing happened for `metrics.gridlock` steps while work remained, and no robot was
+    /// waiting or stranded: robots stood idle (a strategy that hands out no goods).
+    Stalled,
 }
 
 impl Outcome {
-    /// `"complete"` or `"incomplete"`.
+    /// The outcome's name: `"complete"`, `"incomplete"`, `"horizon"`, `"gridlock"`,
+    /// `"stranded"` or `"stalled"`.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
             Outcome::Complete => "complete",
             Outcome::Incomplete => "incomplete",
             Outcome::Horizon => "horizon",
+            Outcome::Gridlock => "gridlock",
+            Outcome::Stranded => "stranded",
+            Outcome::Stalled => "stalled",
         }
     }
 }
@@ -93,6 +107,28 @@ pub struct RunResult {
     pub stranded: Vec<u32>,
     /// Cost_total = w_d · distance + w_t · T + w_c · S; `None` where T is `None`.
     pub cost: Option<f64>,
+    /// Steps per throughput window.
+    pub window: u64,
+    /// Deliveries in each complete window of `window` steps, from the start.
+    pub windows: Vec<u64>,
+    /// Deliveries per 1,000 steps after the warm-up; `None` if the run ended before it.
+    pub throughput: Option<f64>,
+    /// Deliveries per 1,000 steps over the last half of the complete windows after the
+    /// warm-up: the rate the fleet sustains; `None` without such a window.
+    pub sustained_throughput: Option<f64>,
+    /// Share of robot-steps after the warm-up spent waiting at collisions.
+    pub wait_share: f64,
+    /// Share of robot-steps after the warm-up spent working on orders (TO_PICKUP, LOADING,
+    /// TO_DROP or UNLOADING) and not waiting.
+    pub utilisation: f64,
+    /// Contacts: pairs of robots closer than r_i + r_j after a step in which one of them
+    /// moved, counted once per pair and step.
+    pub contacts: u64,
+    /// The smallest distance between two robots seen after a move (pairs within reach of
+    /// each other only); `None` if no two robots ever came near.
+    pub closest: Option<f64>,
+    /// Where the fleet jammed, for outcome `gridlock`.
+    pub gridlock: Option<Gridlock>,
     pub robots: RobotStats,
     /// Lifelong runs only: throughput, latency, utilisation, energy per delivery.
     pub lifelong: Option<LifelongStats>,
@@ -109,18 +145,46 @@ pub struct LifelongStats {
     pub queued: u64,
     /// Orders waiting for their cell to restock.
     pub waiting: u64,
-    /// Deliveries per 1,000 steps.
-    pub throughput: f64,
     /// Order-to-delivery latency, steps: nearest-rank percentiles and the mean.
     pub latency_p50: Option<u64>,
     pub latency_p95: Option<u64>,
     pub latency_p99: Option<u64>,
     pub latency_mean: Option<f64>,
-    /// Share of robot-steps spent working on orders: in TO_PICKUP, LOADING, TO_DROP or
-    /// UNLOADING and not waiting at a collision.
-    pub utilisation: f64,
     /// Energy the fleet used per delivery.
     pub energy_per_delivery: Option<f64>,
+}
+
+/// Where a fleet jammed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Gridlock {
+    /// The step the gridlock was declared (the last of the steps without progress).
+    pub step: u64,
+    /// Robots waiting at collisions, ascending.
+    pub waiting: Vec<u32>,
+    /// The crossings waiting robots stand at or queue for (the node ahead of them), with
+    /// how many robots each, most first (at most ten).
+    pub crossings: Vec<(String, u32)>,
+}
+
+/// Sums at the end of the warm-up, subtracted from the final ones for steady figures.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Snapshot {
+    delivered: u64,
+    waits: u64,
+    on_orders: u64,
+    order_waits: u64,
+}
+
+impl Snapshot {
+    fn of(t: &Tally) -> Snapshot {
+        let st = &t.stats;
+        Snapshot {
+            delivered: t.delivered,
+            waits: st.wait_steps.iter().sum(),
+            on_orders: st.state_steps.iter().map(|s| s[State::ToPickup as usize] + s[State::Loading as usize] + s[State::ToDrop as usize] + s[State::Unloading as usize]).sum(),
+            order_waits: st.order_waits.iter().sum(),
+        }
+    }
 }
 
 /// The running counts of a simulation: the step, S, C and deliveries, and per-robot counters.
@@ -134,11 +198,59 @@ pub(crate) struct Tally {
     /// Goods in the task list (orders so far, in lifelong runs).
     pub goods_total: u64,
     pub stats: RobotStats,
+    window: u64,
+    windows: Vec<u64>,
+    /// Deliveries when the current window began.
+    window_mark: u64,
+    warmup: u64,
+    /// Taken when the warm-up ends.
+    steady: Option<Snapshot>,
+    gridlock_after: u64,
+    /// Steps in a row without progress.
+    pub stalled: u64,
+    pub contacts: u64,
+    pub closest: f64,
+    pub gridlock: Option<Gridlock>,
 }
 
 impl Tally {
-    pub fn new(robots: usize, goods_total: u64) -> Tally {
-        Tally { t: 0, s: 0, c: 0, delivered: 0, goods_total, stats: RobotStats::new(robots) }
+    pub fn new(robots: usize, goods_total: u64, p: &MetricsParams) -> Tally {
+        let mut t = Tally {
+            t: 0,
+            s: 0,
+            c: 0,
+            delivered: 0,
+            goods_total,
+            stats: RobotStats::new(robots),
+            window: p.window,
+            windows: Vec::new(),
+            window_mark: 0,
+            warmup: p.warmup,
+            steady: None,
+            gridlock_after: p.gridlock,
+            stalled: 0,
+            contacts: 0,
+            closest: f64::INFINITY,
+            gridlock: None,
+        };
+        if p.warmup == 0 {
+            t.steady = Some(Snapshot::default());
+        }
+        t
+    }
+
+    /// End of a step: windows, the warm-up, and the count of steps without progress.
+    /// Returns whether the fleet is gridlocked (when work remains).
+    pub fn end_step(&mut self, progress: bool, work_remains: bool) -> bool {
+        if self.t % self.window == 0 {
+            self.windows.push(self.delivered - self.window_mark);
+            self.window_mark = self.delivered;
+        }
+        if self.t == self.warmup && self.steady.is_none() {
+            self.steady = Some(Snapshot::of(self));
+        }
+        self.stalled = if progress || !work_remains { 0 } else { self.stalled + 1 };
+        self.gridlock_after > 0 && self.stalled >= self.gridlock_after
     }
 }
 
@@ -167,18 +279,61 @@ impl Simulation {
             goods_total: tally.goods_total,
             stranded,
             cost: cost_total(&self.cost_weights, t, tally.stats.distance.iter().sum(), tally.s),
+            window: tally.window,
+            windows: tally.windows.clone(),
+            throughput: None,
+            sustained_throughput: self.sustained(),
+            wait_share: 0.0,
+            utilisation: 0.0,
+            contacts: tally.contacts,
+            closest: tally.closest.is_finite().then_some(tally.closest),
+            gridlock: tally.gridlock.clone(),
             robots: tally.stats.clone(),
             lifelong: self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll)),
         }
+        .with_steady(tally.steady.map(|s| (s, Snapshot::of(tally), tally.t - tally.warmup, self.robots.len() as u64)))
+    }
+
+    /// Deliveries per 1,000 steps over the last half of the complete windows after the
+    /// warm-up.
+    fn sustained(&self) -> Option<f64> {
+        let t = &self.tally;
+        let first = t.warmup.div_ceil(t.window) as usize;
+        let after = t.windows.get(first..).unwrap_or(&[]);
+        let last_half = &after[after.len() / 2..];
+        (!last_half.is_empty()).then(|| last_half.iter().sum::<u64>() as f64 * 1000.0 / (last_half.len() as u64 * t.window) as f64)
+    }
+
+    /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),
+    /// stranded robots, or robots standing idle.
+    pub(crate) fn declare_stall(&mut self, waits: &[bool]) {
+        let r = &self.robots;
+        let layout = &self.world.layout;
+        let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
+        if waiting.is_empty() {
+            let stranded = r.state.contains(&crate::robot::State::Stranded);
+            self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
+            return;
+        }
+        let mut per_node = vec![0u32; layout.nodes.len()];
+        for &i in &waiting {
+            let i = i as usize;
+            let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
+            if node != NONE {
+                per_node[node as usize] += 1;
+            }
+        }
+        let mut crossings: Vec<(String, u32)> = per_node.iter().enumerate().filter(|(_, &c)| c > 0).map(|(k, &c)| (layout.nodes[k].name.clone(), c)).collect();
+        crossings.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+        crossings.truncate(10);
+        self.tally.gridlock = Some(Gridlock { step: self.tally.t, waiting, crossings });
+        self.outcome = Some(Outcome::Gridlock);
     }
 
     fn lifelong_stats(&self, ll: &Lifelong) -> LifelongStats {
         let mut lat = ll.latencies.clone();
         lat.sort_unstable();
         let tally = &self.tally;
-        let steps = tally.t.max(1);
-        let on_orders: u64 = tally.stats.state_steps.iter().map(|s| s[State::ToPickup as usize] + s[State::Loading as usize] + s[State::ToDrop as usize] + s[State::Unloading as usize]).sum();
-        let order_waits: u64 = tally.stats.order_waits.iter().sum();
         let energy: f64 = tally.stats.energy_used.iter().sum();
         let r = &self.robots;
         LifelongStats {
@@ -186,13 +341,26 @@ impl Simulation {
             in_flight: (0..r.len()).filter(|&i| r.goods[i] != crate::ids::NONE).count() as u64,
             queued: self.goods.queue.len() as u64,
             waiting: ll.waiting,
-            throughput: tally.delivered as f64 * 1000.0 / steps as f64,
             latency_p50: lifelong::percentile(&lat, 50.0),
             latency_p95: lifelong::percentile(&lat, 95.0),
             latency_p99: lifelong::percentile(&lat, 99.0),
             latency_mean: (!lat.is_empty()).then(|| lat.iter().sum::<u64>() as f64 / lat.len() as f64),
-            utilisation: on_orders.saturating_sub(order_waits) as f64 / (steps * r.len() as u64) as f64,
             energy_per_delivery: (tally.delivered > 0).then(|| energy / tally.delivered as f64),
         }
+    }
+}
+
+impl RunResult {
+    /// Fills the steady-state figures from the warm-up snapshot and the final sums, over
+    /// `steps` steps after the warm-up and `robots` robots.
+    fn with_steady(mut self, steady: Option<(Snapshot, Snapshot, u64, u64)>) -> RunResult {
+        if let Some((at_warmup, now, steps, robots)) = steady {
+            let robot_steps = (steps * robots).max(1) as f64;
+            self.throughput = (steps > 0).then(|| (now.delivered - at_warmup.delivered) as f64 * 1000.0 / steps as f64);
+            self.wait_share = (now.waits - at_warmup.waits) as f64 / robot_steps;
+            let work = (now.on_orders - at_warmup.on_orders).saturating_sub(now.order_waits - at_warmup.order_waits);
+            self.utilisation = work as f64 / robot_steps;
+        }
+        self
     }
 }

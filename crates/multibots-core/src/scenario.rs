@@ -69,6 +69,37 @@ pub struct Scenario {
     /// Lifelong operation (extension): orders arrive over time and the run lasts a horizon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orders: Option<Orders>,
+    /// How the run is measured: throughput windows, warm-up, gridlock detection.
+    #[serde(default, skip_serializing_if = "MetricsParams::is_default")]
+    pub metrics: MetricsParams,
+}
+
+/// How a run is measured (docs/metrics.md).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct MetricsParams {
+    /// Steps per throughput window: the result's `windows` series counts the deliveries of
+    /// each (≥ 1). Default: 1000.
+    pub window: u64,
+    /// Steps left out of the steady-state figures (throughput, wait share, utilisation), so
+    /// that they describe the run after its start-up. Default: 0.
+    pub warmup: u64,
+    /// A run in which no robot moves, dwells or charges for this many steps while work
+    /// remains ends with outcome `gridlock`, and says where; 0 never ends a run so.
+    /// Default: 2000.
+    pub gridlock: u64,
+}
+
+impl Default for MetricsParams {
+    fn default() -> Self {
+        MetricsParams { window: 1000, warmup: 0, gridlock: 2000 }
+    }
+}
+
+impl MetricsParams {
+    fn is_default(&self) -> bool {
+        *self == MetricsParams::default()
+    }
 }
 
 /// Where goods are delivered.
@@ -449,6 +480,7 @@ impl Scenario {
             layout_generate: None,
             placement: Placement::Departure,
             orders: None,
+            metrics: MetricsParams::default(),
         }
     }
 
@@ -540,6 +572,9 @@ impl Scenario {
             if o.rate == 0.0 && o.csv.is_none() && matches!(&self.tasks, Tasks::Cells(c) if c.is_empty()) {
                 return Err(Error::scenario("orders.rate", 0, "no orders: give a rate above 0, a csv file or tasks"));
             }
+        }
+        if self.metrics.window == 0 {
+            return Err(Error::scenario("metrics.window", 0, "must be at least 1 step"));
         }
         if self.placement == Placement::Spread && self.starts.is_some() {
             return Err(Error::scenario("starts", format!("{:?}", self.starts.as_deref().unwrap_or_default()), "not used with placement = \"spread\" (robots start on parking slots)"));

@@ -89,6 +89,9 @@ pub struct Simulation {
     collisions: Collisions,
     /// Phase 2's answers: who wants to move, and its heading.
     wants: Vec<bool>,
+    /// Whether anything happened this step: a robot moved, dwelt or charged, or stock
+    /// changed (no progress for long while work remains is a gridlock).
+    progress: bool,
     alpha: Vec<f64>,
     events: Vec<Event>,
 }
@@ -125,7 +128,8 @@ impl Simulation {
         Ok(Simulation {
             p: Params::of(scenario),
             cost_weights: scenario.cost.clone(),
-            tally: Tally::new(n, goods.queue.len() as u64),
+            tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics),
+            progress: false,
             goods,
             homes,
             chargers: Chargers::new(&world, scenario),
@@ -162,8 +166,10 @@ impl Simulation {
         }
         self.tally.t += 1;
         self.events.clear();
+        self.progress = false;
         if self.lifelong.is_some() {
             self.orders();
+            self.progress = !self.events.is_empty();
         }
         if let Err(e) = self.hand_out() {
             self.failure = Some(e.to_string());
@@ -228,6 +234,7 @@ impl Simulation {
         let p = &self.p;
         let r = &self.robots;
         self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle);
+        let mut progress = false;
         let g = &self.world.graph;
         let (wants, waits) = (&self.wants[..n], &self.collisions.waits[..n]);
         let st = &mut self.tally.stats;
@@ -251,7 +258,8 @@ impl Simulation {
             }
             r.waited[i] = w;
             // Phase 4: robots that may move travel `speed` px along their routes.
-            if wants[i] && !w {
+            let moves = wants[i] && !w;
+            if moves {
                 let speed = r.speed[i];
                 distance[i] += route::advance(r, g, i, speed);
             }
@@ -261,12 +269,34 @@ impl Simulation {
                 State::Charging => r.energy[i] = energy::charge(r.energy[i], p.charge_rate, p.energy_full),
                 _ => {}
             }
+            progress |= moves | matches!(state, State::Loading | State::Unloading | State::Charging);
             if !matches!(state, State::Charging | State::Parked | State::Stranded) {
                 let e = energy::consume(r.energy[i], p.consumption);
                 energy_used[i] += r.energy[i] - e;
                 r.energy[i] = e;
             }
         }
+        self.progress |= progress;
+        if progress {
+            self.count_contacts();
+        }
+    }
+
+    /// Contacts after the moves of this step (see [`Collisions::contacts`]).
+    fn count_contacts(&mut self) {
+        let n = self.robots.len();
+        // Robots that moved: wanted to and did not wait (reusing the phase's buffer).
+        for (w, &waits) in self.wants[..n].iter_mut().zip(&self.collisions.waits[..n]) {
+            *w &= !waits;
+        }
+        if !self.wants.contains(&true) {
+            return;
+        }
+        let r = &self.robots;
+        let slack = 2.0 * r.speed.iter().copied().fold(0.0, f64::max);
+        let (count, closest) = self.collisions.contacts(&r.x, &r.y, &r.radius, &self.wants, slack);
+        self.tally.contacts += count;
+        self.tally.closest = self.tally.closest.min(closest);
     }
 
     /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
@@ -294,16 +324,24 @@ impl Simulation {
         }
     }
 
-    /// Phase 8: completion first, then the step limit.
+    /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
+    /// jammed), then the step limit (or the horizon).
     fn end(&mut self) {
-        if let Some(ll) = &self.lifelong {
+        let complete = self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
+        let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
+        let jammed = self.tally.end_step(self.progress, work_remains);
+        if complete {
+            self.outcome = Some(Outcome::Complete);
+        } else if work_remains && self.robots.state.iter().all(|&s| s == State::Stranded) {
+            self.outcome = Some(Outcome::Stranded);
+        } else if jammed {
+            let waits = std::mem::take(&mut self.collisions.waits);
+            self.declare_stall(&waits);
+            self.collisions.waits = waits;
+        } else if let Some(ll) = &self.lifelong {
             if self.tally.t >= ll.horizon {
                 self.outcome = Some(Outcome::Horizon);
             }
-            return;
-        }
-        if self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i)) {
-            self.outcome = Some(Outcome::Complete);
         } else if self.tally.t >= self.p.step_limit {
             self.outcome = Some(Outcome::Incomplete);
         }
@@ -400,5 +438,79 @@ impl Simulation {
     #[must_use]
     pub fn is_charger(&self, n: NodeId) -> bool {
         self.world.is_charger(n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::alloc::service_target;
+    use crate::ids::CellId;
+
+    #[test]
+    fn a_robot_behind_a_stranded_one_is_a_gridlock_that_says_where() {
+        let mut s = Scenario::paper(2, &[42]);
+        s.metrics.gridlock = 500;
+        let mut sim = Simulation::new(&s).unwrap();
+        let g = &sim.world.graph;
+        let from = Place::node(g, sim.robots.home[0]);
+        let pts = route::waypoints(g, from, service_target(&sim.world.layout, CellId(42)));
+        // Robot 1 stands stranded half-way along the third leg of robot 0's route.
+        let ((ax, ay), (bx, by)) = (pts[2], pts[3]);
+        let r = &mut sim.robots;
+        (r.x[1], r.y[1], r.at_node[1], r.state[1], r.energy[1]) = ((ax + bx) / 2.0, (ay + by) / 2.0, NONE, State::Stranded, 0.0);
+        let res = sim.run().unwrap();
+        assert_eq!(res.outcome, Some(Outcome::Gridlock));
+        let gl = res.gridlock.unwrap();
+        assert_eq!((gl.waiting, gl.step), (vec![0], res.steps));
+        let layout = &sim.world.layout;
+        let ahead = layout.nodes.iter().find(|n| (n.x, n.y) == (bx, by)).unwrap().name.clone();
+        assert_eq!(gl.crossings, vec![(ahead, 1)]);
+        // Robot 0 reached robot 1 within a few dozen steps; then 500 steps without progress.
+        assert!(res.steps > 500 && res.steps < 700, "{}", res.steps);
+        assert_eq!(res.delivered, 0);
+    }
+
+    #[test]
+    fn a_strategy_that_hands_out_nothing_stalls_the_run() {
+        struct Never;
+        impl Allocator for Never {
+            fn name(&self) -> &'static str {
+                "never"
+            }
+            fn allocate(&mut self, _: &crate::AllocView<'_>, _: &mut Vec<crate::Assignment>) -> Result<()> {
+                Ok(())
+            }
+        }
+        let mut s = Scenario::paper(2, &[42]);
+        s.metrics.gridlock = 300;
+        let mut sim = Simulation::with_allocator(&s, Box::new(Never)).unwrap();
+        let res = sim.run().unwrap();
+        assert_eq!((res.outcome, res.steps, res.gridlock), (Some(Outcome::Stalled), 300, None));
+        // Off: the run goes on to its step limit.
+        s.metrics.gridlock = 0;
+        s.step_limit = 5000;
+        let res = Simulation::with_allocator(&s, Box::new(Never)).unwrap().run().unwrap();
+        assert_eq!((res.outcome, res.steps), (Some(Outcome::Incomplete), 5000));
+    }
+
+    #[test]
+    fn windows_throughput_and_shares_add_up() {
+        let mut s = Scenario::paper(6, &crate::scenario::PAPER_TASKS[0]);
+        s.metrics.window = 100;
+        let r = Simulation::new(&s).unwrap().run().unwrap();
+        let t = r.t.unwrap();
+        assert_eq!(r.windows.len() as u64, t / 100);
+        // Deliveries in the last, partial window are in no complete window.
+        assert!(r.windows.iter().sum::<u64>() <= r.delivered);
+        assert!((r.throughput.unwrap() - r.delivered as f64 * 1000.0 / t as f64).abs() < 1e-9);
+        let waits: u64 = r.robots.wait_steps.iter().sum();
+        assert!((r.wait_share - waits as f64 / (6 * t) as f64).abs() < 1e-12);
+        assert!(r.utilisation > 0.0 && r.utilisation + r.wait_share <= 1.0);
+        // A warm-up past the end leaves no steady figures.
+        s.metrics.warmup = t + 1;
+        let r2 = Simulation::new(&s).unwrap().run().unwrap();
+        assert_eq!((r2.throughput, r2.sustained_throughput, r2.wait_share), (None, None, 0.0));
+        assert_eq!((r2.t, r2.s, r2.c), (r.t, r.s, r.c));
     }
 }

@@ -51,13 +51,16 @@ fn goods_are_conserved_at_every_step() {
     assert_eq!(r.outcome, Some(Outcome::Horizon));
     assert_eq!(r.steps, 3000);
     assert_eq!(r.t, None);
-    let l = r.lifelong.unwrap();
+    let l = r.lifelong.clone().unwrap();
     assert!(r.delivered > 50, "{}", r.delivered);
     assert!(saw_waiting, "some orders should wait for a restock");
-    assert!((l.throughput - r.delivered as f64 / 3.0).abs() < 1e-9);
+    assert!((r.throughput.unwrap() - r.delivered as f64 / 3.0).abs() < 1e-9);
+    assert_eq!(r.windows.len(), 3);
+    assert_eq!(r.windows.iter().sum::<u64>(), r.delivered);
     let (p50, p95, p99) = (l.latency_p50.unwrap(), l.latency_p95.unwrap(), l.latency_p99.unwrap());
     assert!(p50 <= p95 && p95 <= p99);
-    assert!(l.utilisation > 0.0 && l.utilisation <= 1.0);
+    assert!(r.utilisation > 0.0 && r.utilisation <= 1.0);
+    assert!(r.wait_share >= 0.0 && r.wait_share + r.utilisation <= 1.0);
     assert!(l.energy_per_delivery.unwrap() > 0.0);
 }
 

@@ -81,16 +81,19 @@ fn runs_are_deterministic() {
 }
 
 #[test]
-fn a_robot_without_reserve_is_stranded_and_the_run_incomplete() {
+fn a_robot_without_reserve_is_stranded_and_the_run_ends_so() {
     let mut s = Scenario::paper(1, &PAPER_TASKS[0]);
     s.unload = "R".into();
     s.robot.threshold = 0.3;
     s.step_limit = 20_000;
     let r = Simulation::new(&s).unwrap().run().unwrap();
-    assert_eq!(r.outcome, Some(Outcome::Incomplete));
+    assert_eq!(r.outcome, Some(Outcome::Stranded));
     assert_eq!(r.t, None);
     assert_eq!(r.stranded, vec![0]);
-    assert_eq!(r.steps, 20_000);
+    // Ended the step the last robot stranded, not at the step limit: 10 energy at 0.005 per
+    // step lasts 2,000 steps.
+    assert_eq!(r.steps, 2000);
+    assert!(r.robots.state_steps[0][multibots_core::State::Stranded as usize] == 1);
 }
 
 #[test]
