@@ -119,7 +119,9 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 102
             t = np.arange(first, min(steps + 1, first + chunk_steps))[:, None]
             d = (4.0 * t + phase[None, :]) % per
             x = np.where(d < w, bx + d, np.where(d < w + h, bx + w, np.where(d < 2 * w + h, bx + w - (d - w - h), bx)))
-            y = np.where(d < w, by, np.where(d < w + h, by + (d - w), np.where(d < 2 * w + h, by + h, by + h - (d - 2 * w - h))))
+            y = np.where(
+                d < w, by, np.where(d < w + h, by + (d - w), np.where(d < 2 * w + h, by + h, by + h - (d - 2 * w - h)))
+            )
             hd = np.where(d < w, 0.0, np.where(d < w + h, math.pi / 2, np.where(d < 2 * w + h, math.pi, -math.pi / 2)))
             st = np.array([1, 2, 3, 4, 5, 6, 7, 0], dtype=np.uint8)[((t + state_phase[None, :]) // 300) % 8]
             en = 10.0 - ((t + state_phase[None, :]) % 1300) * 0.005
@@ -216,8 +218,9 @@ def main() -> None:
         viewer = Viewer.for_replay(str(path)).start()
         try:
             page.goto(viewer.url)
-            page.wait_for_function("() => window.mbViewer && window.mbViewer.ready && window.mbViewer.state().drawn > 0",
-                                   polling=10)
+            page.wait_for_function(
+                "() => window.mbViewer && window.mbViewer.ready && window.mbViewer.state().drawn > 0", polling=10
+            )
             t_page = time.perf_counter() - t0
             print(f"open to first frame drawn in the browser: {t_page:.2f} s")
             t0 = time.perf_counter()

@@ -20,6 +20,8 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy as np
 
+from multibots.exceptions import ReplayError
+
 __all__ = ["Replay", "ReplayError", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES"]
 
 MAGIC = b"MBREPLAY"
@@ -57,17 +59,6 @@ EV_STRAND, EV_RESTOCK, EV_ORDER = 7, 8, 9
 
 # A header or footer larger than this is not a replay we wrote.
 _MAX_JSON = 256 * 1024 * 1024
-
-
-try:  # part of the package's error tree when the engine is there
-    from ._core import MultibotsError as _Base
-except ImportError:  # pragma: no cover - reading replays needs no engine
-    _Base = Exception
-
-
-class ReplayError(_Base, ValueError):  # type: ignore[valid-type, misc]
-    """A replay file that cannot be read: the message names the file and the problem.
-    A ``ValueError`` and, with the engine installed, a ``multibots.MultibotsError``."""
 
 
 def chunk_layout(frames: int, robots: int, events: int) -> Tuple[Dict[str, Tuple[int, int]], int]:
