@@ -38,6 +38,7 @@ sys.path.insert(0, str(HERE))
 import peers  # noqa: E402
 import pure_python  # noqa: E402
 import scale  # noqa: E402
+from multibots._io import atomic_write_text  # noqa: E402
 
 AGENT_COUNTS = (6, 100, 1000, 10000)
 SIZE_OF = {6: "paper", 100: "small", 1000: "large", 10000: "huge"}
@@ -244,10 +245,7 @@ def main(argv: list[str] | None = None) -> int:
     d["total_seconds"] = time.perf_counter() - started
     md = build_markdown(d)
     peers.write_json_atomic(a.json_path, d)
-    tmp = a.out.with_name(f".{a.out.name}.tmp")
-    a.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp.write_text(md, encoding="utf-8")
-    os.replace(tmp, a.out)
+    atomic_write_text(a.out, md)
     print(md)
     print(f"\nwrote {a.out} and {a.json_path}", file=sys.stderr)
     return 0

@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import struct
 import sys
 import time
@@ -31,6 +30,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
+from multibots._io import atomic_open  # noqa: E402
 from multibots.replay import Replay, pack_chunk, pack_state, quantize_energy, quantize_heading  # noqa: E402
 
 
@@ -110,9 +110,8 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 102
               "chunk_steps": chunk_steps, "cells_full": full.tolist(), "goods_total": int(full.sum()),
               "layout": layout, "scenario": "# synthetic benchmark replay\n"}
     hb = json.dumps(header).encode()
-    tmp = path.with_suffix(".tmp")
     table = []
-    with open(tmp, "wb") as fh:
+    with atomic_open(path) as fh:
         fh.write(b"MBREPLAY" + struct.pack("<II", 1, len(hb)) + hb)
         pos = fh.tell()
         for first in range(0, steps + 1, chunk_steps):
@@ -137,7 +136,6 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 102
                   "outcome": "incomplete", "delivered": steps // 20, "chunks": table}
         fb = json.dumps(footer).encode()
         fh.write(fb + struct.pack("<QQ", pos, len(fb)))
-    os.replace(tmp, path)
 
 
 #: A lifelong run of 1,000 robots on a generated 10 x 50-group warehouse (1,000 x 10,000).
