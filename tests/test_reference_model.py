@@ -2,8 +2,7 @@
 the engine.
 
 The reference is an independent implementation of docs/model.md; the engine must give
-identical T, S, C, outcome, steps and delivered for every scenario. The engine tests are
-skipped only while `multibots` cannot be imported.
+identical T, S, C, outcome, steps and delivered for every scenario.
 """
 
 import math

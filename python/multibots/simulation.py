@@ -32,7 +32,7 @@ def simulate(
         scenario: a :class:`Scenario`, or the path of a scenario file.
         record: if given, the path of a replay file to write (see ``docs/replay-format.md``).
         allocator: the task-allocation strategy, overriding the scenario's: a built-in's
-            name (``"hungarian"``), ``"package.module:Class"``, a
+            name (``"hungarian"``), ``"package.module:Class"``, ``"path/to/file.py:Class"``, a
             :class:`multibots.Allocator` or a function ``f(view)`` (``docs/strategies.md``).
 
     Example:
