@@ -164,6 +164,9 @@ def run_app(app: typer.Typer, argv: Optional[list[str]] = None) -> None:
     except Exception as e:
         # Usage errors of the (vendored) click parser carry these two attributes.
         if hasattr(e, "format_message") and isinstance(getattr(e, "exit_code", None), int):
+            if type(e).__name__ == "NoArgsIsHelpError":  # `multibots` alone: the help, as click shows it
+                print(e.format_message(), file=sys.stderr)
+                sys.exit(EXIT_INPUT)
             _fail(e.format_message(), EXIT_INPUT)
         if os.environ.get("MULTIBOTS_DEBUG"):
             raise
