@@ -142,6 +142,13 @@ def test_the_journal_reuses_unchanged_runs_and_reruns_an_edited_strategy(cli, tm
     mine.write_text(CLOSEST.replace("PICK", "max"), encoding="utf-8")
     out, edited = _study(cli, tmp_path)
     assert "reused 6 of 12 runs from out/runs.jsonl" in out
+    # A journal that answers for nothing says so too.
+    (folder := tmp_path / "other").mkdir()
+    mine2 = folder / "mine.py"
+    mine2.write_text(CLOSEST.replace("PICK", "max"), encoding="utf-8")
+    (folder / "out").mkdir()
+    (folder / "out" / "runs.jsonl").write_text('{"key": "0", "result": {}}\n', encoding="utf-8")
+    assert "reused 0 of 12 runs from out/runs.jsonl" in _study(cli, folder)[0]
     base = {k: v for k, v in first.items() if k[0] == "in-turn"}
     assert {k: v for k, v in edited.items() if k[0] == "in-turn"} == base
     changed = [k for k in first if k[0] == "mine.py:Pick" and first[k] != edited[k]]

@@ -63,6 +63,7 @@ def compare(
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
     total = len(study.plan_runs(names, ns, spec, seeds, base))
     journal = out / "runs.jsonl"
+    had_journal = journal.exists()
     reuse: list[int] = []
     start = time.perf_counter()
     with study.progress_bar(total, enabled=not quiet) as bar:
@@ -78,7 +79,7 @@ def compare(
         f"\n{total} runs ({len(names)} strategies x {len(ns)} fleet sizes x {lists} task lists) in {seconds:.1f} s"
         f" on {workers or os.cpu_count()} workers"
     )
-    if reuse and reuse[0]:
-        print(f"reused {reuse[0]} of {total} runs from {journal}")
+    if had_journal:  # also when it reused nothing: an edited strategy or a new engine build
+        print(f"reused {reuse[0] if reuse else 0} of {total} runs from {journal}")
     for p in study.write_outputs(rows, summary, out, spec.label, plots=plots):
         print(f"wrote {p}")

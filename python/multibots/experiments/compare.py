@@ -11,10 +11,9 @@ The study writes
 - ``results.csv``: one row per run (strategy, N, tasks, list, T, S, C, distance, cost, ...);
 - ``summary.csv``: per strategy, N (and ``all``, pooled over N) and metric, the mean with its
   95% confidence interval (t distribution, clipped at 0: no indicator is negative), and
-  against ``in-turn`` the paired mean
-  difference, its relative size, and the p-values of a paired t-test and a Wilcoxon
-  signed-rank test;
-- ``summary.txt``: the same as a table, as printed;
+  against ``in-turn`` the paired mean difference, its relative size, and the p-values of a
+  paired t-test and a Wilcoxon signed-rank test (:mod:`multibots.stats`);
+- ``summary.txt``: the same as tables at most 100 columns wide, as printed;
 - ``strategy_*.png|svg``: T, S, C and Cost_total against N, one line per strategy.
 
 Cost_total = w_d · (distance driven by the fleet, px) + w_t · T + w_c · S, with the weights of
