@@ -29,12 +29,12 @@ bench: develop ## benchmarks: criterion and Python scripts; figures go to docs/b
 	cargo bench -p multibots-core --bench step -- --quick
 	$(PY) benchmarks/run_all.py
 
-lint: develop ## clippy, and the stubs against the binary
+lint: develop ## clippy, ruff, and the stubs against the binary
 	cargo clippy --workspace --all-targets -- -D warnings
-	$(PY) -m pip install -q 'mypy>=1.10'
+	$(PY) -m ruff check .
 	cd python && $(PY) -m mypy.stubtest multibots._core
 
-develop: $(EXT_STAMP) ## build the engine and install the package into .venv
+develop: $(EXT_STAMP) ## build the engine and install the package into .venv, with the test and lint extras
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -43,7 +43,7 @@ $(STAMP): pyproject.toml
 	touch $@
 
 $(EXT_STAMP): $(STAMP) $(RUST_SOURCES) pyproject.toml
-	cd $(CURDIR) && maturin develop --release --extras test -q
+	cd $(CURDIR) && maturin develop --release --extras test,lint -q
 	touch $@
 
 browser: ## install Debian's chromium for the browser tests, if missing

@@ -12,7 +12,8 @@ repository root, created (or reused) here with exact pins from PyPI. Every measu
 runs in its own subprocess of that environment (benchmarks/peer_worker.py), one at a
 time, so peers never share a process, a heap or a core with each other or with us.
 
-This module uses the standard library only; importing it has no side effects.
+This module uses the standard library only (and the project's atomic writer, when it writes its
+JSON); importing it has no side effects.
 """
 
 from __future__ import annotations
@@ -25,7 +26,6 @@ import platform
 import shutil
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
@@ -274,25 +274,9 @@ def format_table(results: Sequence[dict[str, Any]]) -> str:
 
 
 def write_json_atomic(path: Path, data: Any) -> None:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=str(path.parent))
-    try:
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the usual file mode
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(data, f, indent=2, sort_keys=False)
-            f.write("\n")
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
-        raise
+    from multibots._io import atomic_write_text  # the project's one atomic writer
+
+    atomic_write_text(path, json.dumps(data, indent=2, sort_keys=False) + "\n")
 
 
 METHOD = (

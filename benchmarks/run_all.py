@@ -38,6 +38,7 @@ sys.path.insert(0, str(HERE))
 import peers  # noqa: E402
 import pure_python  # noqa: E402
 import scale  # noqa: E402
+from multibots._io import atomic_write_text  # noqa: E402
 
 AGENT_COUNTS = (6, 100, 1000, 10000)
 SIZE_OF = {6: "paper", 100: "small", 1000: "large", 10000: "huge"}
@@ -45,7 +46,11 @@ TARGETS = {"large": 10e6, "huge": 5e6, "paper": 10e6}
 
 
 def machine() -> dict[str, Any]:
-    info: dict[str, Any] = {"platform": platform.platform(), "python": platform.python_version(), "cpus": os.cpu_count()}
+    info: dict[str, Any] = {
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+        "cpus": os.cpu_count(),
+    }
     try:
         out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
         fields = {k.strip(): v.strip() for k, v in (ln.split(":", 1) for ln in out.splitlines() if ":" in ln)}
@@ -69,7 +74,13 @@ def criterion_medians() -> dict[str, float]:
     """Median times (ns) of the criterion bench, from target/criterion, where present."""
     out = {}
     base = ROOT / "target" / "criterion"
-    for group, bench in [("paper", "run"), ("paper", "experiment-30"), ("step", "small"), ("step", "large"), ("step", "huge")]:
+    for group, bench in [
+        ("paper", "run"),
+        ("paper", "experiment-30"),
+        ("step", "small"),
+        ("step", "large"),
+        ("step", "huge"),
+    ]:
         f = base / group / bench / "new" / "estimates.json"
         if f.exists():
             try:
@@ -125,7 +136,13 @@ def build_markdown(d: dict[str, Any]) -> str:
         # Resident memory moves in 4 KiB pages, and the allocator reuses memory freed while
         # the layout's tables were built: below some 10,000 robots the fleet's growth is
         # within that noise (the difference can even come out negative).
-        mem_txt = "n/a (6 robots)" if name == "paper" else f"{mem['bytes_per_robot']:,.0f} B" if r["robots"] >= 10_000 else "below allocator noise"
+        mem_txt = (
+            "n/a (6 robots)"
+            if name == "paper"
+            else f"{mem['bytes_per_robot']:,.0f} B"
+            if r["robots"] >= 10_000
+            else "below allocator noise"
+        )
         lines.append(
             f"| {name} | {r['robots']:,} | {mem['nodes']:,} | {fmt_rate(r['robot_steps_per_s'])} | {fmt_rate(crit_rate)} | "
             f"{'≥ ' + fmt_rate(target) if target else ''} | {mem_txt} | {mem['routing_table_bytes'] / 1e6:.2f} MB | {mem['peak_rss_mb']:.0f} MB |"
@@ -143,7 +160,7 @@ def build_markdown(d: dict[str, Any]) -> str:
     ]
     p = d["pure_python"]
     lines += [
-        f"Paper scenario (N = 6, group 1; both give T = {p['T']}, S = {p['S']}, C = {p['C']}): `benchmarks/reference_model.py` "
+        f"Paper scenario (N = 6, group 1; both give T = {p['T']}, S = {p['S']}, C = {p['C']}): `tests/oracle/reference_model.py` "
         f"{fmt_rate(p['python_robot_steps_per_s'])} robot-steps/s, the engine {fmt_rate(p['engine_robot_steps_per_s'])}: **{fmt_ratio(p['engine_robot_steps_per_s'], p['python_robot_steps_per_s'])}**.",
         "",
         "## Side by side with rware and pogema",
@@ -161,8 +178,17 @@ def build_markdown(d: dict[str, Any]) -> str:
             ours = next((r["robot_steps_per_s"] for r in d["scale"] if r["robots"] == n), None)
             pog = next((r["agent_steps_per_s"] for r in d["peers"] if r["peer"] == "pogema" and r["agents"] == n), None)
             rw = next((r["agent_steps_per_s"] for r in d["peers"] if r["peer"] == "rware" and r["agents"] == n), None)
-            lines.append(f"| {n:,} | {fmt_rate(ours)} | {fmt_rate(pog)} | {fmt_ratio(ours, pog)} | {fmt_rate(rw)} | {fmt_ratio(ours, rw)} |")
-        lines += ["", "Target: at least 40× pogema's agent-steps per second at equal agent counts.", "", "Peer details:", "", peers.format_table(d["peers"])]
+            lines.append(
+                f"| {n:,} | {fmt_rate(ours)} | {fmt_rate(pog)} | {fmt_ratio(ours, pog)} | {fmt_rate(rw)} | {fmt_ratio(ours, rw)} |"
+            )
+        lines += [
+            "",
+            "Target: at least 40× pogema's agent-steps per second at equal agent counts.",
+            "",
+            "Peer details:",
+            "",
+            peers.format_table(d["peers"]),
+        ]
         na = [r for r in d["peers"] if r["status"] != "ok"]
         if na:
             lines += ["", "n/a: " + "; ".join(f"{r['peer']} at {r['agents']}: {r.get('reason')}" for r in na)]
@@ -219,10 +245,7 @@ def main(argv: list[str] | None = None) -> int:
     d["total_seconds"] = time.perf_counter() - started
     md = build_markdown(d)
     peers.write_json_atomic(a.json_path, d)
-    tmp = a.out.with_name(f".{a.out.name}.tmp")
-    a.out.parent.mkdir(parents=True, exist_ok=True)
-    tmp.write_text(md, encoding="utf-8")
-    os.replace(tmp, a.out)
+    atomic_write_text(a.out, md)
     print(md)
     print(f"\nwrote {a.out} and {a.json_path}", file=sys.stderr)
     return 0

@@ -75,7 +75,14 @@ def robot_steps_per_s(name: str, repetitions: int = 5) -> dict[str, Any]:
             t0 = time.perf_counter()
             sim.step(WINDOW)
             rates.append(robots * WINDOW / (time.perf_counter() - t0))
-    return {"size": name, "robots": robots, "robot_steps_per_s": statistics.median(rates), "min": min(rates), "max": max(rates), "repetitions": repetitions}
+    return {
+        "size": name,
+        "robots": robots,
+        "robot_steps_per_s": statistics.median(rates),
+        "min": min(rates),
+        "max": max(rates),
+        "repetitions": repetitions,
+    }
 
 
 def experiment_30_ms(repetitions: int = 7) -> dict[str, Any]:
@@ -90,7 +97,14 @@ def experiment_30_ms(repetitions: int = 7) -> dict[str, Any]:
         times.append((time.perf_counter() - t0) * 1000)
     robot_steps = sum(s.to_dict()["robots"] * r.steps for s, r in zip(scenarios, results))
     med = statistics.median(times)
-    return {"ms": med, "min_ms": min(times), "max_ms": max(times), "robot_steps": robot_steps, "robot_steps_per_s": robot_steps / (med / 1000), "repetitions": repetitions}
+    return {
+        "ms": med,
+        "min_ms": min(times),
+        "max_ms": max(times),
+        "robot_steps": robot_steps,
+        "robot_steps_per_s": robot_steps / (med / 1000),
+        "repetitions": repetitions,
+    }
 
 
 _MEMORY_CHILD = r"""
@@ -115,7 +129,13 @@ def memory_per_robot(name: str) -> dict[str, Any]:
     n = size_scenario(name).to_dict()["robots"]
 
     def child(k: int) -> dict[str, Any]:
-        out = subprocess.run([sys.executable, "-c", _MEMORY_CHILD, str(path), str(k)], capture_output=True, text=True, check=True, cwd=ROOT)
+        out = subprocess.run(
+            [sys.executable, "-c", _MEMORY_CHILD, str(path), str(k)],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=ROOT,
+        )
         return json.loads(out.stdout.strip().splitlines()[-1])
 
     half = max(n // 2, 1)
@@ -123,7 +143,15 @@ def memory_per_robot(name: str) -> dict[str, Any]:
     # Resident memory after 100 steps, not the peak: the peak is reached while the layout's
     # tables are built, before any robot exists, so it does not grow with the fleet.
     per_robot = (full["rss_kb"] - one["rss_kb"]) * 1024 / max(n - half, 1)
-    return {"size": name, "robots": n, "peak_rss_mb": full["hwm_kb"] / 1024, "baseline_rss_mb": one["hwm_kb"] / 1024, "bytes_per_robot": per_robot, "routing_table_bytes": full["table_bytes"], "nodes": full["nodes"]}
+    return {
+        "size": name,
+        "robots": n,
+        "peak_rss_mb": full["hwm_kb"] / 1024,
+        "baseline_rss_mb": one["hwm_kb"] / 1024,
+        "bytes_per_robot": per_robot,
+        "routing_table_bytes": full["table_bytes"],
+        "nodes": full["nodes"],
+    }
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -134,7 +162,10 @@ def main(argv: list[str] | None = None) -> int:
     for name in a.sizes:
         r = robot_steps_per_s(name, a.repetitions)
         m = memory_per_robot(name)
-        print(f"{name:<6} N={r['robots']:<6} {r['robot_steps_per_s'] / 1e6:8.2f} M robot-steps/s (median of {a.repetitions})   peak {m['peak_rss_mb']:.0f} MB, {m['bytes_per_robot']:,.0f} B/robot")
+        print(
+            f"{name:<6} N={r['robots']:<6} {r['robot_steps_per_s'] / 1e6:8.2f} M robot-steps/s "
+            f"(median of {a.repetitions})   peak {m['peak_rss_mb']:.0f} MB, {m['bytes_per_robot']:,.0f} B/robot"
+        )
     e = experiment_30_ms()
     print(f"30-run paper experiment: {e['ms']:.1f} ms engine time on one thread (median)")
     return 0

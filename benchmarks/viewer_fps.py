@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import struct
 import sys
 import time
@@ -31,6 +30,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
+from multibots._io import atomic_open  # noqa: E402
 from multibots.replay import Replay, pack_chunk, pack_state, quantize_energy, quantize_heading  # noqa: E402
 
 
@@ -110,16 +110,17 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 102
               "chunk_steps": chunk_steps, "cells_full": full.tolist(), "goods_total": int(full.sum()),
               "layout": layout, "scenario": "# synthetic benchmark replay\n"}
     hb = json.dumps(header).encode()
-    tmp = path.with_suffix(".tmp")
     table = []
-    with open(tmp, "wb") as fh:
+    with atomic_open(path) as fh:
         fh.write(b"MBREPLAY" + struct.pack("<II", 1, len(hb)) + hb)
         pos = fh.tell()
         for first in range(0, steps + 1, chunk_steps):
             t = np.arange(first, min(steps + 1, first + chunk_steps))[:, None]
             d = (4.0 * t + phase[None, :]) % per
             x = np.where(d < w, bx + d, np.where(d < w + h, bx + w, np.where(d < 2 * w + h, bx + w - (d - w - h), bx)))
-            y = np.where(d < w, by, np.where(d < w + h, by + (d - w), np.where(d < 2 * w + h, by + h, by + h - (d - 2 * w - h))))
+            y = np.where(
+                d < w, by, np.where(d < w + h, by + (d - w), np.where(d < 2 * w + h, by + h, by + h - (d - 2 * w - h)))
+            )
             hd = np.where(d < w, 0.0, np.where(d < w + h, math.pi / 2, np.where(d < 2 * w + h, math.pi, -math.pi / 2)))
             st = np.array([1, 2, 3, 4, 5, 6, 7, 0], dtype=np.uint8)[((t + state_phase[None, :]) // 300) % 8]
             en = 10.0 - ((t + state_phase[None, :]) % 1300) * 0.005
@@ -135,7 +136,6 @@ def synthetic_replay(path: Path, robots: int, steps: int, chunk_steps: int = 102
                   "outcome": "incomplete", "delivered": steps // 20, "chunks": table}
         fb = json.dumps(footer).encode()
         fh.write(fb + struct.pack("<QQ", pos, len(fb)))
-    os.replace(tmp, path)
 
 
 #: A lifelong run of 1,000 robots on a generated 10 x 50-group warehouse (1,000 x 10,000).
@@ -216,8 +216,9 @@ def main() -> None:
         viewer = Viewer.for_replay(str(path)).start()
         try:
             page.goto(viewer.url)
-            page.wait_for_function("() => window.mbViewer && window.mbViewer.ready && window.mbViewer.state().drawn > 0",
-                                   polling=10)
+            page.wait_for_function(
+                "() => window.mbViewer && window.mbViewer.ready && window.mbViewer.state().drawn > 0", polling=10
+            )
             t_page = time.perf_counter() - t0
             print(f"open to first frame drawn in the browser: {t_page:.2f} s")
             t0 = time.perf_counter()

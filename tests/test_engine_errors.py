@@ -1,14 +1,10 @@
-"""Errors cross the binding as exceptions of one tree; a panic never kills the interpreter."""
+"""Errors cross the binding as exceptions of one tree (tests/test_exceptions.py); a panic never
+kills the interpreter."""
 
 import pytest
 
 import multibots
 from multibots import _core
-
-
-def test_exception_tree():
-    for cls in (multibots.ScenarioError, multibots.LayoutError, multibots.AllocatorError, multibots.EngineError, multibots.ReplayError):
-        assert issubclass(cls, multibots.MultibotsError)
 
 
 def test_a_panic_becomes_an_engine_error_and_python_goes_on():
@@ -46,18 +42,18 @@ def test_an_allocator_error_ends_the_run_for_good():
     assert len(calls) == 1
 
 
-def test_ctrl_c_stops_a_long_run_with_one_line_and_no_half_written_replay(tmp_path):
+def test_ctrl_c_stops_a_long_run_with_one_line_and_no_half_written_replay(cli, tmp_path):
     import signal
-    import subprocess
-    import sys
     import time
 
     scenario = tmp_path / "long.toml"
     # Stranded with goods undelivered, the robot leaves the run nothing to do but reach the limit.
-    scenario.write_text('robots = 1\ntasks = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]\nunload = "R"\nstep_limit = 2000000000\n[robot]\nthreshold = 0.0\n')
+    scenario.write_text(
+        'robots = 1\ntasks = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]\nunload = "R"\n'
+        "step_limit = 2000000000\n[robot]\nthreshold = 0.0\n"
+    )
     replay = tmp_path / "long.mbr"
-    p = subprocess.Popen([sys.executable, "-m", "multibots", "run", str(scenario), "--record", str(replay)],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = cli.popen("run", scenario, "--record", replay)
     time.sleep(3)
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=120)

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 from multibots import Scenario, Simulation, _core
@@ -21,10 +19,6 @@ SMALL = {
     "robot": {"consumption": 0.001},
     "orders": {"rate": 0.2, "horizon": 2000, "restock": 50, "seed": 3},
 }
-
-
-def cli(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", "multibots", *args], capture_output=True, text=True, cwd=ROOT, timeout=300)
 
 
 def test_conservation_while_stepping():
@@ -48,17 +42,17 @@ def test_same_scenario_same_bytes():
     assert a["energy_used"].tobytes() == b["energy_used"].tobytes()
 
 
-def test_cli_runs_the_1000_robot_warehouse_and_prints_throughput():
-    p = cli("run", "scenarios/warehouse-1000.toml", "--horizon", "300")
+def test_cli_runs_the_1000_robot_warehouse_and_prints_throughput(cli):
+    p = cli("run", ROOT / "scenarios" / "warehouse-1000.toml", "--horizon", "300")
     assert p.returncode == 0, p.stderr
     assert "throughput" in p.stdout and "deliveries per 1,000 steps" in p.stdout
     assert "horizon after 300 steps, 1000 robots" in p.stdout
-    p = cli("run", "scenarios/warehouse-1000.toml", "--horizon", "200", "--json")
+    p = cli("run", ROOT / "scenarios" / "warehouse-1000.toml", "--horizon", "200", "--json")
     out = json.loads(p.stdout)
     assert out["steps"] == 200 and out["lifelong"]["ordered"] >= out["delivered"]
 
 
-def test_cli_lifelong_errors_exit_2(tmp_path):
+def test_cli_lifelong_errors_exit_2(cli, tmp_path):
     p = cli("run", "--goods", "1,2", "--horizon", "100")
     assert p.returncode == 2 and "only for lifelong scenarios" in p.stderr
     bad = tmp_path / "bad.toml"
@@ -73,7 +67,9 @@ def test_cli_lifelong_errors_exit_2(tmp_path):
 def test_the_python_result_carries_the_lifelong_metrics():
     import multibots
 
-    s = multibots.Scenario.from_toml(ROOT / "scenarios" / "warehouse-1000.toml").replace(robots=50, orders={"horizon": 300})
+    s = multibots.Scenario.from_toml(ROOT / "scenarios" / "warehouse-1000.toml").replace(
+        robots=50, orders={"horizon": 300}
+    )
     r = multibots.simulate(s)
     assert r.lifelong is not None and r.to_dict()["lifelong"] == r.lifelong
     ll = r.lifelong

@@ -11,7 +11,7 @@ import pytest
 import multibots
 from multibots import PAPER_TASKS, STATE_NAMES, Scenario, Simulation, simulate, simulate_many
 
-from geometry import bfs_path, cell, charger_xy, formula_t, node_xy, single_robot_legs
+from oracle.geometry import bfs_path, cell, charger_xy, formula_t, node_xy, single_robot_legs
 
 
 def test_worked_example_legs_from_geometry():
@@ -98,7 +98,9 @@ def paper_runs():
 
 def test_paper_trends(paper_runs):
     assert all(r.outcome == "complete" for r in paper_runs.values())
-    mean = {k: [statistics.fmean(getattr(paper_runs[(n, g)], k) for g in range(1, 6)) for n in range(1, 7)] for k in "TSC"}
+    mean = {
+        k: [statistics.fmean(getattr(paper_runs[(n, g)], k) for g in range(1, 6)) for n in range(1, 7)] for k in "TSC"
+    }
     assert all(a > b for a, b in zip(mean["T"], mean["T"][1:])), mean["T"]
     assert all(a <= b for a, b in zip(mean["S"], mean["S"][1:])), mean["S"]
     assert mean["C"][5] < mean["C"][0], mean["C"]
@@ -106,7 +108,13 @@ def test_paper_trends(paper_runs):
 
 def test_paper_golden_values(paper_runs):
     """Recorded values: a change to any of them is a change of the model."""
-    golden = {(1, 1): (6619, 0, 3), (3, 1): (1719, 3, 3), (4, 4): (2361, 4, 3), (6, 2): (1333, 7, 0), (6, 5): (1407, 4, 0)}
+    golden = {
+        (1, 1): (6619, 0, 3),
+        (3, 1): (1719, 3, 3),
+        (4, 4): (2361, 4, 3),
+        (6, 2): (1333, 7, 0),
+        (6, 5): (1407, 4, 0),
+    }
     for key, tsc in golden.items():
         r = paper_runs[key]
         assert (r.T, r.S, r.C) == tsc, key

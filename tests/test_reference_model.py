@@ -1,30 +1,17 @@
-"""The pure-Python reference model (benchmarks/reference_model.py) and its agreement with
+"""The pure-Python reference model (tests/oracle/reference_model.py) and its agreement with
 the engine.
 
 The reference is an independent implementation of docs/model.md; the engine must give
-identical T, S, C, outcome, steps and delivered for every scenario. The engine tests are
-skipped only while `multibots` cannot be imported.
+identical T, S, C, outcome, steps and delivered for every scenario.
 """
 
-import importlib.util
 import math
-import pathlib
 import random
 import tempfile
 
 import pytest
 
-_REF_PATH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks" / "reference_model.py"
-
-
-def _load_reference():
-    spec = importlib.util.spec_from_file_location("multibots_reference_model", _REF_PATH)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-ref = _load_reference()
+from oracle import reference_model as ref
 
 
 def _engine():

@@ -31,7 +31,14 @@ def test_paper_toml_is_group_1_with_three_robots():
 
 def test_defaults_are_the_paper_model():
     d = Scenario.paper(robots=1, goods=[42]).to_dict()
-    assert d["robot"] == {"radius": 12.5, "speed": 4.0, "energy_full": 10.0, "threshold": 3.5, "consumption": 0.005, "charge_rate": 0.05}
+    assert d["robot"] == {
+        "radius": 12.5,
+        "speed": 4.0,
+        "energy_full": 10.0,
+        "threshold": 3.5,
+        "consumption": 0.005,
+        "charge_rate": 0.05,
+    }
     assert d["dwell"] == {"loading": 10, "unloading": 20}
     assert d["collision"] == {"margin": 0.0, "angle": 30.0}
     assert d["step_limit"] == 100000 and d["unload"] == "M" and d["allocator"] == "in-turn"
@@ -57,3 +64,13 @@ def test_random_task_lists_are_seeded():
     b = Scenario.from_toml_str("tasks = { random = 10, seed = 7 }")
     assert a.cells == b.cells and len(set(a.cells)) == 10
     assert Scenario.from_dict({"tasks": {"random": 10, "seed": 8}}).cells != a.cells
+
+
+def test_paper_takes_goods_or_tasks_but_not_both():
+    assert Scenario.paper(robots=2, tasks={"random": 5, "seed": 1}).cells == Scenario.from_dict(
+        {"robots": 2, "tasks": {"random": 5, "seed": 1}}).cells
+    assert Scenario.paper(robots=2, tasks=[11, 8]) == Scenario.paper(robots=2, goods=[11, 8])
+    assert Scenario.paper().cells == list(multibots.PAPER_TASKS[1])
+    with pytest.raises(ScenarioError, match=r"^Scenario.paper\(\): goods and tasks are the same field") as e:
+        Scenario.paper(goods=[11, 8], tasks=[1, 2])
+    assert "\n" not in str(e.value)

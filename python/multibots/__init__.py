@@ -5,11 +5,34 @@ Example:
     >>> r = multibots.simulate(multibots.Scenario.paper(robots=3, goods=[11, 8, 39, 28]))
     >>> r.outcome
     'complete'
+
+The submodules (``multibots.plots``, ``multibots.render``, ``multibots.replay``, ...) are
+attributes of the package, imported the first time they are used, so that ``import multibots``
+stays quick:
+
+    >>> multibots.stats.t_ppf(0.975, 4)
+    2.776445105...
 """
 
-from multibots.exceptions import AllocatorError, EngineError, LayoutError, MultibotsError, ScenarioError
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from multibots.exceptions import (
+    AllocatorError,
+    EngineError,
+    InputError,
+    LayoutError,
+    MissingExtraError,
+    MultibotsError,
+    OutputError,
+    RenderError,
+    ReplayError,
+    ScenarioError,
+)
 from multibots.paper import PAPER_ROBOTS, PAPER_TASKS
-from multibots.replay import Replay, ReplayError
+from multibots.replay import Replay
 from multibots.result import STATE_NAMES, Result
 from multibots.scenario import Scenario
 from multibots.simulation import Simulation, layout_json, simulate, simulate_many
@@ -19,10 +42,14 @@ __all__ = [
     "Allocator",
     "AllocatorError",
     "EngineError",
+    "InputError",
     "LayoutError",
+    "MissingExtraError",
     "MultibotsError",
+    "OutputError",
     "PAPER_ROBOTS",
     "PAPER_TASKS",
+    "RenderError",
     "Replay",
     "ReplayError",
     "Result",
@@ -36,3 +63,31 @@ __all__ = [
 ]
 
 __version__ = "0.1.0"
+
+#: Submodules reachable as attributes of the package, imported on first use.
+SUBMODULES: tuple[str, ...] = (
+    "cli",
+    "exceptions",
+    "experiments",
+    "layouts",
+    "paper",
+    "plots",
+    "render",
+    "replay",
+    "result",
+    "scenario",
+    "simulation",
+    "stats",
+    "strategies",
+    "viewer",
+)
+
+
+def __getattr__(name: str) -> Any:
+    if name in SUBMODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *SUBMODULES})

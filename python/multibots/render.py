@@ -4,7 +4,10 @@ The page (``multibots/viewer/static``) is opened in headless Chromium in its exp
 (``?render=1``), each frame is drawn by the same ``draw.js`` the live page uses, read back
 as PNG and encoded: GIF with Pillow (streamed, one fixed palette), MP4 (H.264) with the
 ffmpeg that ``imageio-ffmpeg`` ships (or one on PATH). Output is written to a temporary
-name and renamed when complete.
+name and renamed when complete (``multibots._io``).
+
+Playwright and imageio-ffmpeg come with the ``render`` extra (``pip install
+'multibots[render]'``); without them :func:`render` raises :class:`MissingExtraError`.
 """
 
 from __future__ import annotations
@@ -16,24 +19,20 @@ import os
 import shutil
 import struct
 import subprocess
-import sys
-import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any, Callable, Dict, Iterator, List, Optional
+from typing import Any, Callable, Dict, List, Optional
 
-from .replay import Replay, ReplayError
+from multibots._io import atomic_target, check_target
+from multibots.exceptions import InputError, MissingExtraError, OutputError, RenderError
+from multibots.replay import Replay
 
-__all__ = ["render", "RenderError", "chromium_path", "CHROMIUM_ARGS"]
+__all__ = ["render", "RenderError", "chromium_path", "CHROMIUM_ARGS", "plan_frames"]
 
 CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
                  "--disable-background-networking", "--disable-component-update", "--disable-sync",
                  "--font-render-hinting=none", "--force-color-profile=srgb"]
 _BATCH = 8
-
-
-class RenderError(RuntimeError):
-    """The export could not run (no browser, no encoder, ...)."""
 
 
 def chromium_path() -> str:
@@ -51,16 +50,20 @@ def chromium_path() -> str:
 
 
 def ffmpeg_path() -> str:
+    """The ffmpeg that imageio-ffmpeg ships (the ``render`` extra), else one on PATH."""
     try:
         import imageio_ffmpeg
-
-        return imageio_ffmpeg.get_ffmpeg_exe()
-    except Exception:
-        pass
+    except ImportError:
+        imageio_ffmpeg = None
+    if imageio_ffmpeg is not None:
+        try:
+            return imageio_ffmpeg.get_ffmpeg_exe()
+        except RuntimeError:  # a platform without a bundled binary: look on PATH
+            pass
     found = shutil.which("ffmpeg")
     if found:
         return found
-    raise RenderError("MP4 export needs ffmpeg: pip install imageio-ffmpeg, or install ffmpeg")
+    raise MissingExtraError("multibots render (MP4)", "render")
 
 
 # ---------------------------------------------------------------------- encoders
@@ -251,11 +254,11 @@ def plan_frames(frames: int, start: int = 0, end: Optional[int] = None, every: i
     last = frames - 1
     end = last if end is None else end
     if not 0 <= start <= last:
-        raise ValueError(f"--from {start}: must be from 0 to {last} (the replay's last frame)")
+        raise InputError(f"--from {start}: must be from 0 to {last} (the replay's last frame)")
     if not start <= end <= last:
-        raise ValueError(f"--to {end}: must be from {start} (--from) to {last} (the replay's last frame)")
+        raise InputError(f"--to {end}: must be from {start} (--from) to {last} (the replay's last frame)")
     if every < 1:
-        raise ValueError(f"--every {every}: must be at least 1")
+        raise InputError(f"--every {every}: must be at least 1")
     return list(range(start, end + 1, every))
 
 
@@ -275,8 +278,9 @@ def render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps:
     """Export ``replay`` to ``out`` (.mp4 or .gif). Returns {path, frames, width, height, fps,
     origin, scale}: ``origin`` and ``scale`` map warehouse px to image pixels.
 
-    Raises ReplayError for an unreadable replay, ValueError for bad options and RenderError
-    when the browser or encoder cannot run. Safe to call where an asyncio loop (or another
+    Raises ReplayError for an unreadable replay, InputError (a ValueError) for bad options,
+    MissingExtraError without the ``render`` extra and RenderError when the browser or encoder
+    cannot run; all are :class:`multibots.MultibotsError`. Safe to call where an asyncio loop (or another
     Playwright session) is running: the browser is then driven from a worker thread.
     """
     kw = dict(fps=fps, start=start, end=end, scale=scale, every=every, progress=progress, on_frame=on_frame)
@@ -306,101 +310,98 @@ def _render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps
     out = Path(out)
     kind = out.suffix.lower()
     if kind not in (".mp4", ".gif"):
-        raise ValueError(f"--out {out}: the file name must end in .mp4 or .gif")
+        raise InputError(f"--out {out}: the file name must end in .mp4 or .gif")
     if not isinstance(fps, int) or not 1 <= fps <= 120:
-        raise ValueError(f"--fps {fps}: must be a whole number from 1 to 120")
+        raise InputError(f"--fps {fps}: must be a whole number from 1 to 120")
     if not (isinstance(scale, (int, float)) and math.isfinite(scale) and 0.25 <= scale <= 4):
-        raise ValueError(f"--scale {scale}: must be from 0.25 to 4")
+        raise InputError(f"--scale {scale}: must be from 0.25 to 4")
     if out.parent and not out.parent.exists():
-        raise ValueError(f"--out {out}: the folder {out.parent} does not exist")
-    if out.exists() and out.is_dir():
-        raise ValueError(f"--out {out}: is a folder")
+        raise InputError(f"--out {out}: the folder {out.parent} does not exist")
+    try:
+        check_target(out)
+    except OutputError as exc:
+        raise InputError(f"--out {exc}") from None
     with Replay(replay) as rp:
         frames = plan_frames(rp.frames, start, end, every)
     if kind == ".mp4":
         ffmpeg_path()  # fail early, before starting a browser
     try:
-        from playwright.sync_api import Error as PlaywrightError
-        from playwright.sync_api import sync_playwright
+        import playwright.sync_api  # noqa: F401 - checked here, used by _draw
     except ImportError:
-        raise RenderError("export needs Playwright for Python: pip install playwright") from None
+        raise MissingExtraError("multibots render", "render") from None
     exe = chromium_path()
-
-    from PIL import Image
-
-    from .viewer.server import Viewer
-
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{out.stem}.", suffix=f".partial{kind}", dir=str(out.parent or "."))
-    except OSError as exc:
-        raise ValueError(f"--out {out}: cannot write in {out.parent or '.'} ({exc.strerror})") from None
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-    writer: Any = GifWriter(tmp, fps) if kind == ".gif" else Mp4Writer(tmp, fps)
     blink_every = max(1, round(fps * 0.4)) * every
     bar = _progress(len(frames), str(out)) if progress else None
-    ok = False
     try:
-        with Viewer.for_replay(str(replay), host="127.0.0.1", port=0) as viewer:
-            with sync_playwright() as pw:
-                try:
-                    browser = pw.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
-                except PlaywrightError as exc:
-                    raise RenderError(f"cannot start Chromium at {exe}: {str(exc).splitlines()[0]}") from None
-                try:
-                    page = browser.new_page(viewport={"width": 800, "height": 600}, device_scale_factor=1)
-                    errors: List[str] = []
-                    page.on("pageerror", lambda e: errors.append(str(e)))
-                    page.goto(f"{viewer.url}?render=1&scale={scale:g}")
-                    page.wait_for_function("() => window.mbViewer && window.mbViewer.ready", timeout=60000)
-                    size = page.evaluate("() => window.mbViewer.size()")
-                    origin = page.evaluate("() => window.mbViewer.worldToClient(0, 0)")
-                    done = 0
-
-                    def decode(url: str) -> Any:
-                        with Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))) as im:
-                            return im.convert("RGB")
-
-                    def consume(futures: List[Any]) -> None:
-                        nonlocal done
-                        for fut in futures:
-                            writer.add(fut.result())
-                            done += 1
-                            if bar:
-                                bar.advance()
-                            if on_frame:
-                                on_frame(done, len(frames))
-
-                    # PNGs are decoded in worker threads while the browser draws the next batch
-                    with ThreadPoolExecutor(max_workers=2) as pool:
-                        pending: List[Any] = []
-                        for b in range(0, len(frames), _BATCH):
-                            batch = frames[b:b + _BATCH]
-                            urls = page.evaluate("([f, k]) => window.mbViewer.renderFrames(f, k)",
-                                                 [batch, blink_every])
-                            if errors:
-                                raise RenderError(f"the page failed: {errors[0]}")
-                            consume(pending)
-                            pending = [pool.submit(decode, u) for u in urls]
-                        consume(pending)
-                finally:
-                    browser.close()
-        writer.close()
-        os.replace(tmp, out)
-        ok = True
+        with atomic_target(out, suffix=f".partial{kind}") as tmp:
+            writer: Any = GifWriter(str(tmp), fps) if kind == ".gif" else Mp4Writer(str(tmp), fps)
+            try:
+                size, origin = _draw(replay, exe, scale, frames, blink_every, writer, bar, on_frame)
+                writer.close()
+            except BaseException:
+                writer.abort()
+                raise
     finally:
         if bar:
             bar.close()
-        if not ok:
-            writer.abort()
-            try:
-                os.unlink(tmp)
-            except OSError:
-                pass
     return {"path": str(out), "frames": len(frames), "width": size["width"], "height": size["height"], "fps": fps,
             "origin": (origin["x"], origin["y"]), "scale": origin["scale"]}
+
+
+def _draw(replay: "os.PathLike[str] | str", exe: str, scale: float, frames: List[int], blink_every: int,
+          writer: Any, bar: Any, on_frame: Optional[Callable[[int, int], None]]) -> Any:
+    """Draws every frame in the page and hands it to ``writer``; returns (size, origin)."""
+    from PIL import Image
+    from playwright.sync_api import Error as PlaywrightError
+    from playwright.sync_api import sync_playwright
+
+    from multibots.viewer.server import Viewer
+
+    with Viewer.for_replay(str(replay), host="127.0.0.1", port=0) as viewer:
+        with sync_playwright() as pw:
+            try:
+                browser = pw.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
+            except PlaywrightError as exc:
+                raise RenderError(f"cannot start Chromium at {exe}: {str(exc).splitlines()[0]}") from None
+            try:
+                page = browser.new_page(viewport={"width": 800, "height": 600}, device_scale_factor=1)
+                errors: List[str] = []
+                page.on("pageerror", lambda e: errors.append(str(e)))
+                page.goto(f"{viewer.url}?render=1&scale={scale:g}")
+                page.wait_for_function("() => window.mbViewer && window.mbViewer.ready", timeout=60000)
+                size = page.evaluate("() => window.mbViewer.size()")
+                origin = page.evaluate("() => window.mbViewer.worldToClient(0, 0)")
+                done = 0
+
+                def decode(url: str) -> Any:
+                    with Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))) as im:
+                        return im.convert("RGB")
+
+                def consume(futures: List[Any]) -> None:
+                    nonlocal done
+                    for fut in futures:
+                        writer.add(fut.result())
+                        done += 1
+                        if bar:
+                            bar.advance()
+                        if on_frame:
+                            on_frame(done, len(frames))
+
+                # PNGs are decoded in worker threads while the browser draws the next batch
+                with ThreadPoolExecutor(max_workers=2) as pool:
+                    pending: List[Any] = []
+                    for b in range(0, len(frames), _BATCH):
+                        batch = frames[b:b + _BATCH]
+                        urls = page.evaluate("([f, k]) => window.mbViewer.renderFrames(f, k)",
+                                             [batch, blink_every])
+                        if errors:
+                            raise RenderError(f"the page failed: {errors[0]}")
+                        consume(pending)
+                        pending = [pool.submit(decode, u) for u in urls]
+                    consume(pending)
+            finally:
+                browser.close()
+    return size, origin
 
 
 class _progress:

@@ -84,7 +84,7 @@ class Scenario:
     def paper(
         cls,
         robots: int = 3,
-        goods: Iterable[int] = PAPER_TASKS[1],
+        goods: Iterable[int] | None = None,
         starts: Iterable[str] | None = None,
         unload: str = "M",
         margin: float = 0.0,
@@ -95,18 +95,25 @@ class Scenario:
 
         Args:
             robots: number of robots N.
-            goods: cell ids to fetch, in order.
+            goods: cell ids to fetch, in order (default: TABLE III's group 1). The same
+                field as ``tasks``: give one or the other, not both.
             starts: start node of each robot, such as ``["A", "C"]``; default A, B, C, ….
             unload: the unloading zone.
             margin: added to the collision contact distance, px.
             step_limit: steps after which the run ends incomplete.
-            **fields: any other scenario field, such as ``robot={"threshold": 2.0}``.
+            **fields: any other scenario field, such as ``robot={"threshold": 2.0}``, or
+                ``tasks={"random": 10, "seed": 1}`` instead of ``goods``.
+
+        Raises:
+            ScenarioError: a field is invalid, or both ``goods`` and ``tasks`` are given.
         """
+        if goods is not None and "tasks" in fields:
+            raise ScenarioError("Scenario.paper(): goods and tasks are the same field (the task list); give one")
         data: dict[str, Any] = {
             "layout": "paper",
             "robots": robots,
             "unload": unload,
-            "tasks": list(goods),
+            "tasks": list(PAPER_TASKS[1] if goods is None else goods),
             "step_limit": step_limit,
             "collision": {"margin": margin},
         }

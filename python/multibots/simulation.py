@@ -32,7 +32,7 @@ def simulate(
         scenario: a :class:`Scenario`, or the path of a scenario file.
         record: if given, the path of a replay file to write (see ``docs/replay-format.md``).
         allocator: the task-allocation strategy, overriding the scenario's: a built-in's
-            name (``"hungarian"``), ``"package.module:Class"``, a
+            name (``"hungarian"``), ``"package.module:Class"``, ``"path/to/file.py:Class"``, a
             :class:`multibots.Allocator` or a function ``f(view)`` (``docs/strategies.md``).
 
     Example:
@@ -118,17 +118,17 @@ class Simulation:
         return self._sim.outcome
 
     @property
-    def T(self) -> int | None:  # noqa: N802 - the paper's name
+    def T(self) -> int | None:
         """Task time, once the run has completed."""
         return self._sim.t if self._sim.outcome == "complete" else None
 
     @property
-    def S(self) -> int:  # noqa: N802
+    def S(self) -> int:
         """Collisions so far."""
         return self._sim.S
 
     @property
-    def C(self) -> int:  # noqa: N802
+    def C(self) -> int:
         """Charging count so far."""
         return self._sim.C
 
@@ -201,11 +201,11 @@ class Simulation:
         return self._frozen(self._sim.cells)
 
     @property
-    def robot_S(self) -> np.ndarray:  # noqa: N802
+    def robot_S(self) -> np.ndarray:
         return self._frozen(self._sim.robot_s)
 
     @property
-    def robot_C(self) -> np.ndarray:  # noqa: N802
+    def robot_C(self) -> np.ndarray:
         return self._frozen(self._sim.robot_c)
 
     @property
@@ -228,4 +228,7 @@ class Simulation:
         return self._frozen(self._sim.route(robot))
 
     def __repr__(self) -> str:
-        return f"Simulation(t={self.t}, robots={self.robot_count}, S={self.S}, C={self.C}, delivered={self.delivered}/{self.goods_total})"
+        return (
+            f"Simulation(t={self.t}, robots={self.robot_count}, S={self.S}, C={self.C}, "
+            f"delivered={self.delivered}/{self.goods_total})"
+        )

@@ -1,4 +1,5 @@
-"""Fixtures for the viewer's tests: real engine replays, servers on 127.0.0.1, one Chromium."""
+"""Fixtures for the viewer's tests: servers on 127.0.0.1 (over the replays of tests/conftest.py), one
+Chromium."""
 
 from __future__ import annotations
 
@@ -8,23 +9,6 @@ import multibots
 from multibots.render import CHROMIUM_ARGS
 
 from viewer_helpers import chromium_exe, paper
-
-
-@pytest.fixture(scope="session")
-def paper_run(tmp_path_factory):
-    """The paper's group 1 with 3 robots, recorded: (path, Result)."""
-    path = tmp_path_factory.mktemp("replays") / "group1-3.mbr"
-    result = multibots.simulate(paper(3), record=str(path))
-    assert path.is_file()
-    return path, result
-
-
-@pytest.fixture(scope="session")
-def small_run(tmp_path_factory):
-    """Two robots, three goods: a short replay for export tests."""
-    path = tmp_path_factory.mktemp("replays") / "small.mbr"
-    result = multibots.simulate(paper(2, [11, 8, 39]), record=str(path))
-    return path, result
 
 
 @pytest.fixture()

@@ -6,7 +6,6 @@ import io
 import math
 
 import numpy as np
-import pytest
 from PIL import Image
 
 import multibots

@@ -125,7 +125,9 @@ def test_oversized_and_malformed_requests(replay_viewer):
     assert code == 400
     code, _, _ = request(replay_viewer, "GET", "/api/robot?id=0&frame=99999999")
     assert code == 400
-    code, _, _ = request(replay_viewer, "POST", "/api/control", body=b"{}", headers={"Content-Type": "application/json"})
+    code, _, _ = request(
+        replay_viewer, "POST", "/api/control", body=b"{}", headers={"Content-Type": "application/json"}
+    )
     assert code == 404  # no controls for a replay
     code, _, _ = request(replay_viewer, "DELETE", "/")
     assert code == 405

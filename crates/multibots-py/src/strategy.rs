@@ -1,5 +1,6 @@
 //! Where a run's allocator comes from: a built-in named by the scenario or by Python, a
-//! Python object (a `multibots.Allocator` or a plain function), or a `module:Class` name.
+//! Python object (a `multibots.Allocator` or a plain function), or a `module:Class` or
+//! `path/file.py:Class` name (loaded by `multibots.strategies.load_strategy`).
 //!
 //! A Python allocator becomes an engine [`Allocator`] through [`PyAllocator`]. The engine
 //! runs without the GIL; at each allocation event the adapter takes the GIL, hands Python a
@@ -78,22 +79,11 @@ fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Box<dyn 
     alloc::built_in(&s).map_err(crate::to_py)
 }
 
-/// Imports `package.module:Class` and returns the class (or function).
+/// The class (or function) a `module:Class` or `path/file.py:Class` name refers to. The
+/// loading rules live in one Python function, `multibots.strategies.load_strategy`, whose
+/// errors are one-line `ScenarioError`s naming the allocator.
 fn resolve<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
-    let bad = |why: String| crate::ScenarioError::new_err(format!("allocator = \"{name}\": {why}"));
-    let (module, attr) = name.split_once(':').expect("caller checked");
-    if module.is_empty() || attr.is_empty() || attr.contains(':') {
-        return Err(bad("expected \"package.module:Class\"".into()));
-    }
-    let m = py.import(module).map_err(|e| bad(format!("cannot import {module}: {}", one_line(py, &e))))?;
-    let mut obj = m.into_any();
-    for part in attr.split('.') {
-        obj = obj.getattr(part).map_err(|_| bad(format!("module {module} has no attribute {attr}")))?;
-    }
-    if !obj.is_callable() {
-        return Err(bad(format!("{attr} is not a class or function")));
-    }
-    Ok(obj)
+    py.import("multibots.strategies")?.getattr("load_strategy")?.call1((name,))
 }
 
 fn one_line(py: Python<'_>, e: &PyErr) -> String {

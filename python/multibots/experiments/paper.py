@@ -22,11 +22,11 @@ __all__ = ["PaperRow", "paper_scenarios", "run_paper", "format_paper_table", "wr
 class PaperRow:
     """One run of the experiment."""
 
-    N: int  # noqa: N815 - the paper's names
+    N: int
     group: int
-    T: int | None  # noqa: N815
-    S: int  # noqa: N815
-    C: int  # noqa: N815
+    T: int | None
+    S: int
+    C: int
 
     def as_dict(self) -> dict[str, int | None]:
         return {"N": self.N, "group": self.group, "T": self.T, "S": self.S, "C": self.C}
@@ -61,19 +61,22 @@ def _mean(values: list[int | None]) -> str:
 
 
 def format_paper_table(rows: list[PaperRow]) -> str:
-    """The table as text: one line per N, T/S/C per group, and the means over groups."""
+    """The table as text, at most 100 columns: one line per N, T/S/C per group, and the means
+    over the groups."""
     groups = sorted({r.group for r in rows})
-    head = f"{'N':>2} | " + " | ".join(f"group {g}: {'T':>5} {'S':>2} {'C':>2}" for g in groups) + " | mean:  T       S     C"
-    lines = [head, "-" * len(head)]
+    head1 = "   " + "".join(f" |{f'group {g}':>13}" for g in groups) + f" |{'mean over groups':>20}"
+    head2 = "  N" + "".join(f" |{'T':>6}{'S':>4}{'C':>3}" for _ in groups) + f" |{'T':>8}{'S':>6}{'C':>6}"
+    lines = [head1, head2, "-" * len(head2)]
     for n in sorted({r.N for r in rows}):
         mine = {r.group: r for r in rows if r.N == n}
         cells = []
         for g in groups:
             r = mine[g]
             t = "-" if r.T is None else str(r.T)
-            cells.append(f"{'':>9}{t:>5} {r.S:>2} {r.C:>2}")
-        means = [_mean([mine[g].T for g in groups]), _mean([mine[g].S for g in groups]), _mean([mine[g].C for g in groups])]
-        lines.append(f"{n:>2} | " + " | ".join(cells) + f" | {means[0]:>9} {means[1]:>5} {means[2]:>5}")
+            cells.append(f" |{t:>6}{r.S:>4}{r.C:>3}")
+        means = [_mean([mine[g].T for g in groups]), _mean([mine[g].S for g in groups]),
+                 _mean([mine[g].C for g in groups])]
+        lines.append(f"{n:>3}" + "".join(cells) + f" |{means[0]:>8}{means[1]:>6}{means[2]:>6}")
     return "\n".join(lines)
 
 

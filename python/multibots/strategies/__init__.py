@@ -19,9 +19,10 @@ Write one in a few lines, either as a subclass::
             return out
 
 or as a plain function ``f(view) -> {robot: goods}`` (or a list of ``(robot, goods)``
-pairs), and pass it as ``simulate(scenario, allocator=...)``; a scenario file can name it as
-``allocator = "package.module:Class"``. The view's fields are listed in
-``docs/strategies.md`` and on :class:`AllocView`.
+pairs), and pass it as ``simulate(scenario, allocator=...)``; a scenario file or the command
+line can name it as ``allocator = "package.module:Class"`` (importable, or a module in the
+current folder) or ``"path/to/file.py:Class"`` (:func:`load_strategy`). The view's fields are
+listed in ``docs/strategies.md`` and on :class:`AllocView`.
 """
 
 from __future__ import annotations
@@ -30,8 +31,9 @@ import re
 from typing import Any, Union
 
 from multibots import _core
+from multibots.strategies.loading import is_python_allocator, load_strategy, strategy_source
 
-__all__ = ["Allocator", "AllocView", "BUILT_INS", "Answer", "is_python_allocator"]
+__all__ = ["Allocator", "AllocView", "BUILT_INS", "Answer", "is_python_allocator", "load_strategy", "strategy_source"]
 
 #: The built-in strategies, by the names TOML, the command line and Python share.
 BUILT_INS: tuple[str, ...] = tuple(_core.BUILT_INS)
@@ -86,7 +88,3 @@ class Allocator:
     def __repr__(self) -> str:
         return f"<Allocator {self.name!r}>"
 
-
-def is_python_allocator(name: str) -> bool:
-    """Whether a strategy name refers to Python code (``package.module:Class``)."""
-    return ":" in name

@@ -1,6 +1,6 @@
-"""The MultiBots browser viewer: serve a replay or a live run (``Viewer``), and its CLI
-commands (``viewer.cli.register``)."""
+"""The MultiBots browser viewer: serve a replay or a live run (:class:`Viewer`). Its command
+is ``multibots view`` (:mod:`multibots.cli.view`)."""
 
-from .server import Viewer, ReplaySource, LiveSource
+from multibots.viewer.server import LiveSource, ReplaySource, Viewer
 
 __all__ = ["Viewer", "ReplaySource", "LiveSource"]

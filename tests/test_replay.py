@@ -10,10 +10,19 @@ import numpy as np
 import pytest
 
 import multibots
-from multibots.replay import (Replay, ReplayError, chunk_layout, pack_chunk, pack_state, quantize_energy,
-                              quantize_heading)
+from multibots.replay import (
+    Replay,
+    ReplayError,
+    chunk_layout,
+    pack_chunk,
+    pack_state,
+    quantize_energy,
+    quantize_heading,
+)
 
-from viewer_helpers import paper
+
+def paper(robots=3):
+    return multibots.Scenario.paper(robots=robots)
 
 
 def test_header_and_summary_match_the_run(paper_run):

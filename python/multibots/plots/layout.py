@@ -1,47 +1,16 @@
-"""Publication figures for MultiBots, drawn with matplotlib's Agg backend.
-
-Three entry points:
-
-* :func:`draw_layout` draws a warehouse layout like the paper's Fig. 2: storage
-  cells with their ids (red when full, black when empty), the one-way highway
-  edges, departure and unloading zones and the chargers on their spurs.
-* :func:`draw_paper_figures` draws the paper's Fig. 6-8 (task time T, collisions S
-  and charging count C against the number of robots N) from the 30 runs of the
-  paper's experiment.
-* :func:`draw_strategy_comparison` draws one figure per metric of a strategy
-  study: the mean against N per strategy, with a shaded 95% confidence band.
-
-Everything a layout figure shows comes from the layout JSON dict described in
-``docs/replay-format.md``; no coordinate is hard-coded, so any layout the engine
-produces draws, from the paper's 80 cells to generated layouts of thousands.
-
-The module never imports :mod:`matplotlib.pyplot`: figures are plain
-:class:`matplotlib.figure.Figure` objects on an Agg canvas, so nothing needs a
-display, no global figure registry fills up, and the caller's pyplot backend is
-left alone. Every file is written atomically: rendered to a temporary file in
-the target folder, then renamed over the target with :func:`os.replace`.
-"""
+"""The layout figure, like the paper's Fig. 2, from the layout JSON of any layout."""
 
 from __future__ import annotations
 
-import contextlib
 import math
 import os
-import re
-import tempfile
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import matplotlib
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import (
-    LineCollection,
-    PatchCollection,
-    PathCollection,
-    PolyCollection,
-)
+from matplotlib.collections import LineCollection, PatchCollection, PathCollection, PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.font_manager import FontProperties
 from matplotlib.legend_handler import HandlerBase
@@ -49,133 +18,23 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Polygon, Rectangle
 from matplotlib.path import Path as MplPath
 from matplotlib.textpath import TextPath
-from matplotlib.ticker import MaxNLocator, NullFormatter
 
-__all__ = [
-    "draw_layout",
-    "draw_paper_figures",
-    "draw_strategy_comparison",
-    "CELL_FULL_COLOR",
-    "CELL_EMPTY_COLOR",
-]
-
-#: Fill colour of a storage cell that holds goods.
-CELL_FULL_COLOR = "#d62728"
-#: Fill colour of an empty storage cell.
-CELL_EMPTY_COLOR = "#000000"
-
-_EDGE_COLOR = "#3b6ea8"
-_ZONE_COLOR = "#222222"
-_CHARGER_COLOR = "#2ca02c"
-_WALL_COLOR = "#444444"
-_SERIES_COLORS = [
-    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
-    "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf",
-]
-_SERIES_MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">", "h"]
-
-_FORMATS = ("png", "svg", "pdf")
-# Up to this many cells, ids are real text (searchable in SVG/PDF); beyond, glyph paths.
-_TEXT_LABEL_LIMIT = 600
-# Above this many cells (or edges), SVG/PDF embed the cells (edges) as a bitmap.
-_VECTOR_CELL_LIMIT = 5000
-_PNG_DPI = 150
-
-# Text stays text in SVG and PDF (searchable, editable), files are reproducible.
-_RC = {
-    "svg.fonttype": "none",
-    "svg.hashsalt": "multibots",
-    "pdf.fonttype": 42,
-    "font.size": 10,
-    "axes.titlesize": 11,
-    "axes.labelsize": 10,
-    "legend.fontsize": 9,
-    "xtick.labelsize": 9,
-    "ytick.labelsize": 9,
-    "axes.spines.top": False,
-    "axes.spines.right": False,
-    "axes.grid": True,
-    "grid.color": "#dddddd",
-    "grid.linewidth": 0.6,
-    "lines.linewidth": 1.6,
-    "lines.markersize": 5,
-}
-
-_PAPER_METRICS = (
-    ("T", "fig6_task_time", "Task time T (steps)", "Task time"),
-    ("S", "fig7_collisions", "Collisions S", "Collisions"),
-    ("C", "fig8_charging", "Charging count C", "Charging count"),
+from multibots.plots._common import (
+    _CHARGER_COLOR,
+    _EDGE_COLOR,
+    _PNG_DPI,
+    _RC,
+    _TEXT_LABEL_LIMIT,
+    _VECTOR_CELL_LIMIT,
+    _WALL_COLOR,
+    _ZONE_COLOR,
+    CELL_EMPTY_COLOR,
+    CELL_FULL_COLOR,
+    new_figure,
+    save_atomic,
 )
 
-_STRATEGY_METRICS = {
-    "T": ("strategy_task_time", "Task time T (steps)", "Task time"),
-    "S": ("strategy_collisions", "Collisions S", "Collisions"),
-    "C": ("strategy_charging", "Charging count C", "Charging count"),
-    "cost": ("strategy_cost", "Cost", "Cost"),
-}
-
-
-# --------------------------------------------------------------------------- #
-# Files
-# --------------------------------------------------------------------------- #
-
-
-def _file_mode() -> int:
-    """Mode for new output files: 0o666 minus the process umask."""
-    mask = os.umask(0o022)
-    os.umask(mask)
-    return 0o666 & ~mask
-
-
-def _save_atomic(fig: Figure, path: str | os.PathLike[str], **kwargs: Any) -> Path:
-    """Save ``fig`` to ``path`` atomically; the format comes from the suffix.
-
-    Args:
-        fig: The figure to save.
-        path: Target file; its suffix (``.png``, ``.svg`` or ``.pdf``) picks the
-            format. The parent folder is created if missing.
-        **kwargs: Passed on to :meth:`matplotlib.figure.Figure.savefig`.
-
-    Returns:
-        The target path.
-
-    Raises:
-        ValueError: The suffix is not a supported format.
-    """
-    path = Path(path)
-    fmt = path.suffix.lower().lstrip(".")
-    if fmt not in _FORMATS:
-        raise ValueError(
-            f"cannot tell the figure format from {str(path)!r}: "
-            f"use one of the suffixes {', '.join('.' + f for f in _FORMATS)}"
-        )
-    path.parent.mkdir(parents=True, exist_ok=True)
-    metadata = {"png": {"Software": None}, "svg": {"Date": None},
-                "pdf": {"CreationDate": None, "ModDate": None}}[fmt]
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fig.savefig(fh, format=fmt, dpi=kwargs.pop("dpi", _PNG_DPI),
-                        metadata=metadata, **kwargs)
-        os.chmod(tmp, _file_mode())
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-    return path
-
-
-def _new_figure(**kwargs: Any) -> Figure:
-    """A figure on an Agg canvas, outside pyplot's figure registry."""
-    fig = Figure(**kwargs)
-    FigureCanvasAgg(fig)
-    return fig
-
-
-# --------------------------------------------------------------------------- #
-# Layout figure
-# --------------------------------------------------------------------------- #
+__all__ = ["draw_layout"]
 
 
 class _GlyphHandler(HandlerBase):
@@ -186,7 +45,7 @@ class _GlyphHandler(HandlerBase):
         self.kind = kind
 
     def create_artists(self, legend, orig_handle, xdescent, ydescent, width,
-                       height, fontsize, trans):  # noqa: D102 (matplotlib API)
+                       height, fontsize, trans):
         cx = width / 2 - xdescent
         cy = height / 2 - ydescent
         r = 0.55 * height
@@ -325,7 +184,7 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
     title_h = 0.3 if title else 0.0
     fig_w = max(map_w, 7.0) + 2 * margin
     fig_h = map_h + legend_h + title_h + 2 * margin
-    fig = _new_figure(figsize=(fig_w, fig_h), dpi=_PNG_DPI)
+    fig = new_figure(figsize=(fig_w, fig_h), dpi=_PNG_DPI)
     ax = fig.add_axes((
         (fig_w - map_w) / 2 / fig_w,
         (margin + legend_h) / fig_h,
@@ -562,251 +421,4 @@ def draw_layout(layout: Mapping[str, Any], path: str | os.PathLike[str], *,
     """
     with matplotlib.rc_context(_RC):
         fig, _ = _layout_figure(layout, cells_full, title)
-        return _save_atomic(fig, path, dpi=fig.dpi)
-
-
-# --------------------------------------------------------------------------- #
-# Paper figures (Fig. 6-8)
-# --------------------------------------------------------------------------- #
-
-
-def _missing(value: Any) -> bool:
-    """True for None and NaN."""
-    if value is None:
-        return True
-    try:
-        return math.isnan(float(value))
-    except (TypeError, ValueError):
-        return True
-
-
-def _number(value: Any) -> int | float:
-    """N as a number (CSV readers give strings): an int when it is whole."""
-    x = float(value)
-    return int(x) if x.is_integer() else x
-
-
-def _style(i: int) -> dict[str, Any]:
-    return {"color": _SERIES_COLORS[i % len(_SERIES_COLORS)],
-            "marker": _SERIES_MARKERS[i % len(_SERIES_MARKERS)]}
-
-
-def _int_axis(ax: Any, xs: Iterable[float], log_if_wide: bool = False) -> None:
-    """Integer ticks on the x axis, one per N when there are few.
-
-    With ``log_if_wide``, N values spanning a factor of 32 or more (a scaling
-    study: 1, 2, 4, ..., 1000 robots) get a logarithmic axis.
-    """
-    xs = sorted(set(xs))
-    log = bool(log_if_wide and xs and xs[0] > 0 and xs[-1] / xs[0] >= 32)
-    if log:
-        ax.set_xscale("log")
-        ax.xaxis.set_minor_formatter(NullFormatter())
-        ax.set_xlim(xs[0] / 1.15, xs[-1] * 1.15)
-    if xs and len(xs) <= 12 and all(float(x).is_integer() for x in xs):
-        ax.set_xticks(xs, [str(int(x)) for x in xs])
-    elif not log:
-        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
-    if xs and not log:
-        span = (xs[-1] - xs[0]) or 1.0
-        ax.set_xlim(xs[0] - 0.06 * span, xs[-1] + 0.06 * span)
-
-
-def _describe_missing(missing: Sequence[tuple[Any, Any]]) -> str:
-    """'group 2 at N = 1, 3; group 4 at N = 1' from (group, N) pairs."""
-    by_group: dict[Any, list[Any]] = {}
-    for g, n in missing:
-        by_group.setdefault(g, []).append(n)
-    parts = [f"group {g} at N = {', '.join(str(n) for n in sorted(ns))}"
-             for g, ns in sorted(by_group.items(), key=lambda kv: str(kv[0]))]
-    return "; ".join(parts)
-
-
-def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
-                       out_dir: str | os.PathLike[str]) -> list[Path]:
-    """Draw the paper's Fig. 6-8 from the results of its experiment.
-
-    Writes ``fig6_task_time``, ``fig7_collisions`` and ``fig8_charging``, each as
-    ``.png`` and ``.svg``. Each figure has two panels: (a) one line per task
-    group against N (each group shifted sideways by a few hundredths of the N
-    step, so that groups with equal values stay visible), and (b) the mean over
-    the groups against N. A row whose
-    value is None (T of an incomplete run) is left out of that figure, and a note
-    under the panels names it; a mean over fewer groups than the others is drawn
-    with a hollow marker.
-
-    Args:
-        rows: One dict per run with keys ``N``, ``group``, ``T``, ``S`` and ``C``
-            (the paper's experiment: 30 rows, N = 1..6 x groups 1..5).
-        out_dir: Folder for the figures; created if missing.
-
-    Returns:
-        The six paths written, PNG then SVG for each figure, in figure order.
-
-    Raises:
-        ValueError: ``rows`` is empty.
-    """
-    rows = [{**r, "N": _number(r["N"])} for r in rows]
-    if not rows:
-        raise ValueError("draw_paper_figures needs at least one row")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    groups = sorted({r["group"] for r in rows}, key=lambda g: (str(type(g)), g))
-    all_n = sorted({r["N"] for r in rows})
-    written: list[Path] = []
-    with matplotlib.rc_context(_RC):
-        for key, stem, ylabel, name in _PAPER_METRICS:
-            fig = _new_figure(figsize=(10, 4.3), dpi=_PNG_DPI, layout="constrained")
-            ax_a, ax_b = fig.subplots(1, 2)
-            ax_a.set_gid("panel-a")
-            ax_b.set_gid("panel-b")
-            missing = [(r["group"], r["N"]) for r in rows if _missing(r.get(key))]
-            values: dict[Any, dict[Any, float]] = {g: {} for g in groups}
-            for r in rows:
-                if not _missing(r.get(key)):
-                    values[r["group"]][r["N"]] = float(r[key])
-            # Counts tie often (several groups with S = 0 at N = 1): each group is
-            # shifted sideways a little so that no line or marker hides another.
-            step = min(np.diff(all_n), default=1.0)
-            dodge = 0.07 * step if len(groups) > 1 else 0.0
-            for i, g in enumerate(groups):
-                ns = sorted(values[g])
-                if not ns:
-                    continue
-                shift = (i - (len(groups) - 1) / 2) * dodge
-                ax_a.plot([n + shift for n in ns], [values[g][n] for n in ns],
-                          label=f"Group {g}", gid=f"group-line-{i}", **_style(i))
-            mean_n, mean_v, partial = [], [], []
-            for n in all_n:
-                vs = [values[g][n] for g in groups if n in values[g]]
-                if vs:
-                    mean_n.append(n)
-                    mean_v.append(float(np.mean(vs)))
-                    partial.append(len(vs) < len(groups))
-            ax_b.plot(mean_n, mean_v, color="#333333", marker="o", gid="mean-line",
-                      label="Mean over groups")
-            hollow = [(n, v) for n, v, p in zip(mean_n, mean_v, partial) if p]
-            if hollow:
-                ax_b.plot(*zip(*hollow), ls="none", marker="o", markersize=7,
-                          markerfacecolor="white", markeredgecolor="#333333",
-                          label="Mean over the complete runs only")
-                ax_b.legend(loc="best", frameon=False)
-            for ax, sub in ((ax_a, f"(a) {name} of each task group"),
-                            (ax_b, f"(b) Mean {name.lower()} over the groups")):
-                ax.set_title(sub)
-                ax.set_xlabel("Number of robots N")
-                ax.set_ylabel(ylabel)
-                _int_axis(ax, all_n)
-                ax.yaxis.set_major_locator(MaxNLocator(nbins=6, integer=key != "T"))
-            # Both panels share the y range so they compare at a glance; counts
-            # (S, C) start at zero, with room for the markers drawn on zero.
-            lo = min(ax_a.get_ylim()[0], ax_b.get_ylim()[0])
-            hi = max(ax_a.get_ylim()[1], ax_b.get_ylim()[1])
-            if key in ("S", "C"):
-                hi = max(hi, 1.0)
-                lo = -0.04 * hi
-            ax_a.set_ylim(lo, hi)
-            ax_b.set_ylim(lo, hi)
-            handles, labels = ax_a.get_legend_handles_labels()
-            if handles:
-                fig.legend(handles, labels, loc="outside upper center",
-                           ncol=min(len(handles), 6), frameon=False)
-            if missing:
-                note = (f"Incomplete runs ({key} undefined) left out: "
-                        f"{_describe_missing(missing)}.")
-                fig.get_layout_engine().set(rect=(0, 0.07, 1, 0.93))
-                fig.text(0.5, 0.015, note, ha="center", va="bottom", fontsize=8.5,
-                         color="#8b0000", wrap=True, gid="missing-note")
-            for suffix in ("png", "svg"):
-                written.append(_save_atomic(fig, out / f"{stem}.{suffix}"))
-    return written
-
-
-# --------------------------------------------------------------------------- #
-# Strategy comparison
-# --------------------------------------------------------------------------- #
-
-
-def _metric_stem(metric: str) -> tuple[str, str, str]:
-    """File stem, axis label and short name of a strategy-study metric."""
-    if metric in _STRATEGY_METRICS:
-        return _STRATEGY_METRICS[metric]
-    slug = re.sub(r"[^A-Za-z0-9]+", "_", str(metric)).strip("_").lower() or "metric"
-    return f"strategy_{slug}", str(metric), str(metric)
-
-
-def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
-                             out_dir: str | os.PathLike[str]) -> list[Path]:
-    """Draw one figure per metric of a strategy study.
-
-    Each figure has one line per strategy (mean against N) with its 95%
-    confidence interval as a shaded band of the same colour. A strategy keeps its
-    colour and marker across the figures. Files are named
-    ``strategy_task_time``, ``strategy_collisions``, ``strategy_charging`` and
-    ``strategy_cost`` for the metrics T, S, C and cost (any other metric name
-    becomes ``strategy_<name>``), each written as ``.png`` and ``.svg``.
-
-    Args:
-        summary_rows: Dicts with keys ``strategy``, ``N``, ``metric`` (``"T"``,
-            ``"S"``, ``"C"`` or ``"cost"``), ``mean``, ``ci_low`` and ``ci_high``.
-            A row whose mean is None/NaN is skipped; a missing CI bound leaves a
-            gap in the band.
-        out_dir: Folder for the figures; created if missing.
-
-    Returns:
-        The paths written, PNG then SVG per metric, metrics in the order T, S, C,
-        cost, then any others in order of appearance.
-
-    Raises:
-        ValueError: ``summary_rows`` is empty.
-    """
-    rows = [{**r, "N": _number(r["N"])} for r in summary_rows]
-    if not rows:
-        raise ValueError("draw_strategy_comparison needs at least one row")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    strategies: list[Any] = []
-    metrics: list[Any] = []
-    for r in rows:
-        if r["strategy"] not in strategies:
-            strategies.append(r["strategy"])
-        if r["metric"] not in metrics:
-            metrics.append(r["metric"])
-    order = {m: i for i, m in enumerate(_STRATEGY_METRICS)}
-    first = {m: i for i, m in enumerate(metrics)}
-    metrics.sort(key=lambda m: (order.get(m, len(order)), first[m]))
-
-    def num(v: Any) -> float:
-        return float("nan") if _missing(v) else float(v)
-
-    written: list[Path] = []
-    with matplotlib.rc_context(_RC):
-        for metric in metrics:
-            stem, ylabel, name = _metric_stem(metric)
-            fig = _new_figure(figsize=(6.4, 4.4), dpi=_PNG_DPI, layout="constrained")
-            ax = fig.add_subplot()
-            ax.set_gid("panel-a")
-            all_n: set[Any] = set()
-            for i, s in enumerate(strategies):
-                pts = sorted(
-                    ((r["N"], num(r["mean"]), num(r.get("ci_low")), num(r.get("ci_high")))
-                     for r in rows
-                     if r["metric"] == metric and r["strategy"] == s and not _missing(r["mean"])),
-                    key=lambda p: p[0])
-                if not pts:
-                    continue
-                ns, mean, lo, hi = (np.array(c, dtype=float) for c in zip(*pts))
-                all_n.update(p[0] for p in pts)
-                style = _style(i)
-                ax.fill_between(ns, lo, hi, color=style["color"], alpha=0.18,
-                                linewidth=0, gid=f"strategy-band-{i}")
-                ax.plot(ns, mean, label=str(s), gid=f"strategy-line-{i}", **style)
-            ax.set_xlabel("Number of robots N")
-            ax.set_ylabel(ylabel)
-            ax.set_title(f"{name} by strategy (mean and 95% CI)")
-            _int_axis(ax, all_n, log_if_wide=True)
-            if ax.get_legend_handles_labels()[0]:
-                ax.legend(loc="best", frameon=False, title="Strategy")
-            for suffix in ("png", "svg"):
-                written.append(_save_atomic(fig, out / f"{stem}.{suffix}"))
-    return written
+        return save_atomic(fig, path, dpi=fig.dpi)

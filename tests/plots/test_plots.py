@@ -9,7 +9,6 @@ defaults are checked equal to the engine's paper layout.
 
 from __future__ import annotations
 
-import importlib.util
 import pathlib
 import re
 import time
@@ -19,23 +18,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-_ROOT = pathlib.Path(__file__).resolve().parents[1]
-
-
-def _load_plots():
-    """The installed ``multibots.plots``, or the source file if the package is not built."""
-    try:
-        from multibots import plots
-    except ImportError:
-        spec = importlib.util.spec_from_file_location(
-            "multibots_plots_src", _ROOT / "python" / "multibots" / "plots.py")
-        plots = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(plots)
-    return plots
-
-
-plots = _load_plots()
-
+from multibots import plots
 
 # ---------------------------------------------------------------------------------------
 # Layouts

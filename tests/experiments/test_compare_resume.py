@@ -11,7 +11,9 @@ from multibots.experiments import compare as study
 
 def _study(journal, progress=None):
     spec = study.parse_tasks("random:4")
-    return study.run_study(["in-turn", "nearest"], [1, 2, 3], spec, seeds=4, workers=2, progress=progress, journal=journal)
+    return study.run_study(
+        ["in-turn", "nearest"], [1, 2, 3], spec, seeds=4, workers=2, progress=progress, journal=journal
+    )
 
 
 def test_an_interrupted_study_resumes_from_its_journal(tmp_path):

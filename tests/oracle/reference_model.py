@@ -7,12 +7,13 @@ tricks. It serves two purposes:
 * a cross-check of the Rust engine: both must give identical T, S and C;
 * the baseline that benchmarks compare the engine's speed against.
 
-Usage::
+Usage (with ``tests/`` on ``sys.path``, as pytest and the benchmarks put it)::
 
-    from reference_model import run
+    from oracle.reference_model import run
     result = run([11, 8, 39], robots=3)   # -> dict with T, S, C, outcome, ...
 
-Running the file prints the paper's 30-run table (N = 1..6 robots x five task lists).
+Running the file (``python tests/oracle/reference_model.py``) prints the paper's 30-run table
+(N = 1..6 robots x five task lists).
 """
 
 import math

@@ -3,7 +3,6 @@ form, the built-ins by name, random task lists and the charging policy."""
 
 from __future__ import annotations
 
-import importlib.util
 import pathlib
 import re
 import subprocess
@@ -17,14 +16,9 @@ from multibots import AllocatorError, Scenario, ScenarioError, Simulation, simul
 from multibots.paper import PAPER_TASKS
 from multibots.strategies import BUILT_INS
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
+from oracle import reference_model as ref
 
-
-def _reference():
-    spec = importlib.util.spec_from_file_location("multibots_reference_model", ROOT / "benchmarks" / "reference_model.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def indicators(r):
@@ -40,7 +34,7 @@ def test_the_docs_example_runs():
     example = blocks[0]
     assert len(example.strip().splitlines()) <= 15
     namespace: dict = {}
-    exec(compile(example, "docs/strategies.md", "exec"), namespace)  # noqa: S102 - our own docs
+    exec(compile(example, "docs/strategies.md", "exec"), namespace)
     result = namespace["result"]
     assert result.complete and result.delivered == 10
     assert namespace["ShortestTrip"].name == "shortest-trip"
@@ -51,7 +45,6 @@ def test_the_docs_example_runs():
 
 @pytest.mark.parametrize("n,group", [(1, 1), (2, 2), (3, 3), (4, 4), (6, 5)])
 def test_in_turn_built_in_and_in_python_give_the_paper_models_T_S_C(n, group):
-    ref = _reference()
     goods = PAPER_TASKS[group]
     want = ref.run(list(goods), robots=n)
     s = Scenario.paper(robots=n, goods=goods)
@@ -100,7 +93,10 @@ def test_the_scenario_file_form_is_checked_when_the_scenario_is_read(tmp_path):
             Scenario.from_toml_str(base.replace('"in-turn"', f'"{name}"'), "s.toml")
         assert str(e.value).startswith(f'allocator = "{name}": ') and why in str(e.value), str(e.value)
     s = Scenario.from_toml_str(base.replace('"in-turn"', '"strategies_example.closest:NeedsArgument"'), "s.toml")
-    with pytest.raises(ScenarioError, match=r'allocator = "strategies_example.closest:NeedsArgument": calling it with no arguments failed: TypeError'):
+    with pytest.raises(
+        ScenarioError,
+        match=r'allocator = "strategies_example.closest:NeedsArgument": calling it with no arguments failed: TypeError',
+    ):
         simulate(s)
 
 
@@ -112,7 +108,11 @@ def test_built_ins_by_name_everywhere():
         b = simulate(s.replace(allocator=name))
         assert a == b and a.complete, name
     assert simulate_many([s, s], allocator="hungarian") == [simulate(s, allocator="hungarian")] * 2
-    with pytest.raises(ScenarioError, match=r'^allocator = "greedy": unknown strategy \(built-ins: in-turn, nearest, hungarian, auction, energy-aware, min-cost\)$'):
+    with pytest.raises(
+        ScenarioError,
+        match=r'^allocator = "greedy": unknown strategy '
+        r"\(built-ins: in-turn, nearest, hungarian, auction, energy-aware, min-cost\)$",
+    ):
         simulate(s, allocator="greedy")
     with pytest.raises(ScenarioError, match='allocator = "greedy": unknown strategy'):
         s.replace(allocator="greedy")
@@ -124,7 +124,9 @@ def test_a_class_instead_of_an_instance_or_a_non_callable_is_a_clear_error():
     s = Scenario.paper(robots=1, goods=[42])
     with pytest.raises(TypeError, match=r"got the class Closest; pass an instance, such as Closest\(\)"):
         simulate(s, allocator=Closest)
-    with pytest.raises(TypeError, match="expected a multibots.Allocator, a function f\\(view\\) or a strategy name, got int"):
+    with pytest.raises(
+        TypeError, match="expected a multibots.Allocator, a function f\\(view\\) or a strategy name, got int"
+    ):
         simulate(s, allocator=3)
 
 
@@ -228,7 +230,9 @@ def test_an_exception_inside_the_strategy_surfaces_in_python_with_its_cause():
     def broken(view):
         return {0: 1 // 0}
 
-    with pytest.raises(AllocatorError, match=r"^allocator 'broken': raised ZeroDivisionError: integer division or modulo by zero$") as e:
+    with pytest.raises(
+        AllocatorError, match=r"^allocator 'broken': raised ZeroDivisionError: integer division or modulo by zero$"
+    ) as e:
         simulate(Scenario.paper(robots=1, goods=[42]), allocator=broken)
     assert isinstance(e.value.__cause__, ZeroDivisionError)
     # The next run is not affected by the earlier failure.
@@ -296,18 +300,14 @@ def test_charging_policies():
 # --- the command line --------------------------------------------------------------------
 
 
-def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "multibots", *args], capture_output=True, text=True, cwd=ROOT)
-
-
-def test_run_with_an_allocator_flag():
-    r = _cli("run", "--robots", "3", "--goods", "11,8,39,28,53", "--allocator", "hungarian", "--json")
+def test_run_with_an_allocator_flag(cli):
+    r = cli("run", "--robots", "3", "--goods", "11,8,39,28,53", "--allocator", "hungarian", "--json")
     assert r.returncode == 0, r.stderr
     import json
 
     got = json.loads(r.stdout)
     want = simulate(Scenario.paper(robots=3, goods=[11, 8, 39, 28, 53]), allocator="hungarian")
     assert (got["T"], got["S"], got["C"]) == indicators(want)
-    bad = _cli("run", "--robots", "3", "--goods", "11,8", "--allocator", "greedy")
+    bad = cli("run", "--robots", "3", "--goods", "11,8", "--allocator", "greedy")
     assert bad.returncode == 2
     assert bad.stderr.strip().count("\n") == 0 and 'allocator = "greedy": unknown strategy' in bad.stderr

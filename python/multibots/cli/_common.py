@@ -1,0 +1,181 @@
+"""What the commands share: parsing of the quick-run flags, the exit codes, and turning an
+exception into one line on stderr and its exit code."""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+from pathlib import Path
+from typing import Any, NoReturn, Optional
+
+import typer
+
+from multibots.exceptions import EngineError, InputError, MissingExtraError, MultibotsError, RenderError
+from multibots.scenario import Scenario
+
+__all__ = [
+    "EXIT_INCOMPLETE",
+    "EXIT_INPUT",
+    "EXIT_INTERNAL",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "EXIT_CODES_HELP",
+    "parse_cells",
+    "parse_names",
+    "parse_number",
+    "quick_scenario",
+    "run_app",
+]
+
+#: The run (or the command) did what it was asked.
+EXIT_OK = 0
+#: An internal error: a bug, or an environment the command cannot run in (no browser).
+EXIT_INTERNAL = 1
+#: Bad input: a scenario, layout, option or file the command cannot use.
+EXIT_INPUT = 2
+#: ``multibots run``: the run ended incomplete (the step limit came before the last delivery).
+EXIT_INCOMPLETE = 3
+#: Interrupted by Ctrl-C (SIGINT).
+EXIT_INTERRUPTED = 130
+
+EXIT_CODES_HELP = (
+    "Exit codes: 0 done; 1 internal error; 2 bad input (one line on stderr naming the field and the value); "
+    "3 the run ended incomplete (run); 130 interrupted (Ctrl-C)."
+)
+
+PROG = "multibots"
+
+
+def parse_cells(value: str, flag: str = "--goods") -> list[int]:
+    """Parses ``11,8,39`` into cell ids."""
+    try:
+        cells = [int(v) for v in value.split(",") if v.strip() != ""]
+    except ValueError:
+        raise InputError(f"{flag} = {value!r}: not a comma-separated list of cell ids") from None
+    if not cells:
+        raise InputError(f"{flag} = {value!r}: the task list is empty")
+    return cells
+
+
+def parse_names(value: str, flag: str = "--starts") -> list[str]:
+    """Parses ``A,B,C`` into node names."""
+    names = [v.strip() for v in value.split(",")]
+    if not value.strip() or any(not n for n in names):
+        raise InputError(f"{flag} = {value!r}: not a comma-separated list of node names")
+    return names
+
+
+def parse_number(value: Optional[str], flag: str, kind: type) -> Any:
+    """A numeric flag that arrived as text (so that a bad one is reported with its value)."""
+    if value is None:
+        return None
+    what = "an integer" if kind is int else "a number"
+    try:
+        number = kind(value)
+    except ValueError:
+        raise InputError(f"{flag} = {value!r}: not {what}") from None
+    if not math.isfinite(number):
+        raise InputError(f"{flag} = {value!r}: must be a finite number")
+    return number
+
+
+def quick_scenario(
+    scenario: Optional[Path],
+    robots: Optional[str],
+    goods: Optional[str],
+    starts: Optional[str],
+    unload: Optional[str],
+    margin: Optional[str],
+    step_limit: Optional[str],
+) -> Scenario:
+    """A scenario from a file, from the quick-run flags on the paper layout, or a file with
+    flags on top (``run`` and ``view --live`` share these rules)."""
+    n = parse_number(robots, "--robots", int)
+    if n is not None and n < 1:
+        raise InputError(f"--robots = {n}: must be at least 1")
+    changes: dict[str, Any] = {}
+    if n is not None:
+        changes["robots"] = n
+    if goods is not None:
+        changes["tasks"] = parse_cells(goods)
+    if starts is not None:
+        changes["starts"] = parse_names(starts)
+    if unload is not None:
+        changes["unload"] = unload
+    m = parse_number(margin, "--margin", float)
+    if m is not None:
+        changes["collision"] = {"margin": m}
+    limit = parse_number(step_limit, "--step-limit", int)
+    if limit is not None:
+        changes["step_limit"] = limit
+    if scenario is not None:
+        base = Scenario.from_toml(scenario)
+        return base.replace(**changes) if changes else base
+    if "tasks" not in changes:
+        raise InputError("give a SCENARIO.toml or the quick-run flags (at least --goods)")
+    return Scenario.from_dict({"layout": "paper", **changes})
+
+
+# The quick-run flags, shared by `run` and `view --live`. Numbers arrive as text so that a bad
+# one is reported with its value.
+ROBOTS = typer.Option(None, "--robots", help="Number of robots N.", show_default=False, metavar="N")
+GOODS = typer.Option(None, "--goods", help="Cells to fetch, in order, such as 11,8,39.", show_default=False)
+STARTS = typer.Option(None, "--starts", help="Start nodes, such as A,B,C (default A, B, C, ...).", show_default=False)
+UNLOAD = typer.Option(None, "--unload", help="Unloading zone: a node name, such as M.", show_default=False)
+MARGIN = typer.Option(None, "--margin", help="Collision margin, px (default 0).", show_default=False, metavar="PX")
+STEP_LIMIT = typer.Option(
+    None, "--step-limit", help="Steps before the run ends incomplete (default 100000).", show_default=False,
+    metavar="STEPS",
+)
+
+
+def _fail(message: str, code: int, prefix: str = "error: ") -> NoReturn:
+    line = " ".join(str(message).split())  # one line, whatever the message held
+    print(f"{PROG}: {prefix}{line}", file=sys.stderr)
+    sys.exit(code)
+
+
+def run_app(app: typer.Typer, argv: Optional[list[str]] = None) -> None:
+    """Runs ``app`` and turns every error into one line on stderr and an exit code.
+
+    MultiBots errors are the user's (exit 2), except :class:`EngineError` (a bug) and
+    :class:`RenderError` (no browser or encoder), which exit 1; a missing extra is named by
+    its line; anything else is an internal error, with the traceback only when
+    ``MULTIBOTS_DEBUG`` is set.
+    """
+    try:
+        rv = app(args=argv, prog_name=PROG, standalone_mode=False)
+    except MissingExtraError as e:
+        print(str(e), file=sys.stderr)  # the line names the extra and the command that installs it
+        sys.exit(EXIT_INPUT)
+    except EngineError as e:
+        _fail(str(e), EXIT_INTERNAL, "internal error: ")
+    except RenderError as e:
+        _fail(str(e), EXIT_INTERNAL)
+    except MultibotsError as e:
+        _fail(str(e), EXIT_INPUT)
+    except (KeyboardInterrupt, typer.Abort):
+        _fail("interrupted", EXIT_INTERRUPTED, "")
+    except typer.Exit as e:
+        sys.exit(e.exit_code)
+    except BrokenPipeError:
+        sys.exit(EXIT_INTERNAL)
+    except Exception as e:
+        # Usage errors of the (vendored) click parser carry these two attributes.
+        if hasattr(e, "format_message") and isinstance(getattr(e, "exit_code", None), int):
+            if type(e).__name__ == "NoArgsIsHelpError":  # `multibots` alone: the help, as click shows it
+                print(e.format_message(), file=sys.stderr)
+                sys.exit(EXIT_INPUT)
+            _fail(e.format_message(), EXIT_INPUT)
+        if os.environ.get("MULTIBOTS_DEBUG"):
+            raise
+        _fail(f"{type(e).__name__}: {e} (set MULTIBOTS_DEBUG=1 for the traceback)", EXIT_INTERNAL, "internal error: ")
+    except BaseException as e:  # PyO3's PanicException derives from BaseException
+        if isinstance(e, (SystemExit, GeneratorExit)) or os.environ.get("MULTIBOTS_DEBUG"):
+            raise
+        _fail(f"{type(e).__name__}: {e}", EXIT_INTERNAL, "internal error: ")
+    if rv == EXIT_INTERRUPTED:  # typer turns Ctrl-C into a silent exit code
+        _fail("interrupted", EXIT_INTERRUPTED, "")
+    if isinstance(rv, int) and rv != 0:
+        sys.exit(rv)

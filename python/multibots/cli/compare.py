@@ -1,0 +1,85 @@
+"""``multibots compare``: strategies against each other on paired runs, with confidence
+intervals and tests; finished runs are kept in ``runs.jsonl`` and reused when nothing that
+changes their result has changed."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from multibots.exceptions import InputError
+
+__all__ = ["DEFAULT_STRATEGIES", "compare"]
+
+DEFAULT_STRATEGIES = "in-turn,nearest,hungarian,auction,energy-aware,min-cost"
+
+
+def compare(
+    strategies: str = typer.Option(
+        DEFAULT_STRATEGIES, "--strategies",
+        help="Comma-separated strategies: built-ins, package.module:Class, module:Class or path/to/file.py:Class.",
+    ),
+    robots: str = typer.Option(
+        "1..6", "--robots", help="Fleet sizes: a range such as 1..6 (inclusive) or a list such as 1,2,4."
+    ),
+    tasks: str = typer.Option(
+        "paper", "--tasks", help="paper (TABLE III's five lists) or random:K (K goods per list, one list per seed)."
+    ),
+    seeds: int = typer.Option(30, "--seeds", help="With --tasks random:K: how many random lists (seeds 1..SEEDS)."),
+    out: Path = typer.Option(
+        Path("out/compare"), "--out",
+        help="Folder for results.csv, summary.csv, summary.txt, the figures and the run journal runs.jsonl.",
+    ),
+    workers: int = typer.Option(
+        0, "--workers", help="Threads (built-ins) or processes (Python strategies); 0: one per core."
+    ),
+    scenario: Optional[Path] = typer.Option(
+        None, "--scenario", show_default=False,
+        help="A scenario file whose other fields (cost weights, charging, robot, ...) every run uses.",
+    ),
+    plots: bool = typer.Option(True, "--plots/--no-plots", help="Draw T, S, C and Cost_total against N."),
+    quiet: bool = typer.Option(False, "--quiet", help="No progress bar."),
+) -> None:
+    """Compare task-allocation strategies on paired runs: CSV, summary with 95% CIs and tests, plots.
+
+    Finished runs are kept in OUT/runs.jsonl; a run whose scenario, strategy source and engine
+    build are unchanged is reused, not run again (delete the file to start over).
+    """
+    from multibots.experiments import compare as study
+    from multibots.scenario import Scenario
+
+    names = study.parse_strategies(strategies)
+    ns = study.parse_robots(robots)
+    spec = study.parse_tasks(tasks)
+    if workers < 0:
+        raise InputError(f"--workers = {workers}: must be 0 or more")
+    if spec.kind == "random" and seeds < 1:
+        raise InputError(f"--seeds = {seeds}: must be 1 or more")
+    base = Scenario.from_toml(scenario) if scenario is not None else None
+    # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
+    total = len(study.plan_runs(names, ns, spec, seeds, base))
+    journal = out / "runs.jsonl"
+    had_journal = journal.exists()
+    reuse: list[int] = []
+    start = time.perf_counter()
+    with study.progress_bar(total, enabled=not quiet) as bar:
+        rows = study.run_study(
+            names, ns, spec, seeds, workers, base, progress=bar.advance, journal=journal,
+            reused=lambda k, n: reuse.append(k),
+        )
+    seconds = time.perf_counter() - start
+    summary = study.summarize(rows)
+    print(study.format_summary(summary, spec.label))
+    lists = 5 if spec.kind == "paper" else seeds
+    print(
+        f"\n{total} runs ({len(names)} strategies x {len(ns)} fleet sizes x {lists} task lists) in {seconds:.1f} s"
+        f" on {workers or os.cpu_count()} workers"
+    )
+    if had_journal:  # also when it reused nothing: an edited strategy or a new engine build
+        print(f"reused {reuse[0] if reuse else 0} of {total} runs from {journal}")
+    for p in study.write_outputs(rows, summary, out, spec.label, plots=plots):
+        print(f"wrote {p}")

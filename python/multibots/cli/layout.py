@@ -1,0 +1,109 @@
+"""``multibots layout``: draw a layout (the group's own command), ``layout generate`` and
+``layout check``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from multibots.cli._common import parse_cells
+from multibots.exceptions import InputError, ScenarioError
+
+__all__ = ["app"]
+
+app = typer.Typer(help="Draw or generate warehouse layouts.", invoke_without_command=True, no_args_is_help=False)
+
+
+@app.callback(invoke_without_command=True)
+def layout(
+    ctx: typer.Context,
+    out: Path = typer.Option(Path("layout.png"), "--out", help="Figure file: .png, .svg or .pdf."),
+    name: str = typer.Option("paper", "--layout", help="Layout to draw: a name or a layout file."),
+    goods: Optional[str] = typer.Option(
+        None, "--goods", help="Cells to draw full (red), such as 11,8,39.", show_default=False
+    ),
+    as_json: bool = typer.Option(False, "--json", help="Print the layout JSON instead of drawing."),
+) -> None:
+    """Draw a layout like the paper's Fig. 2: cells, highways, zones and chargers."""
+    if ctx.invoked_subcommand is not None:
+        return
+    from multibots.simulation import layout_json
+
+    data = layout_json(name)
+    if as_json:
+        print(json.dumps(data))
+        return
+    if out.suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise InputError(f"--out = '{out}': the figure must be .png, .svg or .pdf")
+    full = None
+    if goods is not None:
+        cells = parse_cells(goods)
+        n = len(data["cells"])
+        bad = [c for c in cells if not 0 <= c < n]
+        if bad:
+            raise InputError(f"--goods = {bad[0]}: cell id out of range 0..{n - 1}")
+        wanted = set(cells)
+        full = [1 if i in wanted else 0 for i in range(n)]
+    from multibots.plots import draw_layout
+
+    path = draw_layout(data, out, cells_full=full)
+    print(f"wrote {path}")
+
+
+# Engine field names of the generator and the flags that set them, for its error messages.
+_FLAGS = {
+    "group_rows": "--group-rows",
+    "group_cols": "--group-cols",
+    "group_width": "--group-size",
+    "group_height": "--group-size",
+    "aisle": "--aisle",
+    "cell": "--cell",
+    "chargers": "--chargers",
+    "spur": "--spur",
+}
+
+
+@app.command("generate")
+def generate(
+    out: Path = typer.Option(Path("layout.toml"), "--out", help="Layout file to write (TOML)."),
+    group_rows: int = typer.Option(2, "--group-rows", help="Rows of storage groups (R)."),
+    group_cols: int = typer.Option(5, "--group-cols", help="Columns of storage groups (C)."),
+    group_size: str = typer.Option("2x4", "--group-size", help="Cells across x down a group (across: 1 or 2)."),
+    aisle: float = typer.Option(50.0, "--aisle", help="Aisle width, px."),
+    cell: float = typer.Option(50.0, "--cell", help="Side of a storage cell, px."),
+    chargers: Optional[int] = typer.Option(
+        None, "--chargers", help="Chargers along the top aisle (default C + 1).", show_default=False
+    ),
+    spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px."),
+    name: str = typer.Option("generated", "--name", help="The layout's name."),
+) -> None:
+    """Generate a grid warehouse layout file (the defaults give the paper's layout)."""
+    from multibots._io import atomic_write_text
+    from multibots.layouts import check_layout_text, generate_layout
+
+    try:
+        text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name)
+    except ScenarioError as e:
+        msg = str(e)
+        for field, flag in _FLAGS.items():
+            msg = msg.replace(f"layout.{field} =", f"{flag} =")
+        raise ScenarioError(msg) from None
+    path = atomic_write_text(out, text)
+    data = check_layout_text(text, str(path))
+    highway = sum(1 for n in data["nodes"] if n["kind"] == "highway")
+    print(
+        f"wrote {path}: {highway} crossings, {len(data['edges'])} edges, {len(data['cells'])} cells, "
+        f"{len(data['chargers'])} chargers"
+    )
+
+
+@app.command("check")
+def check(path: Path = typer.Argument(..., help="A layout file (TOML).")) -> None:
+    """Check a layout file: names, numbers, and that robots can reach and leave everything."""
+    from multibots.layouts import check_layout_file
+
+    data = check_layout_file(path)
+    print(f"{path}: ok ({len(data['nodes'])} nodes, {len(data['edges'])} edges, {len(data['cells'])} cells)")

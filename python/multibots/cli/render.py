@@ -1,0 +1,30 @@
+"""``multibots render``: export a replay to MP4 or GIF (needs the ``render`` extra)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+__all__ = ["render"]
+
+
+def render(
+    replay: Path = typer.Argument(..., metavar="REPLAY", help="The replay (.mbr) to export."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output file: .mp4 or .gif."),
+    fps: int = typer.Option(30, "--fps", help="Video frames per second."),
+    start: int = typer.Option(0, "--from", help="First replay frame (step) to export."),
+    end: Optional[int] = typer.Option(None, "--to", help="Last replay frame (step) to export (default: the last)."),
+    scale: float = typer.Option(1.0, "--scale", help="Pixels per warehouse px (0.25 to 4)."),
+    every: int = typer.Option(1, "--every", help="Export every K-th step (1 = every step)."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
+) -> None:
+    """Export a replay to MP4 or GIF, drawn exactly as the viewer page draws it.
+
+    Needs the 'render' extra (pip install 'multibots[render]') and a Chromium.
+    """
+    from multibots.render import render as export
+
+    info = export(replay, out, fps=fps, start=start, end=end, scale=scale, every=every, progress=not quiet)
+    print(f"wrote {info['path']}: {info['frames']} frames, {info['width']}x{info['height']}, {info['fps']} fps")

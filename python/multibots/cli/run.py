@@ -1,0 +1,119 @@
+"""``multibots run``: one scenario, from a file or the quick-run flags, as a table or one JSON
+object. A run that ends incomplete exits with code 3."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Any, Optional
+
+import typer
+
+from multibots.cli._common import (
+    EXIT_INCOMPLETE,
+    GOODS,
+    MARGIN,
+    ROBOTS,
+    STARTS,
+    STEP_LIMIT,
+    UNLOAD,
+    quick_scenario,
+)
+from multibots.exceptions import ScenarioError
+
+__all__ = ["lifelong_lines", "result_lines", "run"]
+
+
+def run(
+    scenario: Optional[Path] = typer.Argument(None, help="A scenario file (TOML).", show_default=False),
+    robots: Optional[str] = ROBOTS,
+    goods: Optional[str] = GOODS,
+    starts: Optional[str] = STARTS,
+    unload: Optional[str] = UNLOAD,
+    margin: Optional[str] = MARGIN,
+    step_limit: Optional[str] = STEP_LIMIT,
+    as_json: bool = typer.Option(
+        False, "--json", help="Print one JSON object on stdout (the same keys for every run; floats rounded)."
+    ),
+    record: Optional[Path] = typer.Option(
+        None, "--record", help="Write a replay of every step to this file.", show_default=False
+    ),
+    allocator: Optional[str] = typer.Option(
+        None, "--allocator", show_default=False,
+        help="Task-allocation strategy: a built-in (in-turn, nearest, hungarian, auction, energy-aware, min-cost), "
+        "package.module:Class, module:Class for a module in the current folder, or path/to/file.py:Class.",
+    ),
+    horizon: Optional[int] = typer.Option(
+        None, "--horizon", help="Lifelong scenarios: steps to run (overrides orders.horizon).", show_default=False
+    ),
+) -> None:
+    """Run one scenario, from a file or from the quick-run flags on the paper layout.
+
+    Exits with code 3 when the run ends incomplete (the step limit came first).
+    """
+    from multibots.result import Result
+    from multibots.simulation import simulate
+
+    s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit)
+    if allocator is not None:
+        s = s.replace(allocator=allocator)
+    lifelong = s.to_dict().get("orders") is not None
+    if horizon is not None:
+        if not lifelong:
+            raise ScenarioError(f"--horizon = {horizon}: only for lifelong scenarios (with [orders])")
+        s = s.replace(orders={"horizon": horizon})
+    result: Result = simulate(s, record=record)
+    if as_json:
+        print(json.dumps(result.to_dict(rounded=True), separators=(",", ":")))
+    else:
+        print("\n".join(lifelong_lines(result) if lifelong else result_lines(result)))
+        if record is not None:
+            print(f"\nreplay written to {record}")
+    if result.outcome == "incomplete":
+        print(
+            f"multibots: the run ended incomplete: {result.delivered} of {result.goods_total} goods delivered "
+            f"in {result.steps} steps (exit code {EXIT_INCOMPLETE})",
+            file=sys.stderr,
+        )
+        raise typer.Exit(EXIT_INCOMPLETE)
+
+
+def result_lines(result: Any) -> list[str]:
+    """The indicators of a run with a task list, and a line per robot."""
+    t = "-" if result.T is None else str(result.T)
+    lines = [
+        f"outcome    {result.outcome}",
+        f"T (steps)  {t}",
+        f"S          {result.S}",
+        f"C          {result.C}",
+        f"delivered  {result.delivered}/{result.goods_total} in {result.steps} steps",
+    ]
+    if result.stranded:
+        lines.append(f"stranded   robots {', '.join(map(str, result.stranded))}")
+    lines += ["", "robot  delivered  distance  waits  S  C  energy used"]
+    for i in range(len(result.distance)):
+        lines.append(
+            f"{i:>5}  {result.robot_delivered[i]:>9}  {result.distance[i]:>8.0f}  {result.wait_steps[i]:>5}"
+            f"  {result.collisions[i]}  {result.charges[i]}  {result.energy_used[i]:>11.3f}"
+        )
+    return lines
+
+
+def lifelong_lines(result: Any) -> list[str]:
+    """The figures of a lifelong run, as aligned lines."""
+    ll = result.lifelong
+
+    def opt(v: Any, fmt: str = "{}") -> str:
+        return "-" if v is None else fmt.format(v)
+
+    return [
+        f"outcome      {result.outcome} after {result.steps} steps, {len(result.distance)} robots",
+        f"throughput   {ll['throughput']:.2f} deliveries per 1,000 steps",
+        f"orders       {ll['ordered']} = {result.delivered} delivered + {ll['in_flight']} in flight"
+        f" + {ll['queued']} queued + {ll['waiting']} waiting for stock",
+        f"latency      p50 {opt(ll['latency_p50'])}, p95 {opt(ll['latency_p95'])}, p99 {opt(ll['latency_p99'])} steps",
+        f"utilisation  {ll['utilisation']:.1%} of robot-steps on orders",
+        f"energy       {opt(ll['energy_per_delivery'], '{:.3f}')} per delivery",
+        f"S, C         {result.S}, {result.C}",
+    ]

@@ -1,0 +1,88 @@
+"""The journal of a study's finished runs (``runs.jsonl``): resume after a kill, reuse what
+cannot have changed, re-run what can.
+
+A run is keyed by everything that changes its result:
+
+- the scenario, as its TOML text (every field, defaults filled in, the strategy's name too);
+- the strategy's code: for a Python strategy the SHA-256 of its module's source file, so an
+  edited strategy runs again; a built-in's code is the engine's;
+- the engine: ``multibots.__version__`` and the SHA-256 of the ``_core`` extension file, so a
+  rebuilt engine runs everything again.
+
+The key is the SHA-256 of these, so a journal only ever answers for the very same run.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from multibots.scenario import Scenario
+from multibots.strategies import is_python_allocator, strategy_source
+
+__all__ = ["Journal", "engine_id", "run_key", "strategy_id"]
+
+
+@functools.lru_cache(maxsize=1)
+def engine_id() -> str:
+    """The engine build: the package version and a hash of the compiled extension's bytes."""
+    import multibots
+    from multibots import _core
+
+    digest = hashlib.sha256(Path(_core.__file__).read_bytes()).hexdigest()
+    return f"{multibots.__version__}+{digest[:16]}"
+
+
+def strategy_id(name: str) -> str:
+    """What a strategy's code is: ``builtin:<name>``, or the hash of a Python strategy's source."""
+    if not is_python_allocator(name):
+        return f"builtin:{name}"
+    return "python:" + hashlib.sha256(strategy_source(name)).hexdigest()
+
+
+def run_key(scenario: Scenario, strategy: str, engine: str) -> str:
+    """The journal key of a run: ``strategy`` and ``engine`` are :func:`strategy_id` and
+    :func:`engine_id` (computed once per study, not per run)."""
+    blob = json.dumps({"scenario": scenario.to_toml(), "strategy": strategy, "engine": engine}, sort_keys=True)
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+class Journal:
+    """Finished runs, appended one JSON line each and flushed to disk as they finish, so that
+    a study that is killed loses no finished run: run it again and it resumes.
+
+    A line cut short by a kill is ignored; lines of runs that no longer match (an edited
+    strategy, another engine) stay in the file but are never read back for a new key.
+    """
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        self.existed = self.path.exists()
+        self.done: dict[str, dict[str, Any]] = {}
+        if self.existed:
+            for line in self.path.read_text(encoding="utf-8").splitlines():
+                try:
+                    entry = json.loads(line)
+                    self.done[entry["key"]] = entry["result"]
+                except (ValueError, KeyError, TypeError):
+                    continue
+
+    def record(self, entries: Sequence[tuple[str, dict[str, Any]]]) -> None:
+        """Appends (key, result) pairs and flushes them to disk."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with self.path.open("a+b") as f:
+            # A kill may have cut the last line short: start on a line of our own.
+            if f.tell() > 0:
+                f.seek(-1, os.SEEK_END)
+                if f.read(1) != b"\n":
+                    f.write(b"\n")
+            for key, result in entries:
+                self.done[key] = result
+                f.write((json.dumps({"key": key, "result": result}, separators=(",", ":")) + "\n").encode())
+            f.flush()
+            os.fsync(f.fileno())

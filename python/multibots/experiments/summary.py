@@ -1,0 +1,299 @@
+"""What a strategy study's rows add up to: means with confidence intervals, paired tests
+against ``in-turn``, the text tables ``multibots compare`` prints (at most 100 columns), and
+the files it writes.
+
+Every indicator (T, S, C, Cost_total) is 0 or more, so its confidence interval is clipped at
+0: with few task lists and many zero counts, mean - t·sd/√n can fall below 0, and a count
+cannot. A clipped interval is no longer symmetric about the mean.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+import statistics
+import sys
+import textwrap
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Any, Optional
+
+from multibots import stats
+from multibots._io import atomic_write_text
+
+__all__ = [
+    "BASELINE",
+    "METRICS",
+    "RESULT_FIELDS",
+    "SUMMARY_FIELDS",
+    "WIDTH",
+    "format_summary",
+    "headline",
+    "progress_bar",
+    "summarize",
+    "write_outputs",
+]
+
+#: The indicators summarised, in order; "cost" is Cost_total.
+METRICS: tuple[str, ...] = ("T", "S", "C", "cost")
+#: The range of each indicator, which its confidence interval is clipped to.
+METRIC_RANGE: dict[str, tuple[float, Optional[float]]] = {m: (0.0, None) for m in METRICS}
+#: The strategy every other one is tested against.
+BASELINE = "in-turn"
+#: The widest line the text tables print.
+WIDTH = 100
+
+RESULT_FIELDS = [
+    "strategy", "N", "tasks", "list", "T", "S", "C", "distance", "cost", "outcome", "delivered", "goods_total",
+]
+SUMMARY_FIELDS = [
+    "strategy", "N", "metric", "n", "mean", "sd", "ci_low", "ci_high",
+    "pairs", "diff_vs_in_turn", "rel_diff_pct", "p_ttest", "p_wilcoxon",
+]
+_NAMES = {"T": "T (steps)", "S": "S (collisions)", "C": "C (charges)", "cost": "Cost_total"}
+
+
+# --- statistics ---------------------------------------------------------------------------
+
+
+def _paired(xs: Sequence[float], ys: Sequence[float]) -> tuple[Optional[float], Optional[float]]:
+    """p-values of the paired t-test and the Wilcoxon signed-rank test of ys against xs."""
+    diffs = [y - x for x, y in zip(xs, ys)]
+    if len(diffs) < 2:
+        return None, None
+    if all(d == 0 for d in diffs):
+        # No difference at all: both tests are undefined (zero variance); nothing to reject.
+        return 1.0, 1.0
+    # A constant non-zero difference: the t statistic is infinite.
+    p_t = 0.0 if len(set(diffs)) == 1 else stats.paired_t_test(xs, ys)
+    return p_t, stats.wilcoxon(diffs)
+
+
+def _value(row: dict[str, Any], metric: str) -> Optional[float]:
+    v = row[metric]
+    return None if v is None else float(v)
+
+
+def summarize(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """Summary rows: per strategy, N (and "all") and metric, the mean with its 95% CI and,
+    against the baseline, the paired difference and tests (see the module docstring)."""
+    strategies = list(dict.fromkeys(r["strategy"] for r in rows))
+    ns = sorted({r["N"] for r in rows})
+    by_key = {(r["strategy"], r["N"], r["list"]): r for r in rows}
+    lists = list(dict.fromkeys(r["list"] for r in rows))
+    has_baseline = any(k[0] == BASELINE for k in by_key)
+    out = []
+    for s in strategies:
+        for n in [*ns, "all"]:
+            keys = [(s, m, li) for m in (ns if n == "all" else [n]) for li in lists]
+            for metric in METRICS:
+                vals = [v for k in keys if k in by_key and (v := _value(by_key[k], metric)) is not None]
+                low, high = METRIC_RANGE[metric]
+                mean, sd, lo, hi = stats.mean_ci(vals, 0.95, low=low, high=high)
+                row: dict[str, Any] = {
+                    "strategy": s, "N": n, "metric": metric, "n": len(vals),
+                    "mean": mean, "sd": sd, "ci_low": lo, "ci_high": hi,
+                    "pairs": None, "diff_vs_in_turn": None, "rel_diff_pct": None, "p_ttest": None, "p_wilcoxon": None,
+                }
+                if s != BASELINE and has_baseline:
+                    row.update(_against_baseline(by_key, keys, metric))
+                out.append(row)
+    return out
+
+
+def _against_baseline(by_key: dict[Any, dict[str, Any]], keys: list[Any], metric: str) -> dict[str, Any]:
+    xs, ys = [], []
+    for k in keys:
+        b = by_key.get((BASELINE, k[1], k[2]))
+        mine = by_key.get(k)
+        if b is None or mine is None:
+            continue
+        x, y = _value(b, metric), _value(mine, metric)
+        if x is not None and y is not None:
+            xs.append(x)
+            ys.append(y)
+    if not xs:
+        return {}
+    diff = statistics.fmean(ys) - statistics.fmean(xs)
+    base_mean = statistics.fmean(xs)
+    p_t, p_w = _paired(xs, ys)
+    return {
+        "pairs": len(xs), "diff_vs_in_turn": diff,
+        "rel_diff_pct": (100.0 * diff / base_mean) if base_mean else None,
+        "p_ttest": p_t, "p_wilcoxon": p_w,
+    }
+
+
+def headline(summary: Sequence[dict[str, Any]], metric: str) -> Optional[dict[str, Any]]:
+    """The strategy with the lowest mean of ``metric`` pooled over N, with its pooled row."""
+    pooled = [r for r in summary if r["N"] == "all" and r["metric"] == metric and r["mean"] is not None]
+    if not pooled:
+        return None
+    # Ties go to the strategy named first.
+    return min(pooled, key=lambda r: r["mean"])
+
+
+# --- text ---------------------------------------------------------------------------------
+
+
+def _fmt(v: Optional[float], digits: int = 1) -> str:
+    return "-" if v is None else f"{v:.{digits}f}"
+
+
+def _fmt_p(p: Optional[float]) -> str:
+    if p is None:
+        return "-"
+    return "<0.001" if p < 0.001 else f"{p:.3f}"
+
+
+def _p_is(p: Optional[float]) -> str:
+    return "p < 0.001" if p is not None and p < 0.001 else f"p = {_fmt_p(p)}"
+
+
+def _label_width(labels: Iterable[str]) -> int:
+    """The label column: as wide as the labels up to 24 characters; a longer label gets a line
+    of its own (:func:`_labelled`)."""
+    return max([8, *(len(s) for s in labels if len(s) <= 24)])
+
+
+def _labelled(label: str, width: int, rest: str) -> list[str]:
+    if len(label) <= width:
+        return [f"{label:<{width}}{rest}"]
+    return [label, f"{'':<{width}}{rest}"]
+
+
+def _grid(title: str, labels: list[str], columns: list[str], cells: dict[tuple[str, str], str]) -> list[str]:
+    """A table of ``cells[label, column]``, split into blocks of columns that fit :data:`WIDTH`."""
+    w = _label_width(labels)
+    cw = max(len(c) for c in [*columns, *cells.values()])
+    per_block = max(1, (WIDTH - w) // (cw + 3))
+    lines = [title]
+    for b in range(0, len(columns), per_block):
+        block = columns[b:b + per_block]
+        head = f"{'strategy':<{w}}" + "".join(f" | {c:^{cw}}" for c in block)
+        if b:
+            lines.append("")
+        lines += [head, "-" * len(head)]
+        for s in labels:
+            lines += _labelled(s, w, "".join(f" | {cells[s, c]:^{cw}}" for c in block).rstrip())
+    return lines
+
+
+def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> str:
+    """The summary as plain text, at most :data:`WIDTH` columns: per metric, mean [95% CI] per
+    strategy and N (in blocks of N that fit), then the paired tests, headlines first."""
+    strategies = list(dict.fromkeys(r["strategy"] for r in summary))
+    ns = list(dict.fromkeys(r["N"] for r in summary))
+    idx = {(r["strategy"], r["N"], r["metric"]): r for r in summary}
+    lines = []
+    if spec_label:
+        lines.append(f"task lists: {spec_label}")
+    for metric in METRICS:
+        digits = 0 if metric in ("T", "cost") else 2
+        cells = {}
+        for s in strategies:
+            for n in ns:
+                r = idx[(s, n, metric)]
+                ci = "" if r["ci_low"] is None else f" [{_fmt(r['ci_low'], digits)}, {_fmt(r['ci_high'], digits)}]"
+                cells[s, f"N={n}"] = _fmt(r["mean"], digits) + ci
+        lines.append("")
+        lines += _grid(f"{_NAMES[metric]}: mean [95% CI]", strategies, [f"N={n}" for n in ns], cells)
+    if any(r["pairs"] for r in summary):
+        lines += ["", f"against {BASELINE}, pooled over N (paired; diff = strategy - {BASELINE}; negative is better):"]
+        w = _label_width(strategies)
+        head = f"{'strategy':<{w}} | metric | pairs |     diff |  diff % | p (t-test) | p (Wilcoxon)"
+        lines += [head, "-" * len(head)]
+        for s in strategies:
+            first = True
+            for metric in METRICS:
+                r = idx.get((s, "all", metric))
+                if r is None or not r["pairs"]:
+                    continue
+                label = s if first or len(s) <= w else ""  # a long name once, on its own line
+                first = False
+                rest = (
+                    f" | {metric:>6} | {r['pairs']:>5} | {_fmt(r['diff_vs_in_turn'], 1):>8} | "
+                    f"{_fmt(r['rel_diff_pct'], 1):>7} | {_fmt_p(r['p_ttest']):>10} | {_fmt_p(r['p_wilcoxon']):>12}"
+                )
+                lines += _labelled(label, w, rest)
+    for metric in ("T", "cost"):
+        best = headline(summary, metric)
+        if best is None:
+            continue
+        base = idx.get((BASELINE, "all", metric))
+        text = f"best on {_NAMES[metric]} (mean over every N and list): {best['strategy']} with {_fmt(best['mean'], 1)}"
+        if base is not None and base["mean"] and best["strategy"] != BASELINE:
+            d = best["mean"] - base["mean"]
+            text += (
+                f", {abs(d):.1f} ({abs(100 * d / base['mean']):.1f}%) {'below' if d < 0 else 'above'} {BASELINE}"
+                f" ({_fmt(base['mean'], 1)}); paired t-test {_p_is(best['p_ttest'])},"
+                f" Wilcoxon {_p_is(best['p_wilcoxon'])}"
+            )
+        wrapped = textwrap.wrap(text, WIDTH, subsequent_indent="  ", break_on_hyphens=False)
+        lines[0:0] = wrapped
+    return "\n".join(lines).lstrip("\n")
+
+
+# --- files --------------------------------------------------------------------------------
+
+
+def _csv(rows: Iterable[dict[str, Any]], fields: Sequence[str]) -> str:
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=list(fields), lineterminator="\n")
+    w.writeheader()
+    for r in rows:
+        w.writerow({
+            k: ("" if r.get(k) is None else (f"{r[k]:.6g}" if isinstance(r[k], float) else r[k])) for k in fields
+        })
+    return buf.getvalue()
+
+
+def write_outputs(
+    rows: Sequence[dict[str, Any]], summary: Sequence[dict[str, Any]], out: str | os.PathLike[str],
+    spec_label: str = "", plots: bool = True,
+) -> list[Path]:
+    """Writes results.csv, summary.csv, summary.txt (atomically) and the figures."""
+    out = Path(out)
+    written = [
+        atomic_write_text(out / "results.csv", _csv(rows, RESULT_FIELDS)),
+        atomic_write_text(out / "summary.csv", _csv(summary, SUMMARY_FIELDS)),
+        atomic_write_text(out / "summary.txt", format_summary(summary, spec_label) + "\n"),
+    ]
+    if plots:
+        from multibots.plots import draw_strategy_comparison
+
+        per_n = [r for r in summary if r["N"] != "all"]
+        written += draw_strategy_comparison(per_n, out)
+    return written
+
+
+def progress_bar(total: int, enabled: bool = True) -> Any:
+    """A rich progress bar on stderr; a context manager whose ``advance(k)`` moves it."""
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    class Bar:
+        def __enter__(self) -> Bar:
+            self.p = Progress(
+                TextColumn("runs"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn(),
+                console=Console(file=sys.stderr), disable=not enabled, transient=False,
+            )
+            self.p.__enter__()
+            self.task = self.p.add_task("runs", total=total)
+            return self
+
+        def advance(self, k: int) -> None:
+            self.p.advance(self.task, k)
+
+        def __exit__(self, *exc: Any) -> None:
+            self.p.__exit__(*exc)
+
+    return Bar()

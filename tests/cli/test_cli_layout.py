@@ -1,0 +1,78 @@
+"""``multibots layout``: draw, ``generate`` and ``check``, and their one-line errors."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from multibots.layouts import check_layout_file
+
+
+def test_layout_command(cli, tmp_path):
+    for name in ("layout.png", "layout.svg"):
+        p = cli("layout", "--out", tmp_path / name)
+        assert p.returncode == 0, p.stderr
+        assert (tmp_path / name).stat().st_size > 1000
+    p = cli("layout", "--json")
+    assert len(json.loads(p.stdout)["cells"]) == 80
+
+
+def test_bad_layout_output(cli, tmp_path):
+    cli.assert_one_line_error(cli("layout", "--out", tmp_path / "x.txt"), "--out", "x.txt")
+
+
+def test_output_that_is_not_a_regular_file_is_refused(cli, tmp_path):
+    folder = tmp_path / "fig.png"
+    folder.mkdir()
+    cli.assert_one_line_error(cli("layout", "--out", folder), "fig.png", "is a directory")
+    assert folder.is_dir()
+    cli.assert_one_line_error(cli("layout", "generate", "--out", "/dev/null"), "/dev/null", "not a regular file")
+
+
+def test_cli_generate_writes_a_checked_file(cli, tmp_path):
+    out = tmp_path / "wh.toml"
+    p = cli(
+        "layout",
+        "generate",
+        "--group-rows",
+        "3",
+        "--group-cols",
+        "4",
+        "--group-size",
+        "1x6",
+        "--chargers",
+        "2",
+        "--out",
+        str(out),
+    )
+    assert p.returncode == 0, p.stderr
+    assert "wrote" in p.stdout and "20 crossings" in p.stdout
+    data = check_layout_file(out)
+    assert len(data["cells"]) == 3 * 4 * 6
+    assert len(data["chargers"]) == 2
+    assert not list(tmp_path.glob(".*.tmp")), "no temporary file left behind"
+    p = cli("layout", "check", str(out))
+    assert p.returncode == 0 and "ok" in p.stdout
+    # The drawing command takes a layout file too.
+    p = cli("layout", "--layout", str(out), "--json")
+    assert p.returncode == 0, p.stderr
+    assert json.loads(p.stdout)["cells"] == data["cells"]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--group-rows", "0"], "--group-rows = 0: must be at least 1"),
+        (["--group-cols", "0"], "--group-cols = 0: must be at least 1"),
+        (["--group-size", "3x4"], "--group-size = 3: must be 1 or 2"),
+        (["--group-size", "2by4"], "--group-size = '2by4': expected WxH"),
+        (["--chargers", "9"], "--chargers = 9: must be between 1 and 6"),
+        (["--aisle", "0"], "--aisle = 0: must be greater than 0"),
+    ],
+)
+def test_cli_generate_errors_are_one_line_exit_2(cli, tmp_path, args, message):
+    p = cli("layout", "generate", "--out", str(tmp_path / "x.toml"), *args)
+    assert p.returncode == 2, (p.stdout, p.stderr)
+    assert p.stderr.count("\n") == 1 and message in p.stderr, p.stderr
+    assert not (tmp_path / "x.toml").exists()
