@@ -12,7 +12,10 @@ RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml 2>/dev/null
 export VIRTUAL_ENV := $(VENV)
 export PATH := $(VENV)/bin:$(PATH)
 
-.PHONY: help run test test-rust test-python bench lint develop browser clean
+.PHONY: help run test test-rust test-python bench lint develop browser clean schema
+
+schema: ## regenerate docs/schema/*.json and the field tables of docs/scenario-format.md
+	cargo run -q -p multibots-core --example schema
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
@@ -29,8 +32,10 @@ bench: develop ## benchmarks: criterion and Python scripts; figures go to docs/b
 	cargo bench -p multibots-core --bench step -- --quick
 	$(PY) benchmarks/run_all.py
 
-lint: develop ## clippy, ruff, and the stubs against the binary
+lint: develop ## clippy, rustfmt, ruff, the generated schema and docs, and the stubs against the binary
 	cargo clippy --workspace --all-targets -- -D warnings
+	cargo fmt --all -- --check
+	cargo run -q -p multibots-core --example schema -- --check
 	$(PY) -m ruff check .
 	cd python && $(PY) -m mypy.stubtest multibots._core
 

@@ -47,11 +47,8 @@ def test_ctrl_c_stops_a_long_run_with_one_line_and_no_half_written_replay(cli, t
     import time
 
     scenario = tmp_path / "long.toml"
-    # Stranded with goods undelivered, the robot leaves the run nothing to do but reach the limit.
-    scenario.write_text(
-        'robots = 1\ntasks = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]\nunload = "R"\n'
-        "step_limit = 2000000000\n[robot]\nthreshold = 0.0\n"
-    )
+    # Lifelong orders with a horizon far away: the robot works on and on.
+    scenario.write_text('robots = 1\ntasks = []\n[orders]\nrate = 0.01\nhorizon = 2000000000\n')
     replay = tmp_path / "long.mbr"
     p = cli.popen("run", scenario, "--record", replay)
     time.sleep(3)

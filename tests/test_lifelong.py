@@ -29,9 +29,10 @@ def test_conservation_while_stepping():
         ll = raw["lifelong"]
         assert ll["ordered"] == raw["delivered"] + ll["in_flight"] + ll["queued"] + ll["waiting"]
     assert sim.outcome == "horizon" and sim.t == 2000
-    assert ll["throughput"] == raw["delivered"] / 2.0
+    assert raw["throughput"] == raw["delivered"] / 2.0
+    assert sum(raw["windows"]) == raw["delivered"] and len(raw["windows"]) == 2
     assert ll["latency_p50"] <= ll["latency_p95"] <= ll["latency_p99"]
-    assert 0 < ll["utilisation"] <= 1
+    assert 0 < raw["utilisation"] <= 1 and 0 <= raw["wait_share"] <= 1 - raw["utilisation"]
 
 
 def test_same_scenario_same_bytes():

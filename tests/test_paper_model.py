@@ -145,13 +145,14 @@ def test_no_deadlock_in_500_random_scenarios(margin):
     assert all(r.delivered == len(s.cells) for s, r in zip(scenarios, results))
 
 
-def test_stranded_robots_end_the_run_incomplete():
+def test_stranded_robots_end_the_run_stranded():
     # A low threshold leaves no reserve: a robot marked to charge still carries its goods to R,
-    # far from its home at A, and runs out of energy on the way.
+    # far from its home at A, and runs out of energy on the way. Once both are stranded nothing
+    # more can happen, and the run ends then, not at the step limit.
     s = Scenario.paper(robots=2, goods=PAPER_TASKS[1], unload="R", step_limit=20_000, robot={"threshold": 0.3})
     r = simulate(s)
-    assert r.outcome == "incomplete" and r.T is None
-    assert r.steps == 20_000
+    assert r.outcome == "stranded" and r.T is None
+    assert r.steps == 2000
     assert r.stranded, "some robot must be stranded"
     assert r.delivered < 10
     sim = Simulation(s)

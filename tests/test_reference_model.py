@@ -102,12 +102,12 @@ def test_step_limit_makes_run_incomplete():
 
 def test_robot_strands_when_energy_runs_out():
     # 1.0 energy lasts 200 steps; the threshold rule sends it home from the middle of its
-    # first trip, and it runs dry on the way.
+    # first trip, and it runs dry on the way: the run ends the step the fleet is stranded.
     res = ref.run([42], robots=1, energy_full=1.0, threshold=0.5, step_limit=3000)
-    assert res["outcome"] == "incomplete" and res["T"] is None
+    assert res["outcome"] == "stranded" and res["T"] is None
     assert res["stranded"] == [0]
     assert res["delivered"] == 0
-    assert res["steps"] == 3000
+    assert res["steps"] == 200
 
 
 def test_marked_robot_charges_after_unloading():

@@ -6,21 +6,34 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["LIFELONG_KEYS", "Result", "STATE_NAMES"]
+from multibots._core import STATE_NAMES as _STATE_NAMES
 
-#: Robot state names, indexed by the state codes of ``Simulation.states`` and replays.
-STATE_NAMES: tuple[str, ...] = (
-    "IDLE",
-    "TO_PICKUP",
-    "LOADING",
-    "TO_DROP",
-    "UNLOADING",
-    "TO_CHARGER",
-    "CHARGING",
-    "TO_HOME",
-    "PARKED",
-    "STRANDED",
-    "WAIT_CHARGER",
+__all__ = ["FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "Result", "STATE_NAMES"]
+
+#: Robot state names, indexed by the state codes of ``Simulation.states`` and replays (the
+#: engine's own names).
+STATE_NAMES: tuple[str, ...] = tuple(_STATE_NAMES)
+
+#: How a run can end. ``complete``: every goods delivered and every robot home;
+#: ``horizon``: a lifelong run reached its horizon; ``incomplete``: the step limit came first;
+#: ``gridlock``: nothing moved for ``metrics.gridlock`` steps while robots waited at
+#: collisions; ``stranded``: robots ran out of energy and the rest could do nothing;
+#: ``stalled``: nothing happened while robots stood idle with work left.
+OUTCOMES: tuple[str, ...] = ("complete", "horizon", "incomplete", "gridlock", "stranded", "stalled")
+
+#: How well the fleet flowed, for every run (docs/metrics.md): deliveries per window,
+#: throughput after the warm-up and sustained over the last half, the shares of robot-steps
+#: spent waiting and working, contacts, and where a gridlock happened.
+FLOW_KEYS: tuple[str, ...] = (
+    "window",
+    "windows",
+    "throughput",
+    "sustained_throughput",
+    "wait_share",
+    "utilisation",
+    "contacts",
+    "closest",
+    "gridlock",
 )
 
 _ARRAYS = ("distance", "wait_steps", "collisions", "energy_used", "robot_delivered", "charges", "state_steps")
@@ -32,12 +45,10 @@ LIFELONG_KEYS: tuple[str, ...] = (
     "in_flight",
     "queued",
     "waiting",
-    "throughput",
     "latency_p50",
     "latency_p95",
     "latency_p99",
     "latency_mean",
-    "utilisation",
     "energy_per_delivery",
 )
 
@@ -49,8 +60,12 @@ _DECIMALS = {
     "energy_used": 6,
     "energy_per_delivery": 6,
     "throughput": 3,
+    "sustained_throughput": 3,
     "latency_mean": 3,
     "utilisation": 4,
+    "wait_share": 4,
+    "closest": 3,
+    "cost": 2,
 }
 
 
@@ -70,19 +85,30 @@ class Result:
         T: task time in steps, or None when the run is incomplete.
         S: collisions (waits begun).
         C: charging count.
-        outcome: "complete" or "incomplete".
+        outcome: how the run ended, one of :data:`OUTCOMES`.
         steps: steps run.
         delivered: goods delivered; goods_total: goods in the task list.
         stranded: ids of robots that ran out of energy.
-        lifelong: for lifelong runs (``[orders]``), throughput (deliveries per 1,000 steps),
-            latency_p50/p95/p99/mean (steps), utilisation, energy_per_delivery and the order
-            counts (ordered = delivered + in_flight + queued + waiting), the keys of
-            :data:`LIFELONG_KEYS`; None otherwise.
+        cost: Cost_total = w_d * distance + w_t * T + w_c * S with the scenario's weights,
+            or None when the run is incomplete.
+        window, windows, throughput, sustained_throughput, wait_share, utilisation,
+            contacts, closest, gridlock: how the fleet flowed (:data:`FLOW_KEYS`,
+            docs/metrics.md): deliveries in each complete window of ``window`` steps,
+            deliveries per 1,000 steps after the warm-up and over the last half of the
+            windows, the shares of robot-steps spent waiting and working on orders, pairs of
+            robots closer than r_i + r_j after a move and the closest approach, and for a
+            gridlock the step, the waiting robots and the crossings where they wait.
+        lifelong: for lifelong runs (``[orders]``), latency_p50/p95/p99/mean (steps),
+            energy_per_delivery and the order counts (ordered = delivered + in_flight +
+            queued + waiting), the keys of :data:`LIFELONG_KEYS`; None otherwise.
         distance, wait_steps, collisions, energy_used, robot_delivered, charges: one value
             per robot (NumPy arrays); state_steps: (N, 11) steps ending in each state.
     """
 
-    __slots__ = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "stranded", "lifelong", *_ARRAYS)
+    __slots__ = (
+        "T", "S", "C", "outcome", "steps", "delivered", "goods_total", "stranded", "cost", *FLOW_KEYS, "lifelong",
+        *_ARRAYS,
+    )
 
     T: int | None
     S: int
@@ -92,6 +118,16 @@ class Result:
     delivered: int
     goods_total: int
     stranded: list[int]
+    cost: float | None
+    window: int
+    windows: list[int]
+    throughput: float | None
+    sustained_throughput: float | None
+    wait_share: float
+    utilisation: float
+    contacts: int
+    closest: float | None
+    gridlock: dict[str, Any] | None
     lifelong: dict[str, Any] | None
     distance: np.ndarray
     wait_steps: np.ndarray
@@ -126,9 +162,16 @@ class Result:
         robots: dict[str, Any] = {k: getattr(self, k).tolist() for k in _ARRAYS if k != "state_steps"}
         robots["state_steps"] = {name: self.state_steps[:, i].tolist() for i, name in enumerate(STATE_NAMES)}
         lifelong = dict.fromkeys(LIFELONG_KEYS) if self.lifelong is None else dict(self.lifelong)
+        flow = {k: getattr(self, k) for k in FLOW_KEYS}
+        flow["windows"] = list(self.windows)
+        if self.gridlock is not None:
+            g = self.gridlock
+            flow["gridlock"] = {"step": g["step"], "waiting": list(g["waiting"]), "crossings": [list(c) for c in g["crossings"]]}
+        top = {"cost": self.cost, **flow}
         if rounded:
             robots = {k: _rounded(k, v) for k, v in robots.items()}
             lifelong = {k: _rounded(k, v) for k, v in lifelong.items()}
+            top = {k: _rounded(k, v) if k != "windows" else v for k, v in top.items()}
         return {
             "T": self.T,
             "S": self.S,
@@ -138,6 +181,7 @@ class Result:
             "delivered": self.delivered,
             "goods_total": self.goods_total,
             "stranded": list(self.stranded),
+            **top,
             "lifelong": lifelong,
             "robots": robots,
         }

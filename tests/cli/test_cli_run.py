@@ -188,4 +188,4 @@ def test_json_floats_are_rounded(cli):
 def test_the_help_documents_the_exit_codes(cli):
     for args in (["--help"], ["run", "--help"]):
         text = " ".join(cli(*args).stdout.split())
-        assert "3 the run ended incomplete" in text and "2 bad input" in text and "130 interrupted" in text
+        assert "3 the run did not complete" in text and "2 bad input" in text and "130 interrupted" in text

@@ -305,8 +305,13 @@ def _parse_node(value, allowed, what):
 def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
         radius=12.5, speed=4.0, energy_full=10.0, threshold=3.5, consumption=0.005,
         charge_rate=0.05, loading_steps=10, unloading_steps=20, angle_deg=30.0,
-        trace=None):
+        gridlock=2000, trace=None):
     """Run one scenario of the paper model and return its indicators as a dict.
+
+    A run ends complete; or ``stranded`` the step every robot has run out of energy with
+    work left; or, after ``gridlock`` steps in a row in which no robot moved, dwelt or
+    charged while work was left, ``gridlock`` (robots wait at collisions), ``stranded``
+    (some robot is stranded) or ``stalled``; or ``incomplete`` at the step limit.
 
     If ``trace`` is a list, one entry is appended after every step (for debugging):
     ``(t, S, C, delivered, [(x, y, state, marked, energy) for each robot])``.
@@ -344,9 +349,12 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
     max_angle = math.radians(angle_deg)
     unload_target = ("node", unload_node)
     t = 0
+    outcome = "incomplete"
+    stalled = 0
 
     while t < step_limit:
         t += 1
+        progress = False
 
         # 1. Allocate
         for r in fleet:
@@ -412,13 +420,16 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
         for i in range(robots):
             if wants[i] and not waits[i]:
                 fleet[i].move(speed)
+                progress = True
 
         # 5. Dwell
         for r in fleet:
             if r.state == LOADING or r.state == UNLOADING:
                 r.dwell += 1
+                progress = True
             elif r.state == CHARGING:
                 r.energy = min(energy_full, r.energy + charge_rate)
+                progress = True
 
         # 6. Consume
         for r in fleet:
@@ -486,13 +497,26 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
         # 8. End
         if delivered == len(goods) and all(r.at_home() for r in fleet):
             T = t
+            outcome = "complete"
+            break
+        if all(r.state == STRANDED for r in fleet):
+            outcome = "stranded"
+            break
+        stalled = 0 if progress else stalled + 1
+        if gridlock and stalled >= gridlock:
+            if any(waits):
+                outcome = "gridlock"
+            elif any(r.state == STRANDED for r in fleet):
+                outcome = "stranded"
+            else:
+                outcome = "stalled"
             break
 
     return {
         "T": T,
         "S": S,
         "C": C,
-        "outcome": "complete" if T is not None else "incomplete",
+        "outcome": outcome,
         "steps": t,
         "delivered": delivered,
         "distance": [r.distance for r in fleet],

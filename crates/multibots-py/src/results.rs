@@ -17,6 +17,24 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
     d.set_item("goods_total", r.goods_total)?;
     d.set_item("stranded", r.stranded.clone())?;
     d.set_item("cost", r.cost)?;
+    d.set_item("window", r.window)?;
+    d.set_item("windows", r.windows.clone())?;
+    d.set_item("throughput", r.throughput)?;
+    d.set_item("sustained_throughput", r.sustained_throughput)?;
+    d.set_item("wait_share", r.wait_share)?;
+    d.set_item("utilisation", r.utilisation)?;
+    d.set_item("contacts", r.contacts)?;
+    d.set_item("closest", r.closest)?;
+    match &r.gridlock {
+        Some(g) => {
+            let gd = PyDict::new(py);
+            gd.set_item("step", g.step)?;
+            gd.set_item("waiting", g.waiting.clone())?;
+            gd.set_item("crossings", g.crossings.clone())?;
+            d.set_item("gridlock", gd)?;
+        }
+        None => d.set_item("gridlock", py.None())?,
+    }
     let st = &r.robots;
     d.set_item("distance", PyArray1::from_slice(py, &st.distance))?;
     d.set_item("wait_steps", PyArray1::from_slice(py, &st.wait_steps))?;
@@ -34,12 +52,10 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
             ll.set_item("in_flight", l.in_flight)?;
             ll.set_item("queued", l.queued)?;
             ll.set_item("waiting", l.waiting)?;
-            ll.set_item("throughput", l.throughput)?;
             ll.set_item("latency_p50", l.latency_p50)?;
             ll.set_item("latency_p95", l.latency_p95)?;
             ll.set_item("latency_p99", l.latency_p99)?;
             ll.set_item("latency_mean", l.latency_mean)?;
-            ll.set_item("utilisation", l.utilisation)?;
             ll.set_item("energy_per_delivery", l.energy_per_delivery)?;
             d.set_item("lifelong", ll)?;
         }

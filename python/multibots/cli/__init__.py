@@ -10,7 +10,7 @@
 =========  ===============================================================
 
 Exit codes: 0 done; 1 internal error; 2 bad input (one line on stderr naming the field and
-the value); 3 ``run``: the run ended incomplete; 130 interrupted (Ctrl-C).
+the value); 3 ``run``: the run did not complete (incomplete, gridlock, stranded or stalled); 130 interrupted (Ctrl-C).
 """
 
 from __future__ import annotations

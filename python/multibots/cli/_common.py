@@ -34,14 +34,15 @@ EXIT_OK = 0
 EXIT_INTERNAL = 1
 #: Bad input: a scenario, layout, option or file the command cannot use.
 EXIT_INPUT = 2
-#: ``multibots run``: the run ended incomplete (the step limit came before the last delivery).
+#: ``multibots run``: the run did not complete (the step limit came first, or the fleet
+#: gridlocked, stranded or stalled).
 EXIT_INCOMPLETE = 3
 #: Interrupted by Ctrl-C (SIGINT).
 EXIT_INTERRUPTED = 130
 
 EXIT_CODES_HELP = (
     "Exit codes: 0 done; 1 internal error; 2 bad input (one line on stderr naming the field and the value); "
-    "3 the run ended incomplete (run); 130 interrupted (Ctrl-C)."
+    "3 the run did not complete (run); 130 interrupted (Ctrl-C)."
 )
 
 PROG = "multibots"

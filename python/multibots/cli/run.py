@@ -1,5 +1,5 @@
 """``multibots run``: one scenario, from a file or the quick-run flags, as a table or one JSON
-object. A run that ends incomplete exits with code 3."""
+object. A run that does not complete exits with code 3."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from multibots.cli._common import (
 )
 from multibots.exceptions import ScenarioError
 
-__all__ = ["lifelong_lines", "result_lines", "run"]
+__all__ = ["flow_lines", "lifelong_lines", "result_lines", "run", "sparkline"]
 
 
 def run(
@@ -50,7 +50,8 @@ def run(
 ) -> None:
     """Run one scenario, from a file or from the quick-run flags on the paper layout.
 
-    Exits with code 3 when the run ends incomplete (the step limit came first).
+    Exits with code 3 when the run does not complete (the step limit came first, or the fleet
+    gridlocked, stranded or stalled; a lifelong run that reaches its horizon completes).
     """
     from multibots.result import Result
     from multibots.simulation import simulate
@@ -70,13 +71,51 @@ def run(
         print("\n".join(lifelong_lines(result) if lifelong else result_lines(result)))
         if record is not None:
             print(f"\nreplay written to {record}")
-    if result.outcome == "incomplete":
+    if result.outcome not in ("complete", "horizon"):
         print(
-            f"multibots: the run ended incomplete: {result.delivered} of {result.goods_total} goods delivered "
+            f"multibots: the run ended {result.outcome}: {result.delivered} of {result.goods_total} goods delivered "
             f"in {result.steps} steps (exit code {EXIT_INCOMPLETE})",
             file=sys.stderr,
         )
         raise typer.Exit(EXIT_INCOMPLETE)
+
+
+_BARS = "▁▂▃▄▅▆▇█"
+
+
+def sparkline(values: list[int]) -> str:
+    """Values as a line of bar characters, scaled to the largest (at most 60: every k-th)."""
+    if not values:
+        return ""
+    step = -(-len(values) // 60)
+    shown = values[::step]
+    top = max(shown) or 1
+    return "".join(_BARS[min(len(_BARS) - 1, v * (len(_BARS) - 1) // top)] if v else " " for v in shown)
+
+
+def flow_lines(result: Any) -> list[str]:
+    """How the fleet flowed: throughput by window, waiting, working, contacts, gridlock."""
+
+    def opt(v: Any, fmt: str) -> str:
+        return "-" if v is None else fmt.format(v)
+
+    windows = list(result.windows)
+    lines = [
+        f"throughput   {opt(result.throughput, '{:.2f}')} deliveries per 1,000 steps"
+        f" (sustained {opt(result.sustained_throughput, '{:.2f}')} over the last half)",
+    ]
+    if windows:
+        lines.append(f"per {result.window:,} steps {sparkline(windows)}  {min(windows)}..{max(windows)}")
+    lines += [
+        f"waiting      {result.wait_share:.1%} of robot-steps",
+        f"utilisation  {result.utilisation:.1%} of robot-steps working on orders (not waiting)",
+        f"contacts     {result.contacts} (robots closer than r_i + r_j after a move); closest {opt(result.closest, '{:.1f} px')}",
+    ]
+    g = result.gridlock
+    if g is not None:
+        where = ", ".join(f"{name} ({k})" for name, k in g["crossings"][:5])
+        lines.append(f"gridlock     at step {g['step']}: {len(g['waiting'])} robots waiting, at {where}")
+    return lines
 
 
 def result_lines(result: Any) -> list[str]:
@@ -91,6 +130,9 @@ def result_lines(result: Any) -> list[str]:
     ]
     if result.stranded:
         lines.append(f"stranded   robots {', '.join(map(str, result.stranded))}")
+    if result.cost is not None:
+        lines.append(f"Cost_total {result.cost:.1f}")
+    lines += ["", *flow_lines(result)]
     lines += ["", "robot  delivered  distance  waits  S  C  energy used"]
     for i in range(len(result.distance)):
         lines.append(
@@ -109,11 +151,10 @@ def lifelong_lines(result: Any) -> list[str]:
 
     return [
         f"outcome      {result.outcome} after {result.steps} steps, {len(result.distance)} robots",
-        f"throughput   {ll['throughput']:.2f} deliveries per 1,000 steps",
+        *flow_lines(result),
         f"orders       {ll['ordered']} = {result.delivered} delivered + {ll['in_flight']} in flight"
         f" + {ll['queued']} queued + {ll['waiting']} waiting for stock",
         f"latency      p50 {opt(ll['latency_p50'])}, p95 {opt(ll['latency_p95'])}, p99 {opt(ll['latency_p99'])} steps",
-        f"utilisation  {ll['utilisation']:.1%} of robot-steps on orders",
         f"energy       {opt(ll['energy_per_delivery'], '{:.3f}')} per delivery",
         f"S, C         {result.S}, {result.C}",
     ]
