@@ -69,7 +69,16 @@ impl GoodsQueue {
             in_queue[gd.id.index()] = true;
             cells[gd.id.index()] = gd.cell;
         }
-        let gq = GoodsQueue { queue, cells_full, in_queue, handed, cells, idle: Vec::with_capacity(robots), assignments: Vec::with_capacity(robots), taken: Vec::new() };
+        let gq = GoodsQueue {
+            queue,
+            cells_full,
+            in_queue,
+            handed,
+            cells,
+            idle: Vec::with_capacity(robots),
+            assignments: Vec::with_capacity(robots),
+            taken: Vec::new(),
+        };
         (gq, lifelong)
     }
 

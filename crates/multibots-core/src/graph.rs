@@ -290,7 +290,11 @@ pub fn validate(layout: &Layout, graph: &HighwayGraph) -> Result<()> {
             let (a, b) = if graph.reachable(first, v) { (v, first) } else { (first, v) };
             return Err(Error::layout(
                 "edges",
-                format!("the highway graph is not strongly connected: node {} cannot reach node {}", layout.nodes[a.index()].name, layout.nodes[b.index()].name),
+                format!(
+                    "the highway graph is not strongly connected: node {} cannot reach node {}",
+                    layout.nodes[a.index()].name,
+                    layout.nodes[b.index()].name
+                ),
             ));
         }
     }
@@ -345,9 +349,24 @@ mod tests {
         let l = Layout::paper();
         let g = HighwayGraph::new(&l);
         let table = [
-            ("A", "B"), ("B", "C H"), ("C", "D"), ("D", "E J"), ("E", "F"), ("F", "L"),
-            ("G", "H A"), ("H", "I N"), ("I", "J C"), ("J", "K P"), ("K", "L E"), ("L", "R"),
-            ("M", "G"), ("N", "M"), ("O", "N I"), ("P", "O"), ("Q", "P K"), ("R", "Q"),
+            ("A", "B"),
+            ("B", "C H"),
+            ("C", "D"),
+            ("D", "E J"),
+            ("E", "F"),
+            ("F", "L"),
+            ("G", "H A"),
+            ("H", "I N"),
+            ("I", "J C"),
+            ("J", "K P"),
+            ("K", "L E"),
+            ("L", "R"),
+            ("M", "G"),
+            ("N", "M"),
+            ("O", "N I"),
+            ("P", "O"),
+            ("Q", "P K"),
+            ("R", "Q"),
         ];
         for (node, outs) in table {
             let u = l.node_named(node).unwrap();

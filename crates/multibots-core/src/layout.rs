@@ -93,16 +93,7 @@ impl LayoutParams {
     /// The paper's warehouse: 2 × 5 groups of 2 × 4 cells, 50 px aisles, six chargers.
     #[must_use]
     pub fn paper() -> Self {
-        LayoutParams {
-            group_rows: 2,
-            group_cols: 5,
-            group_width: 2,
-            group_height: 4,
-            aisle: 50.0,
-            cell: 50.0,
-            chargers: 6,
-            spur: 40.0,
-        }
+        LayoutParams { group_rows: 2, group_cols: 5, group_width: 2, group_height: 4, aisle: 50.0, cell: 50.0, chargers: 6, spur: 40.0 }
     }
 
     /// Checks every parameter; errors name the field as `layout.FIELD`.
@@ -180,12 +171,7 @@ impl Layout {
         let mut nodes = Vec::with_capacity((rows + 1) * kn + p.chargers as usize);
         for m in 0..=rows {
             for k in 0..kn {
-                nodes.push(Node {
-                    name: node_name(m * kn + k),
-                    x: half + k as f64 * pitch_x,
-                    y: half + m as f64 * pitch_y,
-                    kind: NodeKind::Highway,
-                });
+                nodes.push(Node { name: node_name(m * kn + k), x: half + k as f64 * pitch_x, y: half + m as f64 * pitch_y, kind: NodeKind::Highway });
             }
         }
         // Out-edges in expansion order: the horizontal edge first, then the vertical one.
@@ -215,12 +201,7 @@ impl Layout {
             let k = i * kn / p.chargers as usize;
             let at = node_of(0, k);
             let id = NodeId(nodes.len() as u32);
-            nodes.push(Node {
-                name: format!("CH{i}"),
-                x: nodes[at.index()].x,
-                y: nodes[at.index()].y - p.spur,
-                kind: NodeKind::Charger,
-            });
+            nodes.push(Node { name: format!("CH{i}"), x: nodes[at.index()].x, y: nodes[at.index()].y - p.spur, kind: NodeKind::Charger });
             chargers.push(id);
             spurs.push((id, at));
         }
@@ -236,15 +217,7 @@ impl Layout {
                         let k = c + a;
                         let sy = y + p.cell / 2.0;
                         let edge = if north(k) { (node_of(r + 1, k), node_of(r, k)) } else { (node_of(r, k), node_of(r + 1, k)) };
-                        cells.push(Cell {
-                            id,
-                            x,
-                            y,
-                            w: p.cell,
-                            h: p.cell,
-                            service: (half + k as f64 * pitch_x, sy),
-                            edge,
-                        });
+                        cells.push(Cell { id, x, y, w: p.cell, h: p.cell, service: (half + k as f64 * pitch_x, sy), edge });
                     }
                 }
             }

@@ -183,7 +183,10 @@ impl LayoutFile {
                 }
                 let (vx, vy) = (nodes[v.index()].x, nodes[v.index()].y);
                 if n.x == vx && n.y == vy {
-                    return Err(Error::layout(format!("nodes[{i}].out[{k}]"), format!("\"{head}\" stands where \"{}\" stands: an edge needs a length", n.name)));
+                    return Err(Error::layout(
+                        format!("nodes[{i}].out[{k}]"),
+                        format!("\"{head}\" stands where \"{}\" stands: an edge needs a length", n.name),
+                    ));
                 }
                 edges.push((u, v));
             }
@@ -251,7 +254,8 @@ pub fn check_layout(layout: &Layout) -> Result<HighwayGraph> {
 /// layout's names and numbers are checked, not yet its graph (see [`check_layout`]).
 pub fn from_toml(text: &str, source_name: &str) -> Result<Layout> {
     let de = toml::Deserializer::new(text);
-    let file: LayoutFile = serde_path_to_error::deserialize(de).map_err(|e| Error::LayoutFile { path: source_name.to_string(), message: toml_message(text, e) })?;
+    let file: LayoutFile =
+        serde_path_to_error::deserialize(de).map_err(|e| Error::LayoutFile { path: source_name.to_string(), message: toml_message(text, e) })?;
     file.to_layout()
 }
 

@@ -34,15 +34,15 @@ pub mod sim;
 pub mod tasks;
 pub mod world;
 
-pub use alloc::{Allocator, AllocView, Assignment, Goods};
+pub use alloc::{AllocView, Allocator, Assignment, Goods};
 pub use error::{Error, Result};
+pub use events::{Event, EventKind};
 pub use graph::HighwayGraph;
 pub use ids::{CellId, GoodsId, NodeId, RobotId};
 pub use layout::{Layout, LayoutParams};
 pub use metrics::{Outcome, RobotStats, RunResult};
 pub use robot::{State, Target};
 pub use scenario::Scenario;
-pub use events::{Event, EventKind};
 pub use scenario::Unload;
 pub use sim::Simulation;
 pub use world::World;

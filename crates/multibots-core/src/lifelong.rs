@@ -58,7 +58,8 @@ pub enum StockEvent {
 /// and lines starting with `#` are skipped.
 pub fn read_csv(path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
     let shown = path.display().to_string();
-    let text = crate::files::read_text(path, crate::files::MAX_INPUT_BYTES).map_err(|e| Error::scenario("orders.csv", format!("\"{shown}\""), format!("cannot read: {e}")))?;
+    let text = crate::files::read_text(path, crate::files::MAX_INPUT_BYTES)
+        .map_err(|e| Error::scenario("orders.csv", format!("\"{shown}\""), format!("cannot read: {e}")))?;
     let mut rows = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -80,7 +81,11 @@ pub fn read_csv(path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
             return Err(Error::scenario("orders.csv", format!("\"{shown}\""), format!("line {}: step 0: steps start at 1", k + 1)));
         }
         if cell < 0 || cell as usize >= cells {
-            return Err(Error::scenario("orders.csv", format!("\"{shown}\""), format!("line {}: cell {cell} out of range 0..{}", k + 1, cells.saturating_sub(1))));
+            return Err(Error::scenario(
+                "orders.csv",
+                format!("\"{shown}\""),
+                format!("line {}: cell {cell} out of range 0..{}", k + 1, cells.saturating_sub(1)),
+            ));
         }
         rows.push((step, cell as u32));
     }

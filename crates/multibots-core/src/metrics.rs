@@ -8,9 +8,9 @@
 //! - **Cost_total** = w_d · distance + w_t · T + w_c · S, with the scenario's `[cost]`
 //!   weights; none where T is none.
 
+use crate::ids::NONE;
 use crate::lifelong::{self, Lifelong};
 use crate::robot::State;
-use crate::ids::NONE;
 use crate::scenario::{CostWeights, MetricsParams};
 use crate::sim::Simulation;
 
@@ -181,7 +181,11 @@ impl Snapshot {
         Snapshot {
             delivered: t.delivered,
             waits: st.wait_steps.iter().sum(),
-            on_orders: st.state_steps.iter().map(|s| s[State::ToPickup as usize] + s[State::Loading as usize] + s[State::ToDrop as usize] + s[State::Unloading as usize]).sum(),
+            on_orders: st
+                .state_steps
+                .iter()
+                .map(|s| s[State::ToPickup as usize] + s[State::Loading as usize] + s[State::ToDrop as usize] + s[State::Unloading as usize])
+                .sum(),
             order_waits: st.order_waits.iter().sum(),
         }
     }

@@ -171,7 +171,9 @@ pub(crate) fn place(world: &World, scenario: &Scenario, starts: &[NodeId], unloa
         layout
             .cells
             .iter()
-            .map(|c| nearest(world, Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 }, &layout.unloading, &rows))
+            .map(|c| {
+                nearest(world, Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 }, &layout.unloading, &rows)
+            })
             .collect()
     } else {
         vec![unload; layout.cells.len()]

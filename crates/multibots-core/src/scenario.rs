@@ -4,8 +4,8 @@
 use crate::error::{toml_message, Error, Result};
 use crate::layout::{Layout, LayoutParams};
 use rand::{Rng, SeedableRng};
-use serde::de::{self, MapAccess, SeqAccess, Visitor};
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use serde::de::{self, MapAccess, SeqAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
 use std::borrow::Cow;
 use std::fmt;
@@ -500,7 +500,9 @@ impl Scenario {
         }
         match self.layout.as_str() {
             "paper" => Ok(Layout::paper()),
-            path if std::path::Path::new(path).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) => crate::layout_file::read(std::path::Path::new(path)),
+            path if std::path::Path::new(path).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) => {
+                crate::layout_file::read(std::path::Path::new(path))
+            }
             other => Err(Error::scenario("layout", format!("\"{other}\""), "unknown layout (known: paper, or a layout file ending in .toml)")),
         }
     }
@@ -540,7 +542,11 @@ impl Scenario {
         }
         let ch = &self.charging;
         if ch.policy == ChargingPolicy::Opportunistic && !(ch.level.is_finite() && ch.level > r.threshold && ch.level <= r.energy_full) {
-            return Err(Error::scenario("charging.level", ch.level, format!("must be above robot.threshold ({}) and at most robot.energy_full ({})", r.threshold, r.energy_full)));
+            return Err(Error::scenario(
+                "charging.level",
+                ch.level,
+                format!("must be above robot.threshold ({}) and at most robot.energy_full ({})", r.threshold, r.energy_full),
+            ));
         }
         for (field, w) in [("cost.distance", self.cost.distance), ("cost.time", self.cost.time), ("cost.collision", self.cost.collision)] {
             if !(w.is_finite() && w >= 0.0) {
@@ -577,7 +583,11 @@ impl Scenario {
             return Err(Error::scenario("metrics.window", 0, "must be at least 1 step"));
         }
         if self.placement == Placement::Spread && self.starts.is_some() {
-            return Err(Error::scenario("starts", format!("{:?}", self.starts.as_deref().unwrap_or_default()), "not used with placement = \"spread\" (robots start on parking slots)"));
+            return Err(Error::scenario(
+                "starts",
+                format!("{:?}", self.starts.as_deref().unwrap_or_default()),
+                "not used with placement = \"spread\" (robots start on parking slots)",
+            ));
         }
         if self.placement == Placement::Spread && self.charging.chargers == ChargerUse::Home {
             return Err(Error::scenario("placement", "\"spread\"", "robots placed on aisles share chargers: set charging.chargers = \"shared\""));

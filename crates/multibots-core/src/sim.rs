@@ -162,7 +162,10 @@ impl Simulation {
         }
         if let Some(failure) = &self.failure {
             // Phases after the allocator's error never ran: carrying on would skip them.
-            return Err(Error::Allocator { strategy: self.allocator.name().to_string(), reason: format!("the run stopped at step {}: {failure}", self.tally.t) });
+            return Err(Error::Allocator {
+                strategy: self.allocator.name().to_string(),
+                reason: format!("the run stopped at step {}: {failure}", self.tally.t),
+            });
         }
         self.tally.t += 1;
         self.events.clear();
@@ -327,7 +330,8 @@ impl Simulation {
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
     fn end(&mut self) {
-        let complete = self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
+        let complete =
+            self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
         let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
         let jammed = self.tally.end_step(self.progress, work_remains);
         if complete {

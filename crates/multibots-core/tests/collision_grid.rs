@@ -8,8 +8,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// the smallest id of each component of two or more released.
 fn brute(x: &[f64], y: &[f64], radius: &[f64], margin: f64, wants: &[bool], alpha: &[f64], angle: f64) -> Vec<bool> {
     let n = x.len();
-    let edge: Vec<Vec<bool>> =
-        (0..n).map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, angle)).collect()).collect();
+    let edge: Vec<Vec<bool>> = (0..n)
+        .map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, angle)).collect())
+        .collect();
     let mut reach_of = edge.clone();
     for k in 0..n {
         let via = reach_of[k].clone();
@@ -81,7 +82,11 @@ fn crowded_aisles(radius_of: impl Fn(u64) -> f64, margin: f64) {
                 for shift in [0.0, 1.0] {
                     let x: Vec<f64> = x.iter().map(|v| v + shift).collect();
                     c.resolve(&x, &y, &radius, &wants, &alpha, margin, angle);
-                    assert_eq!(c.waits, brute(&x, &y, &radius, margin, &wants, &alpha, angle), "round {round}, angle {angle}, grid to {far_corner}, shift {shift}");
+                    assert_eq!(
+                        c.waits,
+                        brute(&x, &y, &radius, margin, &wants, &alpha, angle),
+                        "round {round}, angle {angle}, grid to {far_corner}, shift {shift}"
+                    );
                 }
             }
         }

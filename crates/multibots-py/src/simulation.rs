@@ -169,7 +169,8 @@ impl PySimulation {
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
         let ev = self.sim.events();
-        let flat: Vec<i64> = ev.iter().flat_map(|e| [e.step as i64, e.kind as i64, i64::from(e.robot), if e.cell == u32::MAX { -1 } else { i64::from(e.cell) }]).collect();
+        let flat: Vec<i64> =
+            ev.iter().flat_map(|e| [e.step as i64, e.kind as i64, i64::from(e.robot), if e.cell == u32::MAX { -1 } else { i64::from(e.cell) }]).collect();
         PyArray1::from_vec(py, flat).reshape([ev.len(), 4])
     }
     /// The layout JSON.

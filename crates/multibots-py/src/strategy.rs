@@ -68,9 +68,9 @@ pub(crate) fn for_validation(py: Python<'_>, scenario: &Scenario) -> PyResult<Bo
 fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Box<dyn Allocator>> {
     if name.contains(':') {
         let class = resolve(py, name)?;
-        let obj = class.call0().map_err(|e| {
-            crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it with no arguments failed: {}", one_line(py, &e)))
-        })?;
+        let obj = class
+            .call0()
+            .map_err(|e| crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it with no arguments failed: {}", one_line(py, &e))))?;
         // A name from a file or the command line is user input: a wrong one is a scenario error.
         return PyAllocator::boxed(py, scenario, &obj.unbind())
             .map_err(|e| crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it returned no allocator ({})", one_line(py, &e))));
@@ -166,9 +166,9 @@ impl PyAllocator {
         let iter = answer.try_iter().map_err(|_| shape())?;
         for (k, item) in iter.enumerate() {
             let item = item.map_err(|e| self.fail(format!("iterating the answer raised {}", one_line(py, &e))))?;
-            let t = item.extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>)>().map_err(|_| {
-                self.fail(format!("assignment {k}: expected a (robot, goods) pair, got {}", repr(&item)))
-            })?;
+            let t = item
+                .extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>)>()
+                .map_err(|_| self.fail(format!("assignment {k}: expected a (robot, goods) pair, got {}", repr(&item))))?;
             out.push(pair(k, &t.0, &t.1)?);
         }
         Ok(())
@@ -195,7 +195,8 @@ impl Allocator for PyAllocator {
 
     fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<(), Error> {
         Python::with_gil(|py| {
-            let snap = PyAllocView::snapshot(py, view, &self.world, &self.model).map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
+            let snap =
+                PyAllocView::snapshot(py, view, &self.world, &self.model).map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
             let pv = Bound::new(py, snap).map_err(|e| self.fail(one_line(py, &e)))?;
             let answer = self.call.bind(py).call1((pv.clone(),));
             // The view is only valid during the call: later queries would answer from a stale

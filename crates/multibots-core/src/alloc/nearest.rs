@@ -41,12 +41,8 @@ impl Allocator for Nearest {
                 break;
             }
             // min_by keeps the first of equal elements: robots are in id order.
-            let (k, _) = free
-                .iter()
-                .enumerate()
-                .map(|(k, &r)| (k, view.route_length(r, g.cell)))
-                .min_by(|a, b| a.1.total_cmp(&b.1))
-                .expect("free is not empty");
+            let (k, _) =
+                free.iter().enumerate().map(|(k, &r)| (k, view.route_length(r, g.cell))).min_by(|a, b| a.1.total_cmp(&b.1)).expect("free is not empty");
             out.push(Assignment { robot: free.remove(k), goods: g.id });
         }
         Ok(())
