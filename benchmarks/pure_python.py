@@ -23,16 +23,16 @@ sys.path.insert(0, str(HERE))
 # The reference model is one of the tests' oracles (tests/oracle/).
 sys.path.insert(0, str(HERE.parent / "tests"))
 
-GOODS = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]
 ROBOTS = 6
 
 
 def measure(repetitions: int = 5) -> dict[str, Any]:
-    from multibots import Scenario, simulate
+    from multibots import PAPER_TASKS, Scenario, simulate
     from scale import robot_steps_per_s
 
     from oracle import reference_model
 
+    GOODS = list(PAPER_TASKS[1])
     engine = simulate(Scenario.paper(robots=ROBOTS, goods=GOODS))
     ref = reference_model.run(GOODS, robots=ROBOTS)
     same = (ref["T"], ref["S"], ref["C"]) == (engine.T, engine.S, engine.C)

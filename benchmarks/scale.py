@@ -34,13 +34,6 @@ SIZES = ("paper", "small", "large", "huge")
 WARMUP = 100
 WINDOW = 1000
 
-PAPER_TASKS = [
-    [11, 8, 39, 28, 53, 1, 69, 42, 79, 6],
-    [74, 50, 62, 15, 49, 34, 14, 72, 31, 37],
-    [68, 79, 56, 47, 48, 75, 23, 50, 76, 16],
-    [59, 6, 74, 2, 67, 49, 53, 28, 25, 79],
-    [14, 65, 41, 75, 22, 36, 54, 74, 9, 48],
-]
 
 
 def size_scenario(name: str) -> Any:
@@ -87,9 +80,9 @@ def robot_steps_per_s(name: str, repetitions: int = 5) -> dict[str, Any]:
 
 def experiment_30_ms(repetitions: int = 7) -> dict[str, Any]:
     """Engine time of the paper's 30 runs on one thread, median over repetitions, ms."""
-    from multibots import Scenario, simulate_many
+    from multibots import PAPER_TASKS, Scenario, simulate_many
 
-    scenarios = [Scenario.paper(robots=n, goods=g) for n in range(1, 7) for g in PAPER_TASKS]
+    scenarios = [Scenario.paper(robots=n, goods=g) for n in range(1, 7) for g in PAPER_TASKS.values()]
     times = []
     for _ in range(repetitions):
         t0 = time.perf_counter()

@@ -10,15 +10,35 @@ import numpy as np
 import pytest
 
 import multibots
-from multibots.replay import (
-    Replay,
-    ReplayError,
-    chunk_layout,
-    pack_chunk,
-    pack_state,
-    quantize_energy,
-    quantize_heading,
-)
+from multibots import _core
+from multibots.replay import Replay, ReplayError
+
+
+def documented_layout(frames, robots, events):
+    """Offsets and lengths of a decompressed chunk's sections, as docs/replay-format.md gives
+    them (written out here, apart from the engine's codec, to check it)."""
+    out, pos = {}, 16
+    for name, size, count in (("counters", 4, 3 * frames), ("x", 4, frames * robots),
+                              ("y", 4, frames * robots), ("events", 4, 4 * events), ("energy", 2, frames * robots),
+                              ("heading", 1, frames * robots), ("state", 1, frames * robots)):
+        out[name] = (pos, size * count)
+        pos += size * count
+    return out, pos
+
+
+def sections(raw):
+    first, k, n, e = struct.unpack_from("<4I", raw)
+    lay, total = documented_layout(k, n, e)
+    assert len(raw) == total
+
+    def sec(name, dtype, shape):
+        off, ln = lay[name]
+        return np.frombuffer(raw[off:off + ln], dtype=dtype).reshape(shape)
+
+    return first, {"counters": sec("counters", "<u4", (k, 3)), "x": sec("x", "<f4", (k, n)),
+                   "y": sec("y", "<f4", (k, n)), "events": sec("events", "<u4", (e, 4)),
+                   "energy_u16": sec("energy", "<u2", (k, n)), "heading_u8": sec("heading", "u1", (k, n)),
+                   "state_raw": sec("state", "u1", (k, n))}
 
 
 def paper(robots=3):
@@ -87,8 +107,8 @@ def test_events_add_up_to_the_indicators(paper_run):
 def test_opening_reads_no_chunk_and_frames_read_one(paper_run, monkeypatch):
     path, _ = paper_run
     calls = []
-    real = zlib.decompress
-    monkeypatch.setattr(zlib, "decompress", lambda data, *a: calls.append(len(data)) or real(data, *a))
+    real = _core.decode_chunk
+    monkeypatch.setattr(_core, "decode_chunk", lambda data, limit: calls.append(len(data)) or real(data, limit))
     with Replay(path) as rp:
         assert calls == []
         rp.frame(rp.frames - 1)
@@ -101,14 +121,13 @@ def test_chunk_bytes_is_the_documented_layout(paper_run):
     path, _ = paper_run
     with Replay(path) as rp:
         raw = rp.chunk_bytes(0)
-        first, k, n, e = struct.unpack_from("<4I", raw)
-        assert (first, n) == (0, 3)
-        assert len(raw) == chunk_layout(k, n, e)[1]
+        first, secs = sections(raw)
+        assert (first, secs["x"].shape[1]) == (0, 3)
         assert raw == zlib.decompress(rp.chunk_raw(0))
+        assert len(raw) == rp.footer["chunks"][0]["raw_length"]
         ch = rp.chunk(0)
-        again = pack_chunk(first, ch["counters"], ch["x"], ch["y"], ch["events"], ch["energy_u16"],
-                           ch["heading_u8"], pack_state(ch["state"], ch["marked"]))
-        assert again == raw
+        for key, arr in secs.items():
+            np.testing.assert_array_equal(ch[key] if key != "state_raw" else ch["state"] | (ch["marked"] << 7), arr)
 
 
 def test_trajectory_follows_the_recorded_positions(paper_run):
@@ -124,13 +143,48 @@ def test_trajectory_follows_the_recorded_positions(paper_run):
         assert np.allclose(pts[-1], svc, atol=1e-3)
 
 
-def test_pack_helpers_round_trip():
-    e = quantize_energy(np.array([0.0, 5.0, 10.0, 12.0]), 10.0)
-    assert e.tolist() == [0, 32768, 65535, 65535]
-    h = quantize_heading(np.array([0.0, math.pi / 2, -math.pi / 2, math.pi]))
-    assert h.tolist() == [0, 64, 192, 128]
-    s = pack_state(np.array([3, 9]), np.array([True, False]))
-    assert s.tolist() == [0x83, 9]
+def test_live_frames_are_the_engines_codec():
+    sim = multibots.Simulation(paper(3))
+    sim.step(400)
+    first, secs = sections(sim.frame_chunk())
+    assert first == sim.t == 400
+    pos = np.asarray(sim.positions)
+    np.testing.assert_array_equal(secs["x"][0], pos[:, 0].astype(np.float32))
+    np.testing.assert_array_equal(secs["y"][0], pos[:, 1].astype(np.float32))
+    # The documented quantisation: energy as a fraction of full in 16 bits, heading in 256ths
+    # of a turn, the state code with 128 added when marked to charge.
+    np.testing.assert_array_equal(secs["energy_u16"][0], np.rint(np.clip(np.asarray(sim.energy) / 10.0, 0, 1) * 65535))
+    turns = np.asarray(sim.headings) / (2 * math.pi)
+    np.testing.assert_array_equal(secs["heading_u8"][0], np.mod(np.rint(turns * 256), 256))
+    np.testing.assert_array_equal(secs["state_raw"][0], np.asarray(sim.states) | (np.asarray(sim.marked) << 7))
+    assert secs["counters"][0].tolist() == [sim.S, sim.C, sim.delivered]
+    assert len(secs["events"]) == 0
+    header = sim.viewer_header()
+    assert header["state_names"] == list(multibots.STATE_NAMES)
+    assert header["event_names"]["5"] == "WAIT" and header["robots"] == 3
+
+
+def test_a_chunk_that_inflates_past_its_size_is_refused(paper_run, tmp_path):
+    # A decompression bomb: a chunk that inflates to far more than its frames can hold is
+    # refused with one line, before it can fill the memory.
+    path, _ = paper_run
+    with Replay(path) as rp:
+        info = rp.chunk_info(0)
+        bomb = zlib.compress(bytes(64 << 20), 9)
+        assert len(bomb) < 100_000
+        data = bytearray(path.read_bytes())
+        head = bytes(data[:info["offset"]])
+        footer = dict(rp.footer)
+        footer["chunks"] = [{**rp.footer["chunks"][0], "length": len(bomb)}]
+        footer["frames"] = info["frames"]
+        fb = __import__("json").dumps(footer).encode()
+        out = tmp_path / "bomb.mbr"
+        out.write_bytes(head + bomb + fb + struct.pack("<QQ", len(head) + len(bomb), len(fb)))
+    with Replay(out) as bad:
+        with pytest.raises(ReplayError) as e:
+            bad.frame(0)
+    msg = str(e.value)
+    assert "chunk 0 inflates to more than" in msg and "\n" not in msg
 
 
 def _corrupt(src, dst, fn):

@@ -14,46 +14,30 @@ import math
 import os
 import struct
 import threading
-import zlib
 from collections import OrderedDict
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional
 
 import numpy as np
 
-from multibots.exceptions import ReplayError
+from multibots import _core
+from multibots.exceptions import MultibotsError, ReplayError
 from multibots.replay_state import EVENT_NAMES, MOVING_STATES, STATE_NAMES, ReplayState
 
 __all__ = ["Replay", "ReplayError", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES"]
 
 MAGIC = b"MBREPLAY"
-VERSION = 1
+VERSION = _core.REPLAY_VERSION
 
 # A header or footer larger than this is not a replay we wrote.
 _MAX_JSON = 256 * 1024 * 1024
 
 
-def chunk_layout(frames: int, robots: int, events: int) -> Tuple[Dict[str, Tuple[int, int]], int]:
-    """Byte offset and byte length of each section of a decompressed chunk, and the total.
-
-    Every section starts aligned to the size of its type (docs/replay-format.md).
-    """
-    sections = [
-        ("head", 4, 4),
-        ("counters", 4, 3 * frames),
-        ("x", 4, frames * robots),
-        ("y", 4, frames * robots),
-        ("events", 4, 4 * events),
-        ("energy", 2, frames * robots),
-        ("heading", 1, frames * robots),
-        ("state", 1, frames * robots),
-    ]
-    out: Dict[str, Tuple[int, int]] = {}
-    pos = 0
-    for name, size, count in sections:
-        pos = (pos + size - 1) // size * size
-        out[name] = (pos, size * count)
-        pos += size * count
-    return out, pos
+def _chunk_limit(frames: int, robots: int) -> int:
+    """The most bytes a chunk of ``frames`` frames of ``robots`` robots may inflate to, for
+    replays whose footer does not record it: every section, and up to 4 events per robot and
+    64 more per frame, with room to spare. A small stream that inflates past it is refused
+    (a decompression bomb), before it can fill the memory."""
+    return 16 + frames * (12 + robots * _core.BYTES_PER_ROBOT_STEP + 16 * (4 * robots + 64)) + (1 << 20)
 
 
 class Replay(ReplayState):
@@ -165,6 +149,10 @@ class Replay(ReplayState):
             self._lengths = [int(c["length"]) for c in table]
             self._firsts = [int(c["first_frame"]) for c in table]
             self._counts = [int(c["frames"]) for c in table]
+            self._limits = [
+                int(c["raw_length"]) if "raw_length" in c else _chunk_limit(int(c["frames"]), self.robots)
+                for c in table
+            ]
         except KeyError as exc:
             raise self._fail(f"footer lacks the key {exc.args[0]!r}") from None
         except (TypeError, ValueError) as exc:
@@ -240,53 +228,46 @@ class Replay(ReplayState):
         i = self._check_chunk(i)
         return self._pread(self._lengths[i], self._offsets[i], f"chunk {i}")
 
-    def chunk_bytes(self, i: int) -> bytes:
-        """The chunk decompressed (raw sections, as described in the format)."""
-        i = self._check_chunk(i)
-        try:
-            raw = zlib.decompress(self.chunk_raw(i))
-        except zlib.error as exc:
-            raise self._fail(f"chunk {i} is corrupt ({exc})") from None
-        if len(raw) < 16:
-            raise self._fail(f"chunk {i} is too short ({len(raw)} bytes)")
-        first, count, robots, events = struct.unpack_from("<4I", raw, 0)
+    def _codec_error(self, i: int, exc: Exception) -> "ReplayError":
+        msg = str(exc)
+        verb = msg.split(" ", 1)[0] in ("holds", "inflates", "sizes")
+        return self._fail(f"chunk {i} {msg}" if verb else f"chunk {i} is {msg}")
+
+    def _check_head(self, i: int, first: int, count: int, robots: int) -> None:
         if first != self._firsts[i] or count != self._counts[i] or robots != self.robots:
             raise self._fail(
                 f"chunk {i} head says frames {first}+{count} of {robots} robots; "
                 f"the footer says {self._firsts[i]}+{self._counts[i]} of {self.robots}")
-        _, total = chunk_layout(count, robots, events)
-        if len(raw) != total:
-            raise self._fail(f"chunk {i} holds {len(raw)} bytes; expected {total}")
+
+    def chunk_bytes(self, i: int) -> bytes:
+        """The chunk decompressed (raw sections, as described in the format), checked by the
+        engine's codec."""
+        i = self._check_chunk(i)
+        try:
+            raw = _core.inflate_chunk(self.chunk_raw(i), self._limits[i])
+        except MultibotsError as exc:
+            raise self._codec_error(i, exc) from None
+        first, count, robots, _ = struct.unpack_from("<4I", raw, 0)
+        self._check_head(i, first, count, robots)
         return raw
 
     def _views(self, i: int) -> Dict[str, Any]:
-        """Chunk ``i`` as read-only views on its decompressed bytes (cached by size)."""
+        """Chunk ``i`` decoded by the engine's codec into arrays (cached by size)."""
         i = self._check_chunk(i)
         with self._lock:
             hit = self._cache.get(i)
             if hit is not None:
                 self._cache.move_to_end(i)
                 return hit
-        raw = self.chunk_bytes(i)
-        first, k, n, e = struct.unpack_from("<4I", raw, 0)
-        lay, _ = chunk_layout(k, n, e)
-
-        def sec(name: str, dtype: str, shape: Tuple[int, ...]) -> np.ndarray:
-            off, _ln = lay[name]
-            return np.frombuffer(raw, dtype=dtype, count=int(np.prod(shape)), offset=off).reshape(shape)
-
-        views = {
-            "first_frame": first,
-            "frames": k,
-            "counters": sec("counters", "<u4", (k, 3)),
-            "x": sec("x", "<f4", (k, n)),
-            "y": sec("y", "<f4", (k, n)),
-            "events": sec("events", "<u4", (e, 4)),
-            "energy_u16": sec("energy", "<u2", (k, n)),
-            "heading_u8": sec("heading", "u1", (k, n)),
-            "state_raw": sec("state", "u1", (k, n)),
-            "nbytes": len(raw),
-        }
+        try:
+            views = _core.decode_chunk(self.chunk_raw(i), self._limits[i])
+        except MultibotsError as exc:
+            raise self._codec_error(i, exc) from None
+        self._check_head(i, views["first_frame"], views["frames"], views["robots"])
+        for v in views.values():
+            if isinstance(v, np.ndarray):
+                v.setflags(write=False)
+        views["nbytes"] = sum(v.nbytes for v in views.values() if isinstance(v, np.ndarray))
         with self._lock:
             self._cache[i] = views
             self._cache.move_to_end(i)
@@ -359,54 +340,5 @@ class Replay(ReplayState):
         return np.concatenate(parts).astype(np.uint32, copy=False)
 
     def chunk_events(self, i: int) -> np.ndarray:
-        """Chunk ``i``'s events (E, 4) uint32, without decoding its other arrays."""
-        i = self._check_chunk(i)
-        with self._lock:
-            hit = self._cache.get(i)
-        if hit is not None:
-            return hit["events"]
-        raw = self.chunk_bytes(i)
-        _, k, n, e = struct.unpack_from("<4I", raw, 0)
-        off, _ = chunk_layout(k, n, e)[0]["events"]
-        return np.frombuffer(raw, dtype="<u4", count=4 * e, offset=off).reshape(e, 4).copy()
-
-
-def pack_chunk(first_frame: int, counters: np.ndarray, x: np.ndarray, y: np.ndarray,
-               events: np.ndarray, energy_u16: np.ndarray, heading_u8: np.ndarray,
-               state_u8: np.ndarray) -> bytes:
-    """Pack frames into the decompressed chunk layout of the format (the inverse of
-    ``Replay.chunk``). Arrays are (K', N) except counters (K', 3) and events (E, 4).
-    The live viewer streams one-frame chunks built with this."""
-    x = np.asarray(x, dtype="<f4")
-    k, n = x.shape
-    ev = np.asarray(events, dtype="<u4").reshape(-1, 4)
-    lay, total = chunk_layout(k, n, len(ev))
-    buf = bytearray(total)
-    struct.pack_into("<4I", buf, 0, int(first_frame), k, n, len(ev))
-    parts = {
-        "counters": np.asarray(counters, dtype="<u4").reshape(k, 3),
-        "x": x,
-        "y": np.asarray(y, dtype="<f4").reshape(k, n),
-        "events": ev,
-        "energy": np.asarray(energy_u16, dtype="<u2").reshape(k, n),
-        "heading": np.asarray(heading_u8, dtype="u1").reshape(k, n),
-        "state": np.asarray(state_u8, dtype="u1").reshape(k, n),
-    }
-    for name, arr in parts.items():
-        off, ln = lay[name]
-        buf[off:off + ln] = arr.tobytes()
-    return bytes(buf)
-
-
-def quantize_energy(energy: np.ndarray, energy_full: float) -> np.ndarray:
-    e = np.clip(np.asarray(energy, dtype=np.float64) / float(energy_full), 0.0, 1.0)
-    return np.rint(e * 65535.0).astype(np.uint16)
-
-
-def quantize_heading(heading: np.ndarray) -> np.ndarray:
-    h = np.rint(np.asarray(heading, dtype=np.float64) / (2.0 * math.pi) * 256.0)
-    return np.mod(h, 256).astype(np.uint8)
-
-
-def pack_state(states: np.ndarray, marked: np.ndarray) -> np.ndarray:
-    return (np.asarray(states, dtype=np.uint8) & 0x7F) | (np.asarray(marked, dtype=bool).astype(np.uint8) << 7)
+        """Chunk ``i``'s events (E, 4) uint32."""
+        return self._views(i)["events"]

@@ -13,39 +13,22 @@ from typing import Dict, List
 
 import numpy as np
 
+from multibots import _core
+
 __all__ = ["EVENT_NAMES", "MOVING_STATES", "NONE32", "ReplayState", "STATE_NAMES"]
 
 #: "No robot" or "no cell" in an event.
 NONE32 = 0xFFFFFFFF
 
-STATE_NAMES = {
-    0: "IDLE",
-    1: "TO_PICKUP",
-    2: "LOADING",
-    3: "TO_DROP",
-    4: "UNLOADING",
-    5: "TO_CHARGER",
-    6: "CHARGING",
-    7: "TO_HOME",
-    8: "PARKED",
-    9: "STRANDED",
-    10: "WAIT_CHARGER",
-}
-MOVING_STATES = (1, 3, 5, 7)
-
-EVENT_NAMES = {
-    1: "ASSIGN",
-    2: "PUT_BACK",
-    3: "PICKUP",
-    4: "DELIVER",
-    5: "WAIT",
-    6: "CHARGE",
-    7: "STRAND",
-    8: "RESTOCK",
-    9: "ORDER",
-}
-EV_ASSIGN, EV_PUT_BACK, EV_PICKUP, EV_DELIVER, EV_WAIT, EV_CHARGE = 1, 2, 3, 4, 5, 6
-EV_STRAND, EV_RESTOCK, EV_ORDER = 7, 8, 9
+#: State codes and names, event codes and names: the engine's own (docs/replay-format.md).
+STATE_NAMES: Dict[int, str] = dict(enumerate(_core.STATE_NAMES))
+MOVING_STATES = tuple(_core.MOVING_STATES)
+EVENT_NAMES: Dict[int, str] = dict(_core.EVENT_NAMES)
+_EVENT_CODES = {name: code for code, name in EVENT_NAMES.items()}
+EV_ASSIGN, EV_PUT_BACK, EV_PICKUP, EV_DELIVER, EV_WAIT, EV_CHARGE, EV_STRAND, EV_RESTOCK, EV_ORDER = (
+    _EVENT_CODES[name]
+    for name in ("ASSIGN", "PUT_BACK", "PICKUP", "DELIVER", "WAIT", "CHARGE", "STRAND", "RESTOCK", "ORDER")
+)
 
 
 class ReplayState:

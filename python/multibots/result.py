@@ -166,7 +166,8 @@ class Result:
         flow["windows"] = list(self.windows)
         if self.gridlock is not None:
             g = self.gridlock
-            flow["gridlock"] = {"step": g["step"], "waiting": list(g["waiting"]), "crossings": [list(c) for c in g["crossings"]]}
+            crossings = [list(c) for c in g["crossings"]]
+            flow["gridlock"] = {"step": g["step"], "waiting": list(g["waiting"]), "crossings": crossings}
         top = {"cost": self.cost, **flow}
         if rounded:
             robots = {k: _rounded(k, v) for k, v in robots.items()}

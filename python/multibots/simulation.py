@@ -227,6 +227,16 @@ class Simulation:
         """(K, 2) waypoints of a robot's remaining route, starting at its position."""
         return self._frozen(self._sim.route(robot))
 
+    def frame_chunk(self) -> bytes:
+        """The current state as one frame of the replay codec (a decompressed one-frame chunk
+        numbered by the step, ``docs/replay-format.md``), encoded by the engine."""
+        return self._sim.frame_chunk()
+
+    def viewer_header(self) -> dict[str, Any]:
+        """What a viewer needs before the first frame: the replay header's fields (fleet,
+        energy scale, stock, layout, scenario, state and event names), from the engine."""
+        return json.loads(self._sim.viewer_header(self.scenario.to_toml()))
+
     def __repr__(self) -> str:
         return (
             f"Simulation(t={self.t}, robots={self.robot_count}, S={self.S}, C={self.C}, "

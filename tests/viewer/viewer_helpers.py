@@ -7,7 +7,7 @@ import shutil
 
 import multibots
 
-GROUP1 = [11, 8, 39, 28, 53, 1, 69, 42, 79, 6]
+GROUP1 = list(multibots.PAPER_TASKS[1])
 
 
 def paper(robots=3, goods=GROUP1, **kw):

@@ -20,6 +20,8 @@ use std::path::{Path, PathBuf};
 struct ChunkInfo {
     offset: u64,
     length: u64,
+    /// Bytes once inflated: readers refuse to inflate a chunk past it.
+    raw_length: u64,
     first_frame: u64,
     frames: u64,
 }
@@ -130,7 +132,13 @@ impl ReplayWriter {
         let display = self.path.display().to_string();
         let out = self.out.as_mut().expect("open until finished");
         out.write_all(&compressed).map_err(|e| Error::io(&display, &e))?;
-        self.chunks.push(ChunkInfo { offset: self.offset, length: compressed.len() as u64, first_frame: self.first_frame, frames: k });
+        self.chunks.push(ChunkInfo {
+            offset: self.offset,
+            length: compressed.len() as u64,
+            raw_length: self.raw.len() as u64,
+            first_frame: self.first_frame,
+            frames: k,
+        });
         self.offset += compressed.len() as u64;
         self.first_frame = self.frames;
         self.buf.clear();
@@ -147,7 +155,7 @@ impl ReplayWriter {
             "C": result.c,
             "outcome": result.outcome.map_or("running", |o| o.as_str()),
             "delivered": result.delivered,
-            "chunks": self.chunks.iter().map(|c| json!({"offset": c.offset, "length": c.length, "first_frame": c.first_frame, "frames": c.frames})).collect::<Vec<_>>(),
+            "chunks": self.chunks.iter().map(|c| json!({"offset": c.offset, "length": c.length, "raw_length": c.raw_length, "first_frame": c.first_frame, "frames": c.frames})).collect::<Vec<_>>(),
         });
         let footer = serde_json::to_vec(&footer).expect("JSON serialises");
         let display = self.path.display().to_string();

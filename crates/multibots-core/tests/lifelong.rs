@@ -156,7 +156,7 @@ fn paper_scenarios_are_untouched_by_the_extensions() {
     let mut s = Scenario::paper(1, &[42]);
     s.charging.chargers = multibots_core::scenario::ChargerUse::Shared;
     assert_eq!(Simulation::new(&s).unwrap().run().unwrap().t, Some(726));
-    let s = Scenario::paper(6, &[11, 8, 39, 28, 53, 1, 69, 42, 79, 6]);
+    let s = Scenario::paper(6, &multibots_core::scenario::PAPER_TASKS[0]);
     let r = Simulation::new(&s).unwrap().run().unwrap();
     assert_eq!(r.lifelong, None);
     assert_eq!(r.outcome, Some(Outcome::Complete));

@@ -29,6 +29,15 @@ pub(crate) fn decode_chunk<'py>(py: Python<'py>, compressed: &Bound<'py, PyBytes
     Ok(d)
 }
 
+/// Inflates a replay chunk's zlib stream, refusing to inflate past `limit` bytes, and checks
+/// that its sections fit its head; returns the decompressed bytes.
+#[pyfunction]
+pub(crate) fn inflate_chunk<'py>(py: Python<'py>, compressed: &Bound<'py, PyBytes>, limit: usize) -> PyResult<Bound<'py, PyBytes>> {
+    let bytes = compressed.as_bytes().to_vec();
+    let raw = py.allow_threads(move || codec::inflate(&bytes, limit).and_then(|raw| codec::decode(&raw).map(|_| raw))).map_err(MultibotsError::new_err)?;
+    Ok(PyBytes::new(py, &raw))
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("STATE_NAMES", pyo3::types::PyTuple::new(py, State::ALL.iter().map(|s| s.name()))?)?;
@@ -40,6 +49,8 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PAPER_TASKS", pyo3::types::PyTuple::new(py, multibots_core::scenario::PAPER_TASKS.iter().map(|g| g.to_vec()))?)?;
     m.add("BYTES_PER_ROBOT_STEP", codec::BYTES_PER_ROBOT_STEP)?;
     m.add("REPLAY_VERSION", codec::VERSION)?;
+    m.add("MOVING_STATES", pyo3::types::PyTuple::new(py, State::ALL.iter().filter(|s| s.travels()).map(|&s| s as u8).collect::<Vec<_>>())?)?;
     m.add_function(wrap_pyfunction!(decode_chunk, m)?)?;
+    m.add_function(wrap_pyfunction!(inflate_chunk, m)?)?;
     Ok(())
 }

@@ -4,8 +4,8 @@
 use crate::errors::{engine, SIGNAL_EVERY};
 use crate::results::result_dict;
 use crate::scenario::PyScenario;
+use multibots_core::batch;
 use multibots_core::replay::{self, ReplayWriter};
-use multibots_core::{batch, Simulation};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -19,11 +19,7 @@ const SIGNAL_POLL: Duration = Duration::from_millis(50);
 #[pyo3(signature = (scenario, record=None, allocator=None))]
 pub(crate) fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Option<PathBuf>, allocator: Option<PyObject>) -> PyResult<Bound<'py, PyDict>> {
     let s = scenario.inner.clone();
-    let alloc = crate::strategy::make_allocator(py, &s, allocator)?;
-    let mut sim = {
-        let s = s.clone();
-        engine(py, move || Simulation::with_allocator(&s, alloc))?
-    };
+    let mut sim = crate::strategy::new_simulation(py, &s, allocator)?;
     let mut writer = match record {
         Some(path) => {
             let sim = &sim;

@@ -20,9 +20,7 @@ impl PySimulation {
     #[new]
     #[pyo3(signature = (scenario, allocator=None))]
     fn new(py: Python<'_>, scenario: &PyScenario, allocator: Option<PyObject>) -> PyResult<Self> {
-        let s = scenario.inner.clone();
-        let alloc = crate::strategy::make_allocator(py, &s, allocator)?;
-        engine(py, move || Simulation::with_allocator(&s, alloc)).map(|sim| PySimulation { sim })
+        crate::strategy::new_simulation(py, &scenario.inner, allocator).map(|sim| PySimulation { sim })
     }
 
     /// Runs `n` steps (fewer if the run ends first); returns the steps run.

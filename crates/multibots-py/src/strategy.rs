@@ -11,7 +11,7 @@
 
 use multibots_core::alloc::{self, AllocView, EnergyModel, Goods, TaskModel};
 use multibots_core::robot::Robots;
-use multibots_core::{Allocator, Assignment, CellId, Error, GoodsId, NodeId, RobotId, Scenario, World};
+use multibots_core::{Allocator, Assignment, CellId, Error, GoodsId, NodeId, RobotId, Scenario, Simulation, World};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -38,9 +38,22 @@ pub(crate) fn with_cause(py: Python<'_>, err: PyErr) -> PyErr {
     err
 }
 
-/// The allocator for a run: `allocator` if Python gave one (an object, a built-in's name or a
-/// `module:Class` name), else the scenario's `allocator` field.
-pub(crate) fn make_allocator(py: Python<'_>, scenario: &Scenario, allocator: Option<PyObject>) -> PyResult<Box<dyn Allocator>> {
+/// An allocator, and the world a Python allocator was built on (the run shares it, so the
+/// routing tables are built once).
+type Made = (Box<dyn Allocator>, Option<Arc<World>>);
+
+/// A run of `scenario` with `allocator` if Python gave one (an object, a built-in's name or a
+/// `module:Class` name), else with the scenario's `allocator` field.
+pub(crate) fn new_simulation(py: Python<'_>, scenario: &Scenario, allocator: Option<PyObject>) -> PyResult<Simulation> {
+    let (alloc, world) = make_allocator(py, scenario, allocator)?;
+    let s = scenario.clone();
+    crate::errors::engine(py, move || match world {
+        Some(world) => Simulation::with_world(world, &s, alloc),
+        None => Simulation::with_allocator(&s, alloc),
+    })
+}
+
+fn make_allocator(py: Python<'_>, scenario: &Scenario, allocator: Option<PyObject>) -> PyResult<Made> {
     CAUSE.with(|c| c.borrow_mut().take());
     match allocator {
         None => by_name(py, scenario, &scenario.allocator.clone()),
@@ -65,7 +78,7 @@ pub(crate) fn for_validation(py: Python<'_>, scenario: &Scenario) -> PyResult<Bo
     alloc::built_in(scenario).map_err(crate::to_py)
 }
 
-fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Box<dyn Allocator>> {
+fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Made> {
     if name.contains(':') {
         let class = resolve(py, name)?;
         let obj = class
@@ -76,7 +89,7 @@ fn by_name(py: Python<'_>, scenario: &Scenario, name: &str) -> PyResult<Box<dyn 
             .map_err(|e| crate::ScenarioError::new_err(format!("allocator = \"{name}\": calling it returned no allocator ({})", one_line(py, &e))));
     }
     let s = Scenario { allocator: name.to_string(), ..scenario.clone() };
-    alloc::built_in(&s).map_err(crate::to_py)
+    Ok((alloc::built_in(&s).map_err(crate::to_py)?, None))
 }
 
 /// The class (or function) a `module:Class` or `path/file.py:Class` name refers to. The
@@ -107,7 +120,7 @@ struct PyAllocator {
 }
 
 impl PyAllocator {
-    fn boxed(py: Python<'_>, scenario: &Scenario, obj: &PyObject) -> PyResult<Box<dyn Allocator>> {
+    fn boxed(py: Python<'_>, scenario: &Scenario, obj: &PyObject) -> PyResult<Made> {
         let b = obj.bind(py);
         if b.is_instance_of::<PyType>() {
             let what = b.getattr("__name__").map(|n| n.to_string()).unwrap_or_default();
@@ -131,8 +144,8 @@ impl PyAllocator {
             },
         };
         let s = scenario.clone();
-        let world = py.allow_threads(move || s.check_values().and_then(|()| World::new(s.resolve_layout()?))).map_err(crate::to_py)?;
-        Ok(Box::new(PyAllocator { name, call: call.unbind(), world, model: TaskModel::of(scenario) }))
+        let world = py.allow_threads(move || s.check_values().and_then(|()| World::of(&s))).map_err(crate::to_py)?;
+        Ok((Box::new(PyAllocator { name, call: call.unbind(), world: world.clone(), model: TaskModel::of(scenario) }), Some(world)))
     }
 
     fn fail(&self, reason: impl Into<String>) -> Error {

@@ -109,7 +109,8 @@ def flow_lines(result: Any) -> list[str]:
     lines += [
         f"waiting      {result.wait_share:.1%} of robot-steps",
         f"utilisation  {result.utilisation:.1%} of robot-steps working on orders (not waiting)",
-        f"contacts     {result.contacts} (robots closer than r_i + r_j after a move); closest {opt(result.closest, '{:.1f} px')}",
+        f"contacts     {result.contacts} (robots closer than r_i + r_j after a move);"
+        f" closest {opt(result.closest, '{:.1f} px')}",
     ]
     g = result.gridlock
     if g is not None:

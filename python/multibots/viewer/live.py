@@ -7,11 +7,9 @@ import json
 import math
 import threading
 import time
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, Optional
 
 import numpy as np
-
-from ..replay import pack_chunk, pack_state, quantize_energy, quantize_heading
 
 #: Simulation steps per second of wall time at speed 1x (the page and `render` agree on it).
 STEPS_PER_SECOND = 30.0
@@ -56,36 +54,18 @@ class LiveRunner:
 
     # ------------------------------------------------------------------ state
     def _meta(self) -> Dict[str, Any]:
-        sim = self.sim
-        layout = sim.layout
-        n = len(np.asarray(sim.radius))
-        return {
-            "mode": "live",
-            "robots": n,
-            "radius": [float(r) for r in np.asarray(sim.radius)],
-            "home": [int(h) for h in np.asarray(sim.home)],
-            "energy_full": float(sim.energy_full),
-            "threshold": float(sim.threshold),
-            "goods_total": int(sim.goods_total),
-            "cells_full": [int(c) for c in np.asarray(sim.cells)],
-            "layout": layout,
-            "frames": None,
-            "summary": None,
-            "steps_per_second": STEPS_PER_SECOND,
-        }
+        # The engine's viewer header (the replay header's fields), with what a live run adds.
+        meta = self.sim.viewer_header()
+        meta.update({"mode": "live", "frames": None, "summary": None, "steps_per_second": STEPS_PER_SECOND})
+        return meta
 
     def _publish_locked(self) -> None:
-        """Snapshot the simulation (caller holds self.lock) into a message."""
+        """Snapshot the simulation (caller holds self.lock) into a message: one frame of the
+        replay codec, encoded by the engine."""
         sim = self.sim
-        pos = np.asarray(sim.positions, dtype=np.float64).reshape(-1, 2)
-        n = len(pos)
-        energy = quantize_energy(np.asarray(sim.energy), float(sim.energy_full)).reshape(1, n)
-        heading = quantize_heading(np.asarray(sim.headings)).reshape(1, n)
-        state = pack_state(np.asarray(sim.states), np.asarray(sim.marked)).reshape(1, n)
+        raw = sim.frame_chunk()
         t = int(sim.t)
         S, C, D = int(sim.S), int(sim.C), int(sim.delivered)
-        raw = pack_chunk(t, np.array([[S, C, D]]), pos[:, 0].reshape(1, n), pos[:, 1].reshape(1, n),
-                         np.zeros((0, 4), dtype=np.uint32), energy, heading, state)
         cells = np.asarray(sim.cells, dtype=np.uint8).tobytes()
         T = sim.T
         body = {

@@ -8,6 +8,7 @@ import threading
 import urllib.parse
 from typing import Any, Dict, Optional, Tuple
 
+from multibots import _core
 from multibots.replay import Replay
 from multibots.viewer.handler import ViewerHTTPServer, load_assets
 
@@ -40,6 +41,9 @@ class ReplaySource:
             "chunk_steps": r.chunk_steps,
             "chunks": [[r.chunk_info(i)["first_frame"], r.chunk_info(i)["frames"]] for i in range(r.chunk_count)],
             "scenario": r.header.get("scenario", ""),
+            # The engine's names of the codes (also in new replays' headers).
+            "state_names": list(_core.STATE_NAMES),
+            "event_names": {str(k): v for k, v in _core.EVENT_NAMES.items()},
         }
 
     def start_index(self) -> None:

@@ -1,7 +1,7 @@
 // MultiBots viewer: the page. Replay mode plays chunks fetched on demand; live mode shows
 // the frames the server streams and sends it pause / resume / step / speed.
-import { Renderer, stateName, formatT } from "./draw.js";
-import { ReplaySource, LiveSource } from "./data.js";
+import { Renderer, stateName, formatT, setNames } from "./draw.js";
+import { ReplaySource, LiveSource, setEventNames } from "./data.js";
 
 const params = new URLSearchParams(location.search);
 const RENDER = params.get("render") === "1";
@@ -361,6 +361,8 @@ async function main() {
     return;
   }
   const meta = app.meta;
+  setNames(meta.state_names);
+  setEventNames(meta.event_names);
   app.mode = meta.mode;
   const title = `MultiBots \u00b7 ${meta.name || meta.layout.name}`;
   document.title = title;

@@ -1,7 +1,16 @@
 // MultiBots viewer: data. Decodes replay chunks (docs/replay-format.md) fetched from the
 // server a few at a time, and the live stream's one-frame chunks.
 
-const EV_PICKUP = 3, EV_RESTOCK = 8;
+// Event codes by name, from the engine's names in the server's meta (`event_names`).
+let EV_PICKUP = -1, EV_RESTOCK = -1;
+
+/** Takes the engine's event names (`meta.event_names`: code -> name). */
+export function setEventNames(eventNames) {
+  for (const [code, name] of Object.entries(eventNames || {})) {
+    if (name === "PICKUP") EV_PICKUP = Number(code);
+    else if (name === "RESTOCK") EV_RESTOCK = Number(code);
+  }
+}
 
 function align(pos, size) { return Math.ceil(pos / size) * size; }
 

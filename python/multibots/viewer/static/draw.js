@@ -1,8 +1,8 @@
 // MultiBots viewer: drawing. Everything comes from the layout JSON and the frame arrays;
 // the page and `multibots render` both draw with this file, so they look the same.
 
-export const STATE_NAMES = ["IDLE", "TO_PICKUP", "LOADING", "TO_DROP", "UNLOADING", "TO_CHARGER",
-  "CHARGING", "TO_HOME", "PARKED", "STRANDED", "WAIT_CHARGER"];
+// State names come from the engine, through the server's meta (`state_names`): see setNames.
+export let STATE_NAMES = [];
 
 export const COLOURS = {
   blue: "#1f77b4",      // on the way to pick up, loading
@@ -30,10 +30,20 @@ export const COLOURS = {
 };
 
 const GROUP_COLOURS = [COLOURS.blue, COLOURS.red, COLOURS.green, COLOURS.grey, COLOURS.other];
-// state code -> colour group
+// state name -> colour group: blue fetching, red carrying, green resting, grey stranded.
+const GROUP_OF_NAME = {
+  IDLE: 2, TO_PICKUP: 0, LOADING: 0, TO_DROP: 1, UNLOADING: 1, TO_CHARGER: 2, CHARGING: 2,
+  TO_HOME: 2, PARKED: 2, STRANDED: 3, WAIT_CHARGER: 2,
+};
+// state code -> colour group (codes of unknown names stay "other")
 const STATE_GROUP = new Uint8Array(128).fill(4);
-[[0, 2], [1, 0], [2, 0], [3, 1], [4, 1], [5, 2], [6, 2], [7, 2], [8, 2], [9, 3], [10, 2]]
-  .forEach(([s, g]) => { STATE_GROUP[s] = g; });
+
+/** Takes the engine's state names (`meta.state_names`, indexed by code). */
+export function setNames(stateNames) {
+  STATE_NAMES = Array.from(stateNames || []);
+  STATE_GROUP.fill(4);
+  STATE_NAMES.forEach((name, code) => { if (name in GROUP_OF_NAME) STATE_GROUP[code] = GROUP_OF_NAME[name]; });
+}
 
 export function stateColour(code) { return GROUP_COLOURS[STATE_GROUP[code & 0x7f]]; }
 export function stateName(code) { return STATE_NAMES[code & 0x7f] || `STATE_${code & 0x7f}`; }
