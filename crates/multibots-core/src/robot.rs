@@ -164,6 +164,36 @@ impl Robots {
         self.charger.push(home.0);
     }
 
+    /// Positions as `[x0, y0, x1, y1, …]`, for arrays of shape (N, 2).
+    #[must_use]
+    pub fn positions_flat(&self) -> Vec<f64> {
+        self.x.iter().zip(&self.y).flat_map(|(&x, &y)| [x, y]).collect()
+    }
+
+    /// State codes (the replay codes).
+    #[must_use]
+    pub fn state_codes(&self) -> Vec<u8> {
+        self.state.iter().map(|&s| s as u8).collect()
+    }
+
+    /// Home charger node ids.
+    #[must_use]
+    pub fn home_ids(&self) -> Vec<u32> {
+        self.home.iter().map(|h| h.0).collect()
+    }
+
+    /// The cell each robot carries goods from, or -1.
+    #[must_use]
+    pub fn carried_cells(&self) -> Vec<i32> {
+        (0..self.len()).map(|i| if self.carrying[i] { self.cell[i] as i32 } else { -1 }).collect()
+    }
+
+    /// The cell each robot fetches or carries goods from, or -1.
+    #[must_use]
+    pub fn task_cells(&self) -> Vec<i32> {
+        (0..self.len()).map(|i| self.goods_of(i).map_or(-1, |(_, c)| c.0 as i32)).collect()
+    }
+
     /// The goods robot `i` fetches or carries.
     #[must_use]
     pub fn goods_of(&self, i: usize) -> Option<(GoodsId, CellId)> {

@@ -104,8 +104,7 @@ impl PySimulation {
     #[getter]
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let r = self.sim.robots();
-        let flat: Vec<f64> = r.x.iter().zip(&r.y).flat_map(|(&x, &y)| [x, y]).collect();
-        PyArray1::from_vec(py, flat).reshape([r.len(), 2])
+        PyArray1::from_vec(py, r.positions_flat()).reshape([r.len(), 2])
     }
     #[getter]
     fn headings<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -113,7 +112,7 @@ impl PySimulation {
     }
     #[getter]
     fn states<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u8>> {
-        PyArray1::from_iter(py, self.sim.robots().state.iter().map(|&s| s as u8))
+        PyArray1::from_vec(py, self.sim.robots().state_codes())
     }
     #[getter]
     fn marked<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
@@ -129,19 +128,17 @@ impl PySimulation {
     }
     #[getter]
     fn home<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u32>> {
-        PyArray1::from_iter(py, self.sim.robots().home.iter().map(|h| h.0))
+        PyArray1::from_vec(py, self.sim.robots().home_ids())
     }
     /// Cell each robot carries, or -1.
     #[getter]
     fn carrying<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
-        let r = self.sim.robots();
-        PyArray1::from_iter(py, (0..r.len()).map(|i| if r.carrying[i] { r.cell[i] as i32 } else { -1 }))
+        PyArray1::from_vec(py, self.sim.robots().carried_cells())
     }
     /// Cell each robot fetches or carries, or -1.
     #[getter]
     fn task_cells<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
-        let r = self.sim.robots();
-        PyArray1::from_iter(py, (0..r.len()).map(|i| r.goods_of(i).map_or(-1, |(_, c)| c.0 as i32)))
+        PyArray1::from_vec(py, self.sim.robots().task_cells())
     }
     /// 1 where a storage cell holds goods.
     #[getter]

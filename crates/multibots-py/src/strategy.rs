@@ -268,7 +268,7 @@ impl PyAllocView {
     fn snapshot(py: Python<'_>, view: &AllocView<'_>, world: &Arc<World>, model: &TaskModel) -> PyResult<PyAllocView> {
         let r = view.robots();
         let n = r.len();
-        let flat: Vec<f64> = r.x.iter().zip(&r.y).flat_map(|(&x, &y)| [x, y]).collect();
+        let flat: Vec<f64> = r.positions_flat();
         Ok(PyAllocView {
             valid: AtomicBool::new(true),
             world: Arc::clone(world),
@@ -284,9 +284,9 @@ impl PyAllocView {
             goods_cells: frozen(PyArray1::from_iter(py, view.goods.iter().map(|g| g.cell.0))),
             positions: frozen(PyArray1::from_vec(py, flat).reshape([n, 2])?),
             energy: frozen(PyArray1::from_slice(py, &r.energy)),
-            states: frozen(PyArray1::from_iter(py, r.state.iter().map(|&s| s as u8))),
-            homes: frozen(PyArray1::from_iter(py, r.home.iter().map(|h| h.0))),
-            task_cells: frozen(PyArray1::from_iter(py, (0..n).map(|i| r.goods_of(i).map_or(-1, |(_, c)| i64::from(c.0))))),
+            states: frozen(PyArray1::from_vec(py, r.state_codes())),
+            homes: frozen(PyArray1::from_vec(py, r.home_ids())),
+            task_cells: frozen(PyArray1::from_iter(py, r.task_cells().into_iter().map(i64::from))),
         })
     }
 

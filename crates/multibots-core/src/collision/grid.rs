@@ -1,0 +1,146 @@
+//! The collision phase's uniform grid: positions to cells, and the robots sorted by cell so
+//! that the cells a search box covers in one grid row are one contiguous run.
+
+use super::Collisions;
+
+/// The uniform grid's geometry: a cheap map from positions to cells.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Grid {
+    pub(super) x0: f64,
+    pub(super) y0: f64,
+    /// `1 / size`: a multiplication instead of a division per coordinate. Any monotonic map
+    /// of coordinates to cells finds every neighbour, as long as insertion and search use
+    /// the same one.
+    pub(super) inv_size: f64,
+    pub(super) cols: usize,
+    pub(super) last_col: i32,
+    pub(super) last_row: i32,
+}
+
+impl Grid {
+    /// A point in grid units: its cell is the integer part.
+    #[inline]
+    pub(super) fn scaled(&self, x: f64, y: f64) -> (f64, f64) {
+        ((x - self.x0) * self.inv_size, (y - self.y0) * self.inv_size)
+    }
+
+    /// The cell column and row of a point in grid units, clamped into the grid (robots never
+    /// leave it: it has a free cell around everything they can reach). `as i32` truncates
+    /// like `floor` for the non-negative values that occur, and saturates on the rest.
+    #[inline]
+    pub(super) fn cell(&self, tx: f64, ty: f64) -> (u32, u32) {
+        ((tx as i32).clamp(0, self.last_col) as u32, (ty as i32).clamp(0, self.last_row) as u32)
+    }
+}
+
+/// The range of cells from `c` (the cell of `t`, in grid units) that a box from `t - lo` to
+/// `t + hi` overlaps, with `lo, hi` at most one cell: one comparison on each side instead of
+/// two float-to-integer conversions. These are the cells `floor` gives for the box's ends,
+/// so every robot inside the box is found.
+#[inline]
+pub(super) fn span(t: f64, c: u32, lo: f64, hi: f64) -> (usize, usize) {
+    let (c, cf) = (c as usize, f64::from(c));
+    (c - usize::from(t - lo < cf), c + usize::from(t + hi >= cf + 1.0))
+}
+
+impl Collisions {
+    /// runs of adjacent cells are adjacent).
+    pub(super) fn cells_run(&self, c0: usize, c1: usize) -> (usize, usize) {
+        if !self.dense {
+            let (mut k0, mut k1) = (u32::MAX, 0);
+            for c in c0..=c1 {
+                if self.stamp[c] == self.epoch {
+                    k0 = k0.min(self.start[c]);
+                    k1 = self.end[c];
+                }
+            }
+            return if k0 == u32::MAX { (0, 0) } else { (k0 as usize, k1 as usize) };
+        }
+        (self.first[c0] as usize, self.first[c1 + 1] as usize)
+    }
+
+    /// Dense grids: a counting sort by cell into `first`, `by_cell`, `sx`, `sy` (and `sr`).
+    pub(super) fn counting_sort(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
+        let n = x.len();
+        let cell_of = &self.cell_of[..n];
+        let first = &mut self.first[..];
+        first.fill(0);
+        for &c in cell_of {
+            if c != u32::MAX {
+                first[c as usize] += 1;
+            }
+        }
+        // Running totals: `first[c]` is the end of cell `c`; placing robots from the last
+        // back to the first turns it into the start.
+        let mut total = 0;
+        for f in first.iter_mut() {
+            total += *f;
+            *f = total;
+        }
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        for i in (0..n).rev() {
+            let c = cell_of[i];
+            if c != u32::MAX {
+                first[c as usize] -= 1;
+                let k = first[c as usize] as usize;
+                (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+                if !uniform {
+                    sr[k] = radius[i];
+                }
+            }
+        }
+    }
+
+    /// Sparse grids: last step's order repaired by insertion sort (robots out of the grid
+    /// sort last), then the runs of the occupied cells stamped with a new epoch.
+    pub(super) fn repair_order(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool, placed: usize) {
+        let n = x.len();
+        let cell_of = &self.cell_of[..n];
+        if self.order.len() != n {
+            self.order.clear();
+            self.order.extend(0..n as u32);
+        }
+        let order = &mut self.order[..];
+        let mut moves = 0;
+        for k in 1..n {
+            let v = order[k];
+            let key = cell_of[v as usize];
+            let mut j = k;
+            while j > 0 && cell_of[order[j - 1] as usize] > key {
+                order[j] = order[j - 1];
+                j -= 1;
+            }
+            order[j] = v;
+            moves += k - j;
+            if moves > 8 * n {
+                // Far from sorted (the first step, a new fleet): sort outright.
+                order.sort_unstable_by_key(|&i| (cell_of[i as usize], i));
+                break;
+            }
+        }
+        self.epoch += 1;
+        let epoch = self.epoch;
+        let (stamp, start, end) = (&mut self.stamp[..], &mut self.start[..], &mut self.end[..]);
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let mut last = u32::MAX;
+        for (k, &i) in order[..placed].iter().enumerate() {
+            let i = i as usize;
+            (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+            if !uniform {
+                sr[k] = radius[i];
+            }
+            let c = cell_of[i];
+            if c != last {
+                if last != u32::MAX {
+                    end[last as usize] = k as u32;
+                }
+                stamp[c as usize] = epoch;
+                start[c as usize] = k as u32;
+                last = c;
+            }
+        }
+        if last != u32::MAX {
+            end[last as usize] = placed as u32;
+        }
+    }
+}

@@ -1,0 +1,326 @@
+//! The scenario's tables and value types: fleet, dwell, collision, charging, cost, orders,
+//! metrics, placement, unloading and the task list, each with its defaults.
+
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use serde::de::{self, MapAccess, SeqAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize};
+use std::borrow::Cow;
+use std::fmt;
+
+/// How a run is measured (docs/metrics.md).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct MetricsParams {
+    /// Steps per throughput window: the result's `windows` series counts the deliveries of
+    /// each (≥ 1). Default: 1000.
+    pub window: u64,
+    /// Steps left out of the steady-state figures (throughput, wait share, utilisation), so
+    /// that they describe the run after its start-up. Default: 0.
+    pub warmup: u64,
+    /// A run in which no robot moves, dwells or charges for this many steps while work
+    /// remains ends with outcome `gridlock`, and says where; 0 never ends a run so.
+    /// Default: 2000.
+    pub gridlock: u64,
+}
+
+impl Default for MetricsParams {
+    fn default() -> Self {
+        MetricsParams { window: 1000, warmup: 0, gridlock: 2000 }
+    }
+}
+
+impl MetricsParams {
+    pub(crate) fn is_default(&self) -> bool {
+        *self == MetricsParams::default()
+    }
+}
+
+/// Where goods are delivered.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Unload {
+    /// The layout's first unloading zone (`M` in the paper layout): works on any layout.
+    #[default]
+    First,
+    /// Each cell's goods go to the unloading zone nearest its service point (extension).
+    Nearest,
+    /// This unloading zone, by node name.
+    Node(String),
+}
+
+impl Unload {
+    pub(crate) fn is_first(&self) -> bool {
+        *self == Unload::First
+    }
+
+    /// The text a scenario file uses.
+    #[must_use]
+    pub fn as_str(&self) -> &str {
+        match self {
+            Unload::First => "first",
+            Unload::Nearest => "nearest",
+            Unload::Node(name) => name,
+        }
+    }
+}
+
+impl From<&str> for Unload {
+    fn from(s: &str) -> Unload {
+        match s {
+            "first" => Unload::First,
+            "nearest" => Unload::Nearest,
+            name => Unload::Node(name.to_string()),
+        }
+    }
+}
+
+impl Serialize for Unload {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.as_str())
+    }
+}
+
+impl JsonSchema for Unload {
+    fn schema_name() -> Cow<'static, str> {
+        "Unload".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "type": "string",
+            "description": "\"first\" (the layout's first unloading zone), \"nearest\" (each cell's nearest zone), or an unloading zone's node name.",
+            "default": "first",
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for Unload {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        String::deserialize(d).map(|s| Unload::from(s.as_str()))
+    }
+}
+
+/// Where robots start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Placement {
+    /// The paper: robot i starts at the charger of the i-th start node.
+    #[default]
+    Departure,
+    /// Robots start idle, strictly inside aisle edges, spread evenly over the layout's
+    /// parking slots; each robot's slot is its home (docs/model.md section 7).
+    Spread,
+}
+
+impl Placement {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    pub(crate) fn is_departure(&self) -> bool {
+        *self == Placement::Departure
+    }
+}
+
+/// Lifelong orders: a Poisson stream and/or a CSV of `(step, cell)` rows.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct Orders {
+    /// Mean orders per step (Poisson), each for a uniformly drawn cell (≥ 0). Default: 0.
+    pub rate: f64,
+    /// A CSV file of `step,cell` rows (path relative to the working directory).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub csv: Option<String>,
+    /// Steps the run lasts (≥ 1). Default: 10000.
+    pub horizon: u64,
+    /// Steps after a pickup until the cell holds goods again (≥ 1). Default: 200.
+    pub restock: u64,
+    /// Seed of the Poisson stream. Default: 0.
+    pub seed: u64,
+}
+
+impl Default for Orders {
+    fn default() -> Self {
+        Orders { rate: 0.0, csv: None, horizon: 10_000, restock: 200, seed: 0 }
+    }
+}
+
+/// Robot body, motion and battery.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct RobotParams {
+    /// Disc radius, px (> 0). Default: 12.5.
+    pub radius: f64,
+    /// Distance travelled per step, px (> 0). Default: 4.
+    pub speed: f64,
+    /// Full battery (> 0). Default: 10.
+    pub energy_full: f64,
+    /// Below this a robot is sent to charge (0 ≤ threshold < energy_full). Default: 3.5.
+    pub threshold: f64,
+    /// Energy used per step, except while charging, parked or stranded (> 0). Default: 0.005.
+    pub consumption: f64,
+    /// Energy gained per step at the charger (> 0). Default: 0.05.
+    pub charge_rate: f64,
+}
+
+/// Steps spent standing to load and to unload.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct Dwell {
+    /// Steps standing at the service point (≥ 1). Default: 10.
+    pub loading: u32,
+    /// Steps standing on the unloading node (≥ 1). Default: 20.
+    pub unloading: u32,
+}
+
+/// Parameters of the collision-waiting rule.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct CollisionParams {
+    /// Added to r_i + r_j in the contact distance, px (≥ 0); the authors' code used 8.
+    /// Default: 0.
+    pub margin: f64,
+    /// Collision angle, degrees, in (0, 180]. Default: 30.
+    pub angle: f64,
+}
+
+/// Charging policies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChargingPolicy {
+    /// The paper's rule: charge only when below the threshold.
+    Threshold,
+    /// Also: an idle robot below `charging.level` goes to charge.
+    Opportunistic,
+}
+
+/// Which charger a robot uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChargerUse {
+    /// The paper: every robot charges at its own home charger.
+    #[default]
+    Home,
+    /// Extension: the nearest free charger; robots queue when none is free.
+    Shared,
+}
+
+impl ChargerUse {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn is_home(&self) -> bool {
+        *self == ChargerUse::Home
+    }
+}
+
+/// When robots go to charge. The threshold rule always applies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct Charging {
+    /// `"threshold"` (the paper's rule) or `"opportunistic"`. Default: `"threshold"`.
+    pub policy: ChargingPolicy,
+    /// With `"opportunistic"`: an idle robot below this energy goes to charge (threshold <
+    /// level ≤ energy_full). Default: 7.
+    pub level: f64,
+    /// `"home"` (the paper) or `"shared"` (nearest free charger, queue when none). Default:
+    /// `"home"`.
+    #[serde(skip_serializing_if = "ChargerUse::is_home")]
+    #[schemars(extend("default" = "home"))]
+    pub chargers: ChargerUse,
+}
+
+impl Default for Charging {
+    fn default() -> Self {
+        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home }
+    }
+}
+
+/// Weights of Cost_total = w_d·distance (px) + w_t·T (steps) + w_c·S (collisions).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct CostWeights {
+    /// w_d, per px travelled by the fleet. Default: 0.25 (one step of travel at 4 px/step).
+    pub distance: f64,
+    /// w_t, per step of task time. Default: 1.
+    pub time: f64,
+    /// w_c, per collision. Default: 50.
+    pub collision: f64,
+}
+
+impl Default for CostWeights {
+    fn default() -> Self {
+        CostWeights { distance: 0.25, time: 1.0, collision: 50.0 }
+    }
+}
+
+/// The task list.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Tasks {
+    /// Cell ids, fetched in this order.
+    Cells(Vec<i64>),
+    /// `count` distinct cells drawn with `seed`; the same on every machine.
+    Random { random: u32, seed: u64 },
+}
+
+impl Default for RobotParams {
+    fn default() -> Self {
+        RobotParams { radius: 12.5, speed: 4.0, energy_full: 10.0, threshold: 3.5, consumption: 0.005, charge_rate: 0.05 }
+    }
+}
+
+impl Default for Dwell {
+    fn default() -> Self {
+        Dwell { loading: 10, unloading: 20 }
+    }
+}
+
+impl Default for CollisionParams {
+    fn default() -> Self {
+        CollisionParams { margin: 0.0, angle: 30.0 }
+    }
+}
+
+impl JsonSchema for Tasks {
+    fn schema_name() -> Cow<'static, str> {
+        "Tasks".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "The goods to fetch, in order: a list of distinct cell ids, or { random = COUNT, seed = SEED } for COUNT distinct cells drawn with SEED.",
+            "oneOf": [
+                { "type": "array", "items": { "type": "integer", "minimum": 0 } },
+                {
+                    "type": "object",
+                    "properties": {
+                        "random": { "type": "integer", "minimum": 1, "description": "Number of distinct cells to draw." },
+                        "seed": { "type": "integer", "minimum": 0, "default": 0, "description": "Seed of the portable generator (ChaCha8)." },
+                    },
+                    "required": ["random"],
+                    "additionalProperties": false,
+                },
+            ],
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for Tasks {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct TasksVisitor;
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Random {
+            random: u32,
+            #[serde(default)]
+            seed: u64,
+        }
+        impl<'de> Visitor<'de> for TasksVisitor {
+            type Value = Tasks;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a list of cell ids or { random = COUNT, seed = SEED }")
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> std::result::Result<Tasks, A::Error> {
+                Vec::<i64>::deserialize(de::value::SeqAccessDeserializer::new(seq)).map(Tasks::Cells)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> std::result::Result<Tasks, A::Error> {
+                let r = Random::deserialize(de::value::MapAccessDeserializer::new(map))?;
+                Ok(Tasks::Random { random: r.random, seed: r.seed })
+            }
+        }
+        d.deserialize_any(TasksVisitor)
+    }
+}
