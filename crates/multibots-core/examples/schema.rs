@@ -6,7 +6,7 @@ use multibots_core::schema;
 use std::path::Path;
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().expect("the repository root");
     let fail = |e: String| -> ! {
         eprintln!("{e}");
         std::process::exit(1)
