@@ -11,16 +11,24 @@ pub enum Outcome {
     Incomplete,
     /// A lifelong run reached its horizon (the only way a lifelong run ends).
     Horizon,
+    /// Original rules only: robots block each other for good, where the authors' code would
+    /// wait forever ([`crate::original`]). T is undefined.
+    Deadlock,
+    /// Original rules only: the authors' code raises an exception in this step, so it has no
+    /// answer from here on ([`crate::original`]). T is undefined.
+    Fault,
 }
 
 impl Outcome {
-    /// `"complete"` or `"incomplete"`.
+    /// `"complete"`, `"incomplete"`, `"horizon"`, `"deadlock"` or `"fault"`.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
             Outcome::Complete => "complete",
             Outcome::Incomplete => "incomplete",
             Outcome::Horizon => "horizon",
+            Outcome::Deadlock => "deadlock",
+            Outcome::Fault => "fault",
         }
     }
 }

@@ -33,6 +33,10 @@ pub struct Scenario {
     /// Task-allocation strategy. Default: `"in-turn"`.
     #[serde(default = "defaults::allocator")]
     pub allocator: String,
+    /// The rule set: `"paper"` (the model of docs/model.md) or `"original"` (the authors'
+    /// code, tick for tick: docs/original-rules.md). Default: `"paper"`.
+    #[serde(default, skip_serializing_if = "Rules::is_paper")]
+    pub rules: Rules,
     /// When robots go to charge.
     #[serde(default)]
     pub charging: Charging,
@@ -59,6 +63,27 @@ pub struct Scenario {
     /// Lifelong operation (extension): orders arrive over time and the run lasts a horizon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub orders: Option<Orders>,
+}
+
+/// Which rules run a scenario.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rules {
+    /// The model of docs/model.md: a cleaned-up reading of the paper, without deadlocks.
+    #[default]
+    Paper,
+    /// The authors' original code, reproduced tick for tick, quirks included
+    /// ([`crate::original`]).
+    Original,
+}
+
+impl Rules {
+    /// Whether these are the paper rules (the default).
+    #[must_use]
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    pub fn is_paper(&self) -> bool {
+        *self == Rules::Paper
+    }
 }
 
 /// Where robots start.
@@ -358,6 +383,7 @@ impl Scenario {
             tasks: Tasks::Cells(cells.iter().map(|&c| i64::from(c)).collect()),
             step_limit: defaults::step_limit(),
             allocator: defaults::allocator(),
+            rules: Rules::Paper,
             charging: Charging::default(),
             cost: CostWeights::default(),
             robot: RobotParams::default(),
