@@ -18,7 +18,7 @@ same tick cap (--max-ticks). Per outcome of the engine:
   stopped robots, away from their chargers, in contact (then neither can ever move again);
   it must still be unfinished --confirm ticks later;
 - fault at tick K: both stopped after K - 1 ticks must agree as above, and the reference must
-  raise the same exception in tick K;
+  raise the same exception in tick K, having counted the same S, C and deliveries by then;
 - refused (more than 50 goods): the reference must fail to finish (its 51st delivery raises
   IndexError).
 
@@ -68,6 +68,39 @@ def reference(args: argparse.Namespace, n: int, goods: list[int], cap: int) -> d
     p = subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=args.reference)
     if p.returncode != 0:
         return {"crash": p.stderr.strip().splitlines()[-6:]}
+    return json.loads(p.stdout)
+
+
+# A fresh interpreter (the code keeps global state) runs the reference as run_authors.py
+# does, until it raises, and prints what the code had counted at that moment.
+AT_CRASH = r"""
+import io, json, sys, traceback, contextlib
+n, goods, cap = int(sys.argv[1]), [int(g) for g in sys.argv[2].split(",")], int(sys.argv[3])
+sys.path.insert(0, ".")
+sys.dont_write_bytecode = True
+with contextlib.redirect_stdout(io.StringIO()):
+    import param
+    param.num_agents, param.GOOD_NUM, param.goodstotal = n, list(goods), len(goods)
+    import Strategy, WorldController, ChargeThreshold
+    ChargeThreshold.input = lambda prompt="": ""
+    ctrl = WorldController.Controller()
+    tick, error = 0, None
+    while tick < cap and error is None:
+        tick += 1
+        try:
+            ctrl.update()
+        except Exception as e:
+            error = "%s: %s in %s" % (type(e).__name__, e, traceback.extract_tb(e.__traceback__)[-1].name)
+print(json.dumps({"tick": tick, "error": error, "delivered": Strategy.goodscurrentcnt,
+                  "S": sum(WorldController.collisioncnt[i] for i in range(n)),
+                  "C": sum(a.chargecnts for a in ctrl.agents),
+                  "per_robot": [[WorldController.collisioncnt[i], a.chargecnts] for i, a in enumerate(ctrl.agents)]}))
+"""
+
+
+def reference_at_crash(args: argparse.Namespace, n: int, goods: list[int], cap: int) -> dict:
+    cmd = [args.python, "-c", AT_CRASH, str(n), ",".join(map(str, goods)), str(cap)]
+    p = subprocess.run(cmd, capture_output=True, text=True, check=True, cwd=args.reference)
     return json.loads(p.stdout)
 
 
@@ -133,10 +166,14 @@ def compare(args: argparse.Namespace, k: int) -> tuple[int, list[int], str, list
             problems += diff(figures_ours(ours), figures_ref(ref))
             if not stuck(ref["state_at_cap"]):
                 problems.append(f"reference not stuck at tick {d}: {ref['state_at_cap']['cillioned'][:2]}")
+            # The other robots go on working (and the code may even raise later), but the
+            # stuck pair stays stuck and the run never finishes.
             later = reference(args, n, goods, d + args.confirm)
-            if "crash" in later or later["finished"] or not stuck(later["state_at_cap"]):
+            if "crash" not in later and (later["finished"] or not stuck(later["state_at_cap"])):
                 problems.append(f"reference moved on within {args.confirm} ticks of the deadlock")
     elif kind == "fault":
+        # Tick for tick up to the last tick the reference completes, then the same exception
+        # in the next one, with the same counts at that moment.
         t = ours["steps"]
         before = engine(args, n, goods, t - 1)
         ref = reference(args, n, goods, t - 1)
@@ -144,12 +181,14 @@ def compare(args: argparse.Namespace, k: int) -> tuple[int, list[int], str, list
             problems.append(f"reference raised before tick {t}: {ref['crash'][-1]}")
         else:
             problems += diff(figures_ours(before), figures_ref(ref))
-        at = reference(args, n, goods, t)
+        at = reference_at_crash(args, n, goods, t)
         where = ours["fault"].split(":")[0]
         exc, frame = FAULT_SIGNATURES[where]
-        text = "\n".join(at.get("crash", []))
-        if "crash" not in at or exc not in text or frame not in text:
-            problems.append(f"reference did not raise {exc} ({where}) in tick {t}: {at.get('crash', 'no crash')}")
+        if at["error"] is None or at["tick"] != t or not at["error"].startswith(exc) or not at["error"].endswith(frame):
+            problems.append(f"reference: {at['error']} in tick {at['tick']} (engine: {ours['fault']} in tick {t})")
+        mine = {"S": ours["S"], "C": ours["C"], "delivered": ours["delivered"],
+                "per_robot": [[r["collisions"], r["charges"]] for r in ours["per_robot"]]}
+        problems += diff(mine, {k: at[k] for k in mine})
     else:
         problems.append(f"unexpected outcome {kind}")
     return n, goods, kind, problems

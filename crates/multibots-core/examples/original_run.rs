@@ -69,8 +69,8 @@ fn main() {
     }
     let r = run.result();
     let mut per = String::new();
-    for i in 0..n {
-        let d: Vec<String> = deliveries[i].iter().map(|(t, c)| format!("[{t},{c}]")).collect();
+    for (i, done) in deliveries.iter().enumerate() {
+        let d: Vec<String> = done.iter().map(|(t, c)| format!("[{t},{c}]")).collect();
         let _ = write!(
             per,
             "{}{{\"collisions\":{},\"charges\":{},\"deliveries\":[{}]}}",

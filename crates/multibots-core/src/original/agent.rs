@@ -32,6 +32,7 @@ pub enum Status {
 
 /// One robot.
 #[derive(Clone, Debug)]
+#[allow(clippy::struct_excessive_bools)] // the original's flags, kept one for one so that each can be checked against it
 pub struct Agent {
     /// Position, original frame.
     pub x: f64,

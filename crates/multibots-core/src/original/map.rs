@@ -28,6 +28,7 @@
 use std::sync::OnceLock;
 
 /// Named points: A..R, then the charging positions S, T, U, V, W, Y.
+#[cfg(test)]
 pub const POINTS: usize = 24;
 /// Aisle crossings A..R.
 pub const CROSSINGS: usize = 18;
@@ -42,6 +43,7 @@ pub const FRAME_DX: f64 = 50.0;
 pub const FRAME_DY: f64 = 100.0;
 
 /// Letters as the original names the points (`W` is followed by `Y`: it has no `X`).
+#[cfg(test)]
 pub const LETTERS: &[u8; POINTS] = b"ABCDEFGHIJKLMNOPQRSTUVWY";
 
 /// Where point `p` stands, in the original's frame (all integers, as in the original).
@@ -150,8 +152,8 @@ impl Routes {
                     }
                 }
             }
-            for t in 0..CROSSINGS {
-                assert!(seen[t], "the original's graph is strongly connected");
+            for (t, &reached) in seen.iter().enumerate() {
+                assert!(reached, "the original's graph is strongly connected");
                 let mut rev = Vec::with_capacity(CROSSINGS);
                 let mut v = t as u8;
                 rev.push(v);

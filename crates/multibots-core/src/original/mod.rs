@@ -301,6 +301,28 @@ impl Original {
         self.queue.iter().map(|&c| u32::from(c)).collect()
     }
 
+    /// Robot `i`'s remaining waypoints in the paper layout's frame, starting at its position:
+    /// the crossings of its plan, or the loading point while it drives to the shelf.
+    #[must_use]
+    pub fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
+        let a = &self.agents[i];
+        let shift = |(x, y): (f64, f64)| (x - map::FRAME_DX, y - map::FRAME_DY);
+        let mut out = vec![shift((a.x, a.y))];
+        if a.at_charger {
+            return out;
+        }
+        if a.to_shelf {
+            let s = map::shelf(a.goods);
+            out.push(shift((s.x, s.y)));
+            return out;
+        }
+        if a.stepping && a.next != map::NOWHERE && a.plan.front() != a.next {
+            out.push(shift(map::point(a.next)));
+        }
+        out.extend(a.plan.remaining().iter().map(|&p| shift(map::point(p))));
+        out
+    }
+
     /// Full energy and the threshold, in the original's units.
     #[must_use]
     pub fn energy_levels(&self) -> (f64, f64) {

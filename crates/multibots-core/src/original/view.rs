@@ -66,7 +66,7 @@ impl Original {
             v.at_node[i] = if on_point { u32::from(a.from) } else { NONE };
             let shelf = map::shelf(a.goods);
             // Heading for the next crossing, or (next = 'x') along the shelf's edge.
-            let towards = if a.next != NOWHERE { a.next } else { shelf.backward };
+            let towards = if a.next == NOWHERE { shelf.backward } else { a.next };
             let inside = !on_point && !a.at_charger;
             v.edge_u[i] = if inside { u32::from(a.from) } else { NONE };
             v.edge_v[i] = if inside { u32::from(towards) } else { NONE };
