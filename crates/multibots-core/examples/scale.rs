@@ -32,7 +32,7 @@ fn main() {
         }
         let waits: u64 = sim.stats().wait_steps.iter().sum();
         let dist: f64 = sim.stats().distance.iter().sum();
-        eprintln!("states {hist:?} queue {} wait share {:.3} mean distance {:.0}", sim.queue().len(), waits as f64 / (n * sim.t() as f64), dist / n);
+        eprintln!("states {hist:?} queue {} wait share {:.3} mean distance {:.0}", sim.queue_cells().len(), waits as f64 / (n * sim.t() as f64), dist / n);
     }
     // FNV-1a over positions, states and energies: a change of behaviour shows as a new
     // fingerprint, while optimisations must keep it.

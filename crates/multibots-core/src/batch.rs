@@ -11,7 +11,7 @@
 use crate::error::Result;
 use crate::metrics::RunResult;
 use crate::scenario::Scenario;
-use crate::sim::Simulation;
+use crate::simulation::Simulation;
 use crate::world::World;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, OnceLock};

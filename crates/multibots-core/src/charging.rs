@@ -22,7 +22,7 @@ use crate::ids::{CellId, GoodsId, NodeId, NONE};
 use crate::robot::{State, Target};
 use crate::route::{self, Place};
 use crate::scenario::{ChargerUse, Scenario};
-use crate::sim::Simulation;
+use crate::sim::Paper;
 use crate::world::World;
 use std::collections::VecDeque;
 
@@ -70,7 +70,7 @@ impl Chargers {
     }
 }
 
-impl Simulation {
+impl Paper {
     /// The threshold rule (with put-back), opportunistic charging and stranding, for robot
     /// `i` after its task transition (phase 7).
     pub(crate) fn energy_rules(&mut self, i: usize) {

@@ -17,7 +17,7 @@
 //!
 //! Every section starts at a multiple of its type's size without padding, all little-endian.
 
-use crate::sim::Simulation;
+use crate::simulation::Simulation;
 use flate2::read::ZlibDecoder;
 use std::f64::consts::TAU;
 use std::io::Read;

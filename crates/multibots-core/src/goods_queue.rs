@@ -15,7 +15,7 @@ use crate::ids::{CellId, GoodsId, RobotId, NONE};
 use crate::lifelong::{Lifelong, StockEvent};
 use crate::robot::{Robots, State, Target};
 use crate::scenario::Orders;
-use crate::sim::Simulation;
+use crate::sim::Paper;
 use std::collections::VecDeque;
 
 /// Goods not yet taken, and which cells hold goods.
@@ -179,7 +179,7 @@ impl GoodsQueue {
     }
 }
 
-impl Simulation {
+impl Paper {
     /// Phase 1: idle robots get goods from the allocator, or go home when none are open.
     pub(crate) fn hand_out(&mut self) -> Result<()> {
         if !self.alloc_due {

@@ -12,7 +12,7 @@ use crate::ids::NONE;
 use crate::lifelong::{self, Lifelong};
 use crate::robot::State;
 use crate::scenario::{CostWeights, MetricsParams};
-use crate::sim::Simulation;
+use crate::sim::Paper;
 
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,11 +32,17 @@ pub enum Outcome {
     /// Nothing happened for `metrics.gridlock` steps while work remained, and no robot was
     /// waiting or stranded: robots stood idle (a strategy that hands out no goods).
     Stalled,
+    /// Original rules only: robots block each other for good, where the authors' code would
+    /// wait forever ([`crate::original`]). T is undefined.
+    Deadlock,
+    /// Original rules only: the authors' code raises an exception in this step, so it has no
+    /// answer from here on ([`crate::original`]). T is undefined.
+    Fault,
 }
 
 impl Outcome {
     /// The outcome's name: `"complete"`, `"incomplete"`, `"horizon"`, `"gridlock"`,
-    /// `"stranded"` or `"stalled"`.
+    /// `"stranded"`, `"stalled"`, `"deadlock"` or `"fault"`.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
@@ -46,6 +52,8 @@ impl Outcome {
             Outcome::Gridlock => "gridlock",
             Outcome::Stranded => "stranded",
             Outcome::Stalled => "stalled",
+            Outcome::Deadlock => "deadlock",
+            Outcome::Fault => "fault",
         }
     }
 }
@@ -193,7 +201,7 @@ impl Snapshot {
 
 /// The running counts of a simulation: the step, S, C and deliveries, and per-robot counters.
 #[derive(Clone, Debug)]
-pub(crate) struct Tally {
+pub struct Tally {
     /// The current step (0 before the first).
     pub t: u64,
     pub s: u64,
@@ -218,6 +226,7 @@ pub(crate) struct Tally {
 }
 
 impl Tally {
+    #[must_use]
     pub fn new(robots: usize, goods_total: u64, p: &MetricsParams) -> Tally {
         let mut t = Tally {
             t: 0,
@@ -243,6 +252,12 @@ impl Tally {
         t
     }
 
+    /// Steps left out of the steady figures.
+    #[must_use]
+    pub fn warmup(&self) -> u64 {
+        self.warmup
+    }
+
     /// End of a step: windows, the warm-up, and the count of steps without progress.
     /// Returns whether the fleet is gridlocked (when work remains).
     pub fn end_step(&mut self, progress: bool, work_remains: bool) -> bool {
@@ -265,47 +280,55 @@ pub fn cost_total(w: &CostWeights, t: Option<u64>, distance: f64, s: u64) -> Opt
     t.map(|t| w.distance * distance + w.time * t as f64 + w.collision * s as f64)
 }
 
-impl Simulation {
-    /// The indicators and per-robot statistics so far.
+impl Tally {
+    /// The result so far: `outcome` (None while running), the robots out of energy, the fleet
+    /// size, the cost weights and the lifelong figures.
     #[must_use]
-    pub fn result(&self) -> RunResult {
-        let r = &self.robots;
-        let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
-        let tally = &self.tally;
-        let t = (self.outcome == Some(Outcome::Complete)).then_some(tally.t);
+    pub fn result(&self, outcome: Option<Outcome>, stranded: Vec<u32>, robots: usize, weights: &CostWeights, lifelong: Option<LifelongStats>) -> RunResult {
+        let t = (outcome == Some(Outcome::Complete)).then_some(self.t);
         RunResult {
             t,
-            s: tally.s,
-            c: tally.c,
-            outcome: self.outcome,
-            steps: tally.t,
-            delivered: tally.delivered,
-            goods_total: tally.goods_total,
+            s: self.s,
+            c: self.c,
+            outcome,
+            steps: self.t,
+            delivered: self.delivered,
+            goods_total: self.goods_total,
             stranded,
-            cost: cost_total(&self.cost_weights, t, tally.stats.distance.iter().sum(), tally.s),
-            window: tally.window,
-            windows: tally.windows.clone(),
+            cost: cost_total(weights, t, self.stats.distance.iter().sum(), self.s),
+            window: self.window,
+            windows: self.windows.clone(),
             throughput: None,
             sustained_throughput: self.sustained(),
             wait_share: 0.0,
             utilisation: 0.0,
-            contacts: tally.contacts,
-            closest: tally.closest.is_finite().then_some(tally.closest),
-            gridlock: tally.gridlock.clone(),
-            robots: tally.stats.clone(),
-            lifelong: self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll)),
+            contacts: self.contacts,
+            closest: self.closest.is_finite().then_some(self.closest),
+            gridlock: self.gridlock.clone(),
+            robots: self.stats.clone(),
+            lifelong,
         }
-        .with_steady(tally.steady.map(|s| (s, Snapshot::of(tally), tally.t - tally.warmup, self.robots.len() as u64)))
+        .with_steady(self.steady.map(|s| (s, Snapshot::of(self), self.t - self.warmup, robots as u64)))
     }
 
     /// Deliveries per 1,000 steps over the last half of the complete windows after the
     /// warm-up.
     fn sustained(&self) -> Option<f64> {
-        let t = &self.tally;
-        let first = t.warmup.div_ceil(t.window) as usize;
-        let after = t.windows.get(first..).unwrap_or(&[]);
+        let first = self.warmup.div_ceil(self.window) as usize;
+        let after = self.windows.get(first..).unwrap_or(&[]);
         let last_half = &after[after.len() / 2..];
-        (!last_half.is_empty()).then(|| last_half.iter().sum::<u64>() as f64 * 1000.0 / (last_half.len() as u64 * t.window) as f64)
+        (!last_half.is_empty()).then(|| last_half.iter().sum::<u64>() as f64 * 1000.0 / (last_half.len() as u64 * self.window) as f64)
+    }
+}
+
+impl Paper {
+    /// The indicators and per-robot statistics so far.
+    #[must_use]
+    pub fn result(&self) -> RunResult {
+        let r = &self.robots;
+        let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
+        let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
+        self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong)
     }
 
     /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),

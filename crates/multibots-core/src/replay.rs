@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::events::EventKind;
 use crate::metrics::RunResult;
 use crate::robot::State;
-use crate::sim::Simulation;
+use crate::simulation::Simulation;
 use flate2::write::ZlibEncoder;
 use flate2::Compression;
 use serde_json::{json, Value};

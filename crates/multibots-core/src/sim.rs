@@ -69,8 +69,9 @@ impl Params {
     }
 }
 
-/// A run in progress.
-pub struct Simulation {
+/// A run under the paper rules (`rules = "paper"`), in progress. Users drive it through
+/// [`crate::Simulation`], which also runs the original rules.
+pub struct Paper {
     pub(crate) world: Arc<World>,
     pub(crate) p: Params,
     pub(crate) cost_weights: CostWeights,
@@ -96,22 +97,22 @@ pub struct Simulation {
     events: Vec<Event>,
 }
 
-impl Simulation {
+impl Paper {
     /// A run of `scenario` with its named built-in allocator.
-    pub fn new(scenario: &Scenario) -> Result<Simulation> {
+    pub fn new(scenario: &Scenario) -> Result<Paper> {
         scenario.check_values()?;
         let allocator = alloc::built_in(scenario)?;
-        Simulation::with_world(World::of(scenario)?, scenario, allocator)
+        Paper::with_world(World::of(scenario)?, scenario, allocator)
     }
 
     /// A run of `scenario` with a given allocator (such as one written in Python).
-    pub fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
+    pub fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
         scenario.check_values()?;
-        Simulation::with_world(World::of(scenario)?, scenario, allocator)
+        Paper::with_world(World::of(scenario)?, scenario, allocator)
     }
 
     /// A run on an already built world, with any allocator.
-    pub fn with_world(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
+    pub fn with_world(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
         scenario.check_values()?;
         let layout = &world.layout;
         let unload = placement::unload_zone(layout, &scenario.unload)?;
@@ -125,7 +126,7 @@ impl Simulation {
         let n = robots.len();
         let (goods, lifelong) = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv, n);
         let reach = 2.0 * scenario.robot.radius + scenario.collision.margin;
-        Ok(Simulation {
+        Ok(Paper {
             p: Params::of(scenario),
             cost_weights: scenario.cost.clone(),
             tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics),
@@ -455,7 +456,7 @@ mod tests {
     fn a_robot_behind_a_stranded_one_is_a_gridlock_that_says_where() {
         let mut s = Scenario::paper(2, &[42]);
         s.metrics.gridlock = 500;
-        let mut sim = Simulation::new(&s).unwrap();
+        let mut sim = Paper::new(&s).unwrap();
         let g = &sim.world.graph;
         let from = Place::node(g, sim.robots.home[0]);
         let pts = route::waypoints(g, from, service_target(&sim.world.layout, CellId(42)));
@@ -488,13 +489,13 @@ mod tests {
         }
         let mut s = Scenario::paper(2, &[42]);
         s.metrics.gridlock = 300;
-        let mut sim = Simulation::with_allocator(&s, Box::new(Never)).unwrap();
+        let mut sim = Paper::with_allocator(&s, Box::new(Never)).unwrap();
         let res = sim.run().unwrap();
         assert_eq!((res.outcome, res.steps, res.gridlock), (Some(Outcome::Stalled), 300, None));
         // Off: the run goes on to its step limit.
         s.metrics.gridlock = 0;
         s.step_limit = 5000;
-        let res = Simulation::with_allocator(&s, Box::new(Never)).unwrap().run().unwrap();
+        let res = Paper::with_allocator(&s, Box::new(Never)).unwrap().run().unwrap();
         assert_eq!((res.outcome, res.steps), (Some(Outcome::Incomplete), 5000));
     }
 
@@ -502,7 +503,7 @@ mod tests {
     fn windows_throughput_and_shares_add_up() {
         let mut s = Scenario::paper(6, &crate::scenario::PAPER_TASKS[0]);
         s.metrics.window = 100;
-        let r = Simulation::new(&s).unwrap().run().unwrap();
+        let r = Paper::new(&s).unwrap().run().unwrap();
         let t = r.t.unwrap();
         assert_eq!(r.windows.len() as u64, t / 100);
         // Deliveries in the last, partial window are in no complete window.
@@ -513,7 +514,7 @@ mod tests {
         assert!(r.utilisation > 0.0 && r.utilisation + r.wait_share <= 1.0);
         // A warm-up past the end leaves no steady figures.
         s.metrics.warmup = t + 1;
-        let r2 = Simulation::new(&s).unwrap().run().unwrap();
+        let r2 = Paper::new(&s).unwrap().run().unwrap();
         assert_eq!((r2.throughput, r2.sustained_throughput, r2.wait_share), (None, None, 0.0));
         assert_eq!((r2.t, r2.s, r2.c), (r.t, r.s, r.c));
     }

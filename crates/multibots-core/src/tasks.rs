@@ -10,9 +10,9 @@ use crate::energy;
 use crate::events::EventKind;
 use crate::ids::NONE;
 use crate::robot::{State, Target};
-use crate::sim::Simulation;
+use crate::sim::Paper;
 
-impl Simulation {
+impl Paper {
     /// The task transition of robot `i` in phase 7, if one is due.
     pub(crate) fn task_transition(&mut self, i: usize) {
         let arrived = !self.robots.routing[i];

@@ -40,7 +40,7 @@ fn goods_are_conserved_at_every_step() {
         assert_eq!(l.ordered, r.delivered + l.in_flight + l.queued + l.waiting, "step {}", sim.t());
         saw_waiting |= l.waiting > 0;
         // Each cell has at most one order in the queue or on its way.
-        let mut cells: Vec<u32> = sim.queue().iter().map(|g| g.cell.0).collect();
+        let mut cells: Vec<u32> = sim.queue_cells();
         cells.extend((0..sim.robots().len()).filter(|&i| sim.robots().goods[i] != u32::MAX && !sim.robots().carrying[i]).map(|i| sim.robots().cell[i]));
         let n = cells.len();
         cells.sort_unstable();

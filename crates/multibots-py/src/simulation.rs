@@ -158,7 +158,7 @@ impl PySimulation {
     /// Cells of the goods still in the queue, front first.
     #[getter]
     fn queue(&self) -> Vec<u32> {
-        self.sim.queue().iter().map(|g| g.cell.0).collect()
+        self.sim.queue_cells()
     }
     /// Events of the last step: (step, kind, robot, cell) rows; cell is -1 where none.
     #[getter]

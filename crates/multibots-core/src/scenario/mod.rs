@@ -41,6 +41,10 @@ pub struct Scenario {
     /// `"in-turn"`.
     #[serde(default = "defaults::allocator")]
     pub allocator: String,
+    /// The rule set: `"paper"` (the model of docs/model.md) or `"original"` (the authors'
+    /// code, tick for tick: docs/original-rules.md). Default: `"paper"`.
+    #[serde(default, skip_serializing_if = "Rules::is_paper")]
+    pub rules: Rules,
     /// When robots go to charge.
     #[serde(default)]
     pub charging: Charging,
@@ -154,6 +158,7 @@ impl Scenario {
             tasks: Tasks::Cells(cells.iter().map(|&c| i64::from(c)).collect()),
             step_limit: defaults::step_limit(),
             allocator: defaults::allocator(),
+            rules: Rules::Paper,
             charging: Charging::default(),
             cost: CostWeights::default(),
             robot: RobotParams::default(),

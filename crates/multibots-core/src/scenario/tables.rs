@@ -98,6 +98,27 @@ impl<'de> Deserialize<'de> for Unload {
     }
 }
 
+/// Which rules run a scenario.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rules {
+    /// The model of docs/model.md: a cleaned-up reading of the paper, without deadlocks.
+    #[default]
+    Paper,
+    /// The authors' original code, reproduced tick for tick, quirks included
+    /// ([`crate::original`]).
+    Original,
+}
+
+impl Rules {
+    /// Whether these are the paper rules (the default).
+    #[must_use]
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    pub fn is_paper(&self) -> bool {
+        *self == Rules::Paper
+    }
+}
+
 /// Where robots start.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
