@@ -16,6 +16,7 @@ from multibots.scenario import Scenario
 
 __all__ = [
     "EXIT_INCOMPLETE",
+    "RULES",
     "EXIT_INPUT",
     "EXIT_INTERNAL",
     "EXIT_INTERRUPTED",
@@ -89,6 +90,7 @@ def quick_scenario(
     unload: Optional[str],
     margin: Optional[str],
     step_limit: Optional[str],
+    rules: Optional[str] = None,
 ) -> Scenario:
     """A scenario from a file, from the quick-run flags on the paper layout, or a file with
     flags on top (``run`` and ``view --live`` share these rules)."""
@@ -110,6 +112,8 @@ def quick_scenario(
     limit = parse_number(step_limit, "--step-limit", int)
     if limit is not None:
         changes["step_limit"] = limit
+    if rules is not None:
+        changes["rules"] = rules
     if scenario is not None:
         base = Scenario.from_toml(scenario)
         return base.replace(**changes) if changes else base
@@ -125,6 +129,10 @@ GOODS = typer.Option(None, "--goods", help="Cells to fetch, in order, such as 11
 STARTS = typer.Option(None, "--starts", help="Start nodes, such as A,B,C (default A, B, C, ...).", show_default=False)
 UNLOAD = typer.Option(None, "--unload", help="Unloading zone: a node name, such as M.", show_default=False)
 MARGIN = typer.Option(None, "--margin", help="Collision margin, px (default 0).", show_default=False, metavar="PX")
+RULES = typer.Option(
+    None, "--rules", help="Rule set: paper (docs/model.md, the default) or original (the authors' code).",
+    show_default=False,
+)
 STEP_LIMIT = typer.Option(
     None, "--step-limit", help="Steps before the run ends incomplete (default 100000).", show_default=False,
     metavar="STEPS",

@@ -15,6 +15,7 @@ from multibots.cli._common import (
     GOODS,
     MARGIN,
     ROBOTS,
+    RULES,
     STARTS,
     STEP_LIMIT,
     UNLOAD,
@@ -33,6 +34,7 @@ def run(
     unload: Optional[str] = UNLOAD,
     margin: Optional[str] = MARGIN,
     step_limit: Optional[str] = STEP_LIMIT,
+    rules: Optional[str] = RULES,
     as_json: bool = typer.Option(
         False, "--json", help="Print one JSON object on stdout (the same keys for every run; floats rounded)."
     ),
@@ -56,7 +58,7 @@ def run(
     from multibots.result import Result
     from multibots.simulation import simulate
 
-    s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit)
+    s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit, rules)
     if allocator is not None:
         s = s.replace(allocator=allocator)
     lifelong = s.to_dict().get("orders") is not None

@@ -42,7 +42,10 @@ def _describe_missing(missing: Sequence[tuple[Any, Any]]) -> str:
 
 
 def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
-                       out_dir: str | os.PathLike[str]) -> list[Path]:
+                       out_dir: str | os.PathLike[str],
+                       published: Iterable[Mapping[str, Any]] | None = None,
+                       seconds_per_step: float | None = None,
+                       title: str | None = None) -> list[Path]:
     """Draw the paper's Fig. 6-8 from the results of its experiment.
 
     Writes ``fig6_task_time``, ``fig7_collisions`` and ``fig8_charging``, each as
@@ -58,6 +61,12 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
         rows: One dict per run with keys ``N``, ``group``, ``T``, ``S`` and ``C``
             (the paper's experiment: 30 rows, N = 1..6 x groups 1..5).
         out_dir: Folder for the figures; created if missing.
+        published: The values published in the paper (keys ``N``, ``group``, ``T_seconds``,
+            ``S``, ``C``), drawn over each figure as crosses (panel a, in each group's colour)
+            and a dashed line of their means (panel b).
+        seconds_per_step: With ``published``: T is drawn in seconds, the runs' steps times
+            this (the paper's T is wall-clock time, about 0.0508 s per tick).
+        title: A line above the figures, such as the rule set drawn.
 
     Returns:
         The six paths written, PNG then SVG for each figure, in figure order.
@@ -68,6 +77,9 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
     rows = [{**r, "N": as_number(r["N"])} for r in rows]
     if not rows:
         raise ValueError("draw_paper_figures needs at least one row")
+    pub = [{**p, "N": as_number(p["N"]), "T": p.get("T_seconds")} for p in (published or [])]
+    if seconds_per_step is not None:
+        rows = [{**r, "T": None if is_missing(r.get("T")) else float(r["T"]) * seconds_per_step} for r in rows]
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     groups = sorted({r["group"] for r in rows}, key=lambda g: (str(type(g)), g))
@@ -104,12 +116,26 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
                     partial.append(len(vs) < len(groups))
             ax_b.plot(mean_n, mean_v, color="#333333", marker="o", gid="mean-line",
                       label="Mean over groups")
+            if pub and (key != "T" or seconds_per_step is not None):
+                for i, g in enumerate(groups):
+                    pts = sorted((p["N"], float(p[key])) for p in pub if p["group"] == g and not is_missing(p.get(key)))
+                    if pts:
+                        shift = (i - (len(groups) - 1) / 2) * dodge
+                        ax_a.plot([n + shift for n, _ in pts], [v for _, v in pts], ls="none", marker="x",
+                                  markersize=7, color=series_style(i).get("color"), gid=f"published-{i}")
+                pmean = [(n, float(np.mean([float(p[key]) for p in pub if p["N"] == n and not is_missing(p.get(key))])))
+                         for n in all_n if any(p["N"] == n for p in pub)]
+                ax_b.plot(*zip(*pmean), color="#b03a2e", ls="--", marker="x", gid="published-mean",
+                          label="Published (paper's figure)")
+                ax_b.legend(loc="best", frameon=False)
             hollow = [(n, v) for n, v, p in zip(mean_n, mean_v, partial) if p]
             if hollow:
                 ax_b.plot(*zip(*hollow), ls="none", marker="o", markersize=7,
                           markerfacecolor="white", markeredgecolor="#333333",
                           label="Mean over the complete runs only")
                 ax_b.legend(loc="best", frameon=False)
+            if key == "T" and seconds_per_step is not None:
+                ylabel = "Task time T (s)"
             for ax, sub in ((ax_a, f"(a) {name} of each task group"),
                             (ax_b, f"(b) Mean {name.lower()} over the groups")):
                 ax.set_title(sub)
@@ -128,7 +154,8 @@ def draw_paper_figures(rows: Iterable[Mapping[str, Any]],
             ax_b.set_ylim(lo, hi)
             handles, labels = ax_a.get_legend_handles_labels()
             if handles:
-                fig.legend(handles, labels, loc="outside upper center",
+                heading = None if not title else title + ("; x: published values" if pub else "")
+                fig.legend(handles, labels, loc="outside upper center", title=heading,
                            ncol=min(len(handles), 6), frameon=False)
             if missing:
                 note = (f"Incomplete runs ({key} undefined) left out: "
