@@ -311,7 +311,9 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
     A run ends complete; or ``stranded`` the step every robot has run out of energy with
     work left; or, after ``gridlock`` steps in a row in which no robot moved, dwelt or
     charged while work was left, ``gridlock`` (robots wait at collisions), ``stranded``
-    (some robot is stranded) or ``stalled``; or ``incomplete`` at the step limit.
+    (some robot is stranded) or ``stalled``; or ``livelock`` after two battery cycles
+    (``2 * (energy_full / consumption + energy_full / charge_rate)`` steps, rounded up) without a
+    pickup or a delivery while work was left; or ``incomplete`` at the step limit.
 
     If ``trace`` is a list, one entry is appended after every step (for debugging):
     ``(t, S, C, delivered, [(x, y, state, marked, energy) for each robot])``.
@@ -351,6 +353,8 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
     t = 0
     outcome = "incomplete"
     stalled = 0
+    last_work = 0       # the last step goods were picked up or delivered
+    livelock_after = math.ceil(2.0 * (energy_full / consumption + energy_full / charge_rate)) if gridlock else 0
 
     while t < step_limit:
         t += 1
@@ -453,9 +457,11 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
                 else:
                     r.state = PARKED
             elif state == LOADING and r.dwell >= loading_steps:
+                last_work = t
                 r.state = TO_DROP           # the cell becomes empty
                 r.set_route(unload_target)
             elif state == UNLOADING and r.dwell >= unloading_steps:
+                last_work = t
                 delivered += 1
                 r.delivered += 1
                 r.goods = None
@@ -510,6 +516,9 @@ def run(goods, robots=3, starts=None, unload="M", margin=0.0, step_limit=100000,
                 outcome = "stranded"
             else:
                 outcome = "stalled"
+            break
+        if livelock_after and t - last_work >= livelock_after:
+            outcome = "livelock"
             break
 
     return {

@@ -15,10 +15,13 @@
 //!
 //! The arithmetic (ε comparisons, consumption, charging per step) is in [`crate::energy`].
 
-use crate::alloc::Goods;
+use crate::alloc::{service_target, Goods};
 use crate::energy;
+use crate::error::{Error, Result};
 use crate::events::EventKind;
+use crate::ids::CellId as Cell;
 use crate::ids::{CellId, GoodsId, NodeId, NONE};
+use crate::placement::Homes;
 use crate::robot::{State, Target};
 use crate::route::{self, Place};
 use crate::scenario::{ChargerUse, Scenario};
@@ -172,4 +175,64 @@ impl Paper {
             self.release_charger(self.robots.charger[i]);
         }
     }
+}
+
+/// A cell a scenario can ask for, and how to name it in an error.
+pub(crate) struct Asked {
+    pub field: String,
+    pub value: String,
+    pub note: String,
+    pub cell: u32,
+}
+
+/// Refuses a scenario whose battery cannot carry a robot through even the easiest of its
+/// tasks: from the best charger to the goods and on to the unloading zone and back to that
+/// charger, or even to the goods with energy above the threshold (a robot would turn back to
+/// charge before every pickup, for ever). Then nothing can ever be delivered; the error names
+/// that task and the energy it needs. `cells` are the cells the scenario can ask for, with
+/// the field and value to name and a note before the reason. A single impossible task among
+/// feasible ones is left to the run, which ends `livelock` on it (docs/metrics.md).
+pub(crate) fn check_reach(world: &World, scenario: &Scenario, homes: &Homes, cells: &[Asked]) -> Result<()> {
+    let (g, layout, r) = (&world.graph, &world.layout, &scenario.robot);
+    let steps = |d: f64| (d / r.speed).ceil();
+    let dwell = f64::from(scenario.dwell.loading + scenario.dwell.unloading);
+    let mut memo: Vec<Option<(f64, f64, String)>> = vec![None; layout.cells.len()];
+    let mut easiest: Option<(f64, Error)> = None;
+    for Asked { field, value, note, cell } in cells {
+        let c = *cell as usize;
+        if memo[c].is_none() {
+            let service = service_target(layout, Cell(*cell));
+            let Target::Point { u, v, x, y } = service else { unreachable!("service points are points") };
+            let at = Place { x, y, at_node: NONE, edge_u: u.0, edge_v: v.0 };
+            let zone = homes.unload_of(*cell);
+            let d2 = route::length(g, at, Target::Node(zone));
+            let mut best = (f64::INFINITY, f64::INFINITY, String::new());
+            for &ch in &layout.chargers {
+                let d1 = route::length(g, Place::node(g, ch), service);
+                let d3 = route::length(g, Place::node(g, zone), Target::Node(ch));
+                let out = steps(d1) * r.consumption;
+                let total = (steps(d1) + dwell + steps(d2) + steps(d3)) * r.consumption;
+                if (total, out) < (best.0, best.1) {
+                    let name = |n: NodeId| layout.nodes[n.index()].name.clone();
+                    best = (total, out, format!("{} → cell {cell} → {} → {}", name(ch), name(zone), name(ch)));
+                }
+            }
+            memo[c] = Some(best);
+        }
+        let (total, out, way) = memo[c].clone().expect("filled above");
+        let fault = if out > r.energy_full - r.threshold + energy::EPS {
+            format!(
+                "{note}reaching it takes {out:.4} energy from the nearest charger, more than robot.energy_full − robot.threshold = {:.4}: a robot would turn back to charge before every pickup",
+                r.energy_full - r.threshold
+            )
+        } else if total > r.energy_full + energy::EPS {
+            format!("{note}a round trip ({way}) takes {total:.4} energy; a full battery (robot.energy_full) holds {}", r.energy_full)
+        } else {
+            return Ok(());
+        };
+        if easiest.as_ref().map_or(true, |(t, _)| total < *t) {
+            easiest = Some((total, Error::scenario(field.clone(), value, fault)));
+        }
+    }
+    easiest.map_or(Ok(()), |(_, e)| Err(e))
 }

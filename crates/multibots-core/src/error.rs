@@ -33,16 +33,18 @@ pub enum Error {
 }
 
 impl Error {
+    /// A scenario field's value refused for `reason`; the value is shortened and made inert
+    /// ([`crate::limits::shown`]).
     pub(crate) fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
-        Error::Scenario { field: field.into(), value: value.to_string(), reason: reason.into() }
+        Error::Scenario { field: crate::limits::shown(&field.into()), value: crate::limits::shown(&value.to_string()), reason: reason.into() }
     }
 
     pub(crate) fn layout(field: impl Into<String>, reason: impl Into<String>) -> Self {
-        Error::Layout { field: field.into(), reason: reason.into() }
+        Error::Layout { field: crate::limits::shown(&field.into()), reason: crate::limits::inert(&reason.into()) }
     }
 
     pub(crate) fn io(path: impl Into<String>, err: &std::io::Error) -> Self {
-        Error::Io { path: path.into(), message: err.to_string() }
+        Error::Io { path: crate::limits::shown(&path.into()), message: crate::limits::inert(&err.to_string()) }
     }
 }
 
@@ -53,7 +55,7 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 pub(crate) fn toml_message(text: &str, e: serde_path_to_error::Error<toml::de::Error>) -> String {
     let path = e.path().to_string();
     let inner = e.into_inner();
-    let msg = inner.message().lines().next().unwrap_or_default().trim().to_string();
+    let msg = crate::limits::inert(inner.message().lines().next().unwrap_or_default().trim());
     if !path.is_empty() && path != "." {
         return format!("{path}: {msg}");
     }

@@ -5,8 +5,7 @@
 use std::io::Read;
 use std::path::Path;
 
-/// The largest input file the engine reads: scenario, layout and orders files.
-pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+pub use crate::limits::MAX_INPUT_BYTES;
 
 /// The text of a regular file of at most `limit` bytes; the error is one line.
 pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {

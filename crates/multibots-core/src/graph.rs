@@ -268,6 +268,7 @@ impl HighwayGraph {
 /// service point lies strictly inside a highway edge of the graph, and no node has more
 /// out-edges than the routing table can name.
 pub fn validate(layout: &Layout, graph: &HighwayGraph) -> Result<()> {
+    layout.check_geometry()?;
     let highway: Vec<NodeId> = (0..layout.nodes.len() as u32).map(NodeId).filter(|n| layout.nodes[n.index()].kind == NodeKind::Highway).collect();
     if highway.is_empty() {
         return Err(Error::layout("nodes", "no highway node"));

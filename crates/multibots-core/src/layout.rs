@@ -123,6 +123,17 @@ impl LayoutParams {
         if self.chargers == 0 || self.chargers > self.group_cols + 1 {
             return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {} (one per top-aisle crossing)", self.group_cols + 1));
         }
+        let cells = u64::from(self.group_rows) * u64::from(self.group_cols) * u64::from(self.group_width) * u64::from(self.group_height);
+        if cells > crate::limits::MAX_CELLS as u64 {
+            return bad("group_rows", self.group_rows.to_string(), &format!("layout too large: {cells} storage cells (at most {})", crate::limits::MAX_CELLS));
+        }
+        let width = f64::from(self.group_cols) * (f64::from(self.group_width) * self.cell + self.aisle) + self.aisle;
+        let height = f64::from(self.group_rows) * (f64::from(self.group_height) * self.cell + self.aisle) + self.aisle + self.spur;
+        for (field, value, extent) in [("cell", self.cell, width.max(height)), ("aisle", self.aisle, width.max(height)), ("spur", self.spur, self.spur)] {
+            if extent > crate::limits::MAX_COORD {
+                return bad(field, value.to_string(), &format!("layout too large: {extent:.3e} px across (at most {:.0e})", crate::limits::MAX_COORD));
+            }
+        }
         let nodes = u64::from(self.group_rows + 1) * u64::from(self.group_cols + 1);
         // The next-hop table takes one byte per (node, target) pair: 10,000 crossings are 100 MB.
         if nodes > 10_000 {
@@ -148,6 +159,71 @@ pub fn node_name(mut i: usize) -> String {
 }
 
 impl Layout {
+    /// Checks the sizes that the engine allocates for, before it builds anything: nodes
+    /// (the routing table grows with their square), cells and coordinates
+    /// ([`crate::limits`]).
+    pub fn check_size(&self) -> Result<()> {
+        use crate::limits::{MAX_CELLS, MAX_COORD, MAX_NODES};
+        if self.nodes.len() > MAX_NODES {
+            return Err(Error::layout(
+                "nodes",
+                format!("{} nodes: at most {MAX_NODES} (the routing table takes one byte per pair of nodes)", self.nodes.len()),
+            ));
+        }
+        if self.cells.len() > MAX_CELLS {
+            return Err(Error::layout("cells", format!("{} storage cells: at most {MAX_CELLS}", self.cells.len())));
+        }
+        let far = |v: f64| !v.is_finite() || v.abs() > MAX_COORD;
+        if let Some(n) = self.nodes.iter().find(|n| far(n.x) || far(n.y)) {
+            return Err(Error::layout("nodes", format!("\"{}\" at ({}, {}): coordinates must be finite and within ±{MAX_COORD:.0e} px", n.name, n.x, n.y)));
+        }
+        if self.bounds.iter().any(|&v| far(v)) {
+            return Err(Error::layout("bounds", format!("{:?}: coordinates must be finite and within ±{MAX_COORD:.0e} px", self.bounds)));
+        }
+        Ok(())
+    }
+
+    /// Checks that the layout can be real: at least one storage cell, every cell inside the
+    /// bounds, no two cells overlapping, no node (crossing or charger) inside a cell.
+    pub fn check_geometry(&self) -> Result<()> {
+        if self.cells.is_empty() {
+            return Err(Error::layout("cells", "no storage cell (at least one is needed)"));
+        }
+        let [x0, y0, x1, y1] = self.bounds;
+        for c in &self.cells {
+            if c.x < x0 || c.y < y0 || c.x + c.w > x1 || c.y + c.h > y1 {
+                return Err(Error::layout(format!("cells[{}]", c.id), format!("lies outside the bounds {:?}", self.bounds)));
+            }
+        }
+        // A hash grid of cells, with buckets as large as the largest cell: a cell can only
+        // meet cells and nodes in its own and the neighbouring buckets.
+        let size = self.cells.iter().map(|c| c.w.max(c.h)).fold(0.0, f64::max);
+        let key = |x: f64, y: f64| (((x - x0) / size).floor() as i64, ((y - y0) / size).floor() as i64);
+        let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+        for (k, c) in self.cells.iter().enumerate() {
+            grid.entry(key(c.x, c.y)).or_default().push(k);
+        }
+        let near = |x: f64, y: f64| {
+            let (gx, gy) = key(x, y);
+            (-1..=1).flat_map(move |dx| (-1..=1).map(move |dy| (gx + dx, gy + dy)))
+        };
+        for (k, a) in self.cells.iter().enumerate() {
+            for b in near(a.x, a.y).filter_map(|g| grid.get(&g)).flatten().filter(|&&j| j > k).map(|&j| &self.cells[j]) {
+                if a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h {
+                    return Err(Error::layout(format!("cells[{}]", b.id), format!("overlaps cells[{}]", a.id)));
+                }
+            }
+        }
+        for n in &self.nodes {
+            for c in near(n.x, n.y).filter_map(|g| grid.get(&g)).flatten().map(|&j| &self.cells[j]) {
+                if n.x > c.x && n.x < c.x + c.w && n.y > c.y && n.y < c.y + c.h {
+                    return Err(Error::layout(format!("cells[{}]", c.id), format!("covers the node \"{}\" at ({}, {})", n.name, n.x, n.y)));
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The paper's layout (spec section 1).
     #[must_use]
     pub fn paper() -> Layout {

@@ -245,6 +245,7 @@ impl LayoutFile {
 /// Checks a layout as robots will use it: builds its graph and validates it (strongly
 /// connected; every service point, zone and charger can be reached and left).
 pub fn check_layout(layout: &Layout) -> Result<HighwayGraph> {
+    layout.check_size()?;
     let g = HighwayGraph::new(layout);
     graph::validate(layout, &g)?;
     Ok(g)

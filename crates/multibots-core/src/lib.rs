@@ -23,6 +23,7 @@ pub mod ids;
 pub mod layout;
 pub mod layout_file;
 pub mod lifelong;
+pub mod limits;
 pub mod metrics;
 pub mod original;
 pub mod placement;

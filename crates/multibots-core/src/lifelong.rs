@@ -7,8 +7,8 @@
 //! cell's own backlog until the cell restocks. So the allocators only ever see orders they
 //! can fetch, and goods are conserved: ordered = delivered + in flight + queued + waiting.
 //!
-//! Every buffer is sized at the start for the orders the run can expect, so the step loop
-//! does not allocate (a Poisson run above its expected count grows its buffers, rarely).
+//! Every buffer is sized at the start for the orders the run can expect (up to a million),
+//! so the step loop seldom allocates; past that they grow with the orders that arrive.
 
 use crate::error::{Error, Result};
 use crate::ids::{CellId, GoodsId, NONE};
@@ -97,7 +97,9 @@ impl Lifelong {
     /// Prepares a run over `cells` cells; `initial` orders (the task list) arrive at step 0.
     #[must_use]
     pub fn new(o: &Orders, cells: usize, csv: Vec<(u64, u32)>, initial: usize) -> Lifelong {
-        let expected = initial + csv.len() + (o.rate * o.horizon as f64 * 1.1) as usize + 64;
+        // Room for the orders a run expects, up to a million: beyond that the buffers grow with
+        // the orders that arrive, so memory follows the run, not its horizon.
+        let expected = (initial + csv.len() + (o.rate * o.horizon as f64 * 1.1) as usize + 64).min(1 << 20);
         Lifelong {
             horizon: o.horizon,
             restock: o.restock,

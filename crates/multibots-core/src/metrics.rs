@@ -32,6 +32,9 @@ pub enum Outcome {
     /// Nothing happened for `metrics.gridlock` steps while work remained, and no robot was
     /// waiting or stranded: robots stood idle (a strategy that hands out no goods).
     Stalled,
+    /// Robots kept moving, but nothing was picked up or delivered for two full battery cycles
+    /// while work remained (robots going out and turning back to charge, for ever).
+    Livelock,
     /// Original rules only: robots block each other for good, where the authors' code would
     /// wait forever ([`crate::original`]). T is undefined.
     Deadlock,
@@ -42,7 +45,7 @@ pub enum Outcome {
 
 impl Outcome {
     /// The outcome's name: `"complete"`, `"incomplete"`, `"horizon"`, `"gridlock"`,
-    /// `"stranded"`, `"stalled"`, `"deadlock"` or `"fault"`.
+    /// `"stranded"`, `"stalled"`, `"livelock"`, `"deadlock"` or `"fault"`.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
@@ -52,6 +55,7 @@ impl Outcome {
             Outcome::Gridlock => "gridlock",
             Outcome::Stranded => "stranded",
             Outcome::Stalled => "stalled",
+            Outcome::Livelock => "livelock",
             Outcome::Deadlock => "deadlock",
             Outcome::Fault => "fault",
         }
@@ -223,6 +227,10 @@ pub struct Tally {
     pub contacts: u64,
     pub closest: f64,
     pub gridlock: Option<Gridlock>,
+    /// The last step a robot picked up or delivered goods.
+    pub last_work: u64,
+    /// Steps without a pickup or delivery (while work remains) that make a livelock; 0: never.
+    pub livelock_after: u64,
 }
 
 impl Tally {
@@ -245,6 +253,8 @@ impl Tally {
             contacts: 0,
             closest: f64::INFINITY,
             gridlock: None,
+            last_work: 0,
+            livelock_after: 0,
         };
         if p.warmup == 0 {
             t.steady = Some(Snapshot::default());
@@ -256,6 +266,19 @@ impl Tally {
     #[must_use]
     pub fn warmup(&self) -> u64 {
         self.warmup
+    }
+
+    /// With livelock detection after `steps` steps without a pickup or delivery.
+    #[must_use]
+    pub fn with_livelock_after(mut self, steps: u64) -> Tally {
+        self.livelock_after = steps;
+        self
+    }
+
+    /// Whether work has waited too long for a pickup or a delivery.
+    #[must_use]
+    pub fn livelocked(&self, work_remains: bool) -> bool {
+        work_remains && self.livelock_after > 0 && self.t - self.last_work >= self.livelock_after
     }
 
     /// End of a step: windows, the warm-up, and the count of steps without progress.

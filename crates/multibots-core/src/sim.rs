@@ -15,7 +15,7 @@
 //! run's result in [`crate::metrics`].
 
 use crate::alloc::{self, Allocator, Goods};
-use crate::charging::Chargers;
+use crate::charging::{self, Asked, Chargers};
 use crate::collision::{bearing, Collisions};
 use crate::energy;
 use crate::error::{Error, Result};
@@ -69,6 +69,32 @@ impl Params {
     }
 }
 
+/// Steps without a pickup or a delivery that make a livelock: two full battery cycles (a
+/// full charge used up, and a full charge), with gridlock detection; 0 without it.
+fn livelock_after(scenario: &Scenario) -> u64 {
+    let r = &scenario.robot;
+    if scenario.metrics.gridlock == 0 {
+        return 0;
+    }
+    (2.0 * (r.energy_full / r.consumption + r.energy_full / r.charge_rate)).ceil().min(1e15) as u64
+}
+
+/// The cells a scenario can ask for: its task list, and with Poisson orders every cell (CSV
+/// orders are checked row by row when read).
+fn asked_cells(scenario: &Scenario, tasks: &[u32], cell_count: usize) -> Vec<Asked> {
+    let mut out: Vec<Asked> =
+        tasks.iter().enumerate().map(|(i, &c)| Asked { field: format!("tasks[{i}]"), value: c.to_string(), note: String::new(), cell: c }).collect();
+    if let Some(o) = scenario.orders.as_ref().filter(|o| o.rate > 0.0) {
+        out.extend((0..cell_count as u32).map(|c| Asked {
+            field: "orders.rate".into(),
+            value: o.rate.to_string(),
+            note: format!("orders may ask for cell {c}: "),
+            cell: c,
+        }));
+    }
+    out
+}
+
 /// A run under the paper rules (`rules = "paper"`), in progress. Users drive it through
 /// [`crate::Simulation`], which also runs the original rules.
 pub struct Paper {
@@ -119,6 +145,7 @@ impl Paper {
         let starts = placement::start_nodes(layout, scenario)?;
         let cells = scenario.cells(layout)?;
         let (robots, homes) = placement::place(&world, scenario, &starts, unload)?;
+        charging::check_reach(&world, scenario, &homes, &asked_cells(scenario, &cells, layout.cells.len()))?;
         let csv = match scenario.orders.as_ref().and_then(|o| o.csv.as_ref()) {
             Some(path) => lifelong::read_csv(std::path::Path::new(path), layout.cells.len())?,
             None => Vec::new(),
@@ -129,7 +156,7 @@ impl Paper {
         Ok(Paper {
             p: Params::of(scenario),
             cost_weights: scenario.cost.clone(),
-            tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics),
+            tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics).with_livelock_after(livelock_after(scenario)),
             progress: false,
             goods,
             homes,
@@ -343,6 +370,8 @@ impl Paper {
             let waits = std::mem::take(&mut self.collisions.waits);
             self.declare_stall(&waits);
             self.collisions.waits = waits;
+        } else if self.tally.livelocked(work_remains) {
+            self.outcome = Some(Outcome::Livelock);
         } else if let Some(ll) = &self.lifelong {
             if self.tally.t >= ll.horizon {
                 self.outcome = Some(Outcome::Horizon);

@@ -36,6 +36,7 @@ impl Paper {
     /// Loading is done: the cell is empty and the robot heads for its unloading zone.
     fn pick_up(&mut self, i: usize) {
         let cell = self.robots.cell[i];
+        self.tally.last_work = self.tally.t;
         self.goods.cells_full[cell as usize] = false;
         if let Some(ll) = self.lifelong.as_mut() {
             ll.picked(self.tally.t, cell);
@@ -50,6 +51,7 @@ impl Paper {
     /// Unloading is done: one delivery; the robot is idle, or goes to charge if marked.
     fn deliver(&mut self, i: usize) {
         let cell = self.robots.cell[i];
+        self.tally.last_work = self.tally.t;
         self.tally.delivered += 1;
         self.tally.stats.delivered[i] += 1;
         if let Some(ll) = self.lifelong.as_mut() {

@@ -17,6 +17,7 @@ pub struct World {
 impl World {
     /// Builds and validates the graph of a layout.
     pub fn new(layout: Layout) -> Result<Arc<World>> {
+        layout.check_size()?;
         let graph = HighwayGraph::new(&layout);
         graph::validate(&layout, &graph)?;
         Ok(Arc::new(World { layout, graph }))

@@ -37,6 +37,7 @@ pub(crate) fn routing_table_bytes(py: Python<'_>, scenario: &PyScenario) -> PyRe
     let s = scenario.inner.clone();
     engine(py, move || {
         let layout = s.resolve_layout()?;
+        layout.check_size()?;
         let g = HighwayGraph::new(&layout);
         Ok((g.table_bytes(), g.len()))
     })

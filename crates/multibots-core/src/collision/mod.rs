@@ -126,7 +126,10 @@ impl Collisions {
         // Cells twice the contact distance wide: the box of half-width `reach` around a robot
         // then overlaps at most 2 × 2 cells (4 list heads to read instead of 9), and the grid
         // is 4 times smaller, so it stays in cache.
-        let size = 2.0 * reach.max(1e-6);
+        let (w, h) = ((bounds[2] - bounds[0]).max(0.0), (bounds[3] - bounds[1]).max(0.0));
+        // Tiny robots in a big warehouse would want billions of cells: past the limit the
+        // cells grow, which only adds candidates (every test is still `blocks`).
+        let size = (2.0 * reach.max(1e-6)).max((w * h / crate::limits::MAX_GRID_CELLS as f64).sqrt() * 1.01);
         // One free cell on every side: a search box never reaches past the grid.
         let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 3;
         let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;

@@ -131,7 +131,11 @@ impl Scenario {
         serde_path_to_error::deserialize(&mut de).map_err(|e| {
             let path = e.path().to_string();
             let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
-            Error::Parse { source_name: "scenario".to_string(), message: format!("{at}{}", e.inner().to_string().lines().next().unwrap_or_default().trim()) }
+            // serde_json ends with the position in the JSON text, which the user never wrote.
+            let text = e.inner().to_string();
+            let text = text.lines().next().unwrap_or_default();
+            let text = text.rfind(" at line ").map_or(text, |k| &text[..k]).trim();
+            Error::Parse { source_name: "scenario".to_string(), message: format!("{at}{}", crate::limits::inert(text)) }
         })
     }
 
@@ -206,6 +210,9 @@ impl Scenario {
         if self.robots == 0 {
             return Err(Error::scenario("robots", 0, "must be at least 1"));
         }
+        if self.robots > crate::limits::MAX_ROBOTS {
+            return Err(Error::scenario("robots", self.robots, format!("at most {}", crate::limits::MAX_ROBOTS)));
+        }
         if self.step_limit == 0 {
             return Err(Error::scenario("step_limit", 0, "must be greater than 0"));
         }
@@ -228,7 +235,10 @@ impl Scenario {
             return Err(Error::scenario("dwell.unloading", 0, "must be at least 1 step"));
         }
         let ch = &self.charging;
-        if ch.policy == ChargingPolicy::Opportunistic && !(ch.level.is_finite() && ch.level > r.threshold && ch.level <= r.energy_full) {
+        if !ch.level.is_finite() {
+            return Err(Error::scenario("charging.level", ch.level, "must be a finite number"));
+        }
+        if ch.policy == ChargingPolicy::Opportunistic && !(ch.level > r.threshold && ch.level <= r.energy_full) {
             return Err(Error::scenario(
                 "charging.level",
                 ch.level,
@@ -255,6 +265,21 @@ impl Scenario {
         if let Some(o) = &self.orders {
             if !(o.rate.is_finite() && o.rate >= 0.0) {
                 return Err(Error::scenario("orders.rate", o.rate, "must be 0 or more"));
+            }
+            if o.rate > crate::limits::MAX_ORDER_RATE {
+                return Err(Error::scenario("orders.rate", o.rate, format!("at most {} orders per step", crate::limits::MAX_ORDER_RATE)));
+            }
+            let expected = o.rate * o.horizon as f64;
+            if expected > crate::limits::MAX_ORDERS {
+                return Err(Error::scenario(
+                    "orders.rate",
+                    o.rate,
+                    format!(
+                        "expects {expected:.3e} orders over orders.horizon = {} steps; at most {:.0e}: lower the rate or the horizon",
+                        o.horizon,
+                        crate::limits::MAX_ORDERS
+                    ),
+                ));
             }
             if o.horizon == 0 {
                 return Err(Error::scenario("orders.horizon", 0, "must be at least 1 step"));

@@ -1,0 +1,78 @@
+//! Resource limits: every size the input controls is checked against one of these before
+//! anything is allocated for it, so a hostile or mistaken scenario, layout or orders file
+//! gets a one-line error naming the field, the value and the limit, never an abort or
+//! runaway memory (docs/limits.md). They are build-time constants: raise one here, and
+//! rebuild, if a real study needs more.
+
+/// Largest input file the engine reads (scenario, layout, orders CSV), bytes.
+pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// Most nodes a layout may have (crossings and chargers): the next-hop table takes one byte
+/// per pair of nodes, 144 MB at this size.
+pub const MAX_NODES: usize = 12_000;
+
+/// Most storage cells a layout may have.
+pub const MAX_CELLS: usize = 1_000_000;
+
+/// Largest coordinate (or extent) of a layout, px.
+pub const MAX_COORD: f64 = 1e7;
+
+/// Most robots in a fleet.
+pub const MAX_ROBOTS: u32 = 1_000_000;
+
+/// Most orders a lifelong run may expect (`orders.rate × orders.horizon`): about 20 bytes
+/// each, 2 GB at the end of a run this long (the buffers grow with the orders that arrive).
+pub const MAX_ORDERS: f64 = 100_000_000.0;
+
+/// Highest order rate, orders per step.
+pub const MAX_ORDER_RATE: f64 = 100_000.0;
+
+/// Most cells of the collision grid: beyond it the grid's cells grow (which changes no
+/// result, only how many candidates each robot looks at).
+pub const MAX_GRID_CELLS: usize = 1 << 22;
+
+/// A value as it may appear in a message: at most 60 characters (with the full length when
+/// cut), control characters escaped, so that a huge or hostile value never floods or drives
+/// the terminal.
+#[must_use]
+pub fn shown(value: &str) -> String {
+    shown_within(value, 60)
+}
+
+/// A message from a parser or the system, cut to 240 characters and with its control
+/// characters escaped (it may quote the input).
+#[must_use]
+pub fn inert(message: &str) -> String {
+    shown_within(message, 240)
+}
+
+fn shown_within(value: &str, max: usize) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    for (k, ch) in value.chars().enumerate() {
+        if k == max {
+            let _ = write!(out, "… ({} characters)", value.chars().count());
+            break;
+        }
+        if ch.is_control() {
+            out.extend(ch.escape_default());
+        } else {
+            out.push(ch);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_in_messages_are_short_and_inert() {
+        assert_eq!(shown("M"), "M");
+        assert_eq!(shown("a\u{1b}[31mb\n"), "a\\u{1b}[31mb\\n");
+        let long = "x".repeat(10_000_000);
+        let s = shown(&long);
+        assert!(s.len() < 100 && s.ends_with("(10000000 characters)"), "{s}");
+    }
+}
