@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Behaviour fingerprints of the engine: run before and after any engine change; every line
-# must stay identical (docs/benchmarks.md). Timings in the output are ignored.
+# must stay identical:  benchmarks/fingerprints.sh | diff - benchmarks/fingerprints.txt
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build -q --release -p multibots-core --examples
@@ -15,4 +15,9 @@ for size in paper small large huge; do
 done
 echo "large 3000+100: $(fp benchmarks/sizes/large.toml 3000 100)"
 echo "huge 200+100: $(fp benchmarks/sizes/huge.toml 200 100)"
-echo "warehouse-1000 2000+0: $(fp scenarios/warehouse-1000.toml 2000 0)"
+echo "lifelong-1000 2000+0: $(fp benchmarks/sizes/lifelong-1000.toml 2000 0)"
+for traffic in gate reserve; do
+  sed "s/^robots = 1000/robots = 1000\ntraffic = \"$traffic\"/" scenarios/warehouse-1000.toml > "${TMPDIR:-/tmp}/mb-fp-$traffic.toml"
+  echo "warehouse-1000 $traffic 3000+0: $(fp "${TMPDIR:-/tmp}/mb-fp-$traffic.toml" 3000 0)"
+done
+

@@ -32,6 +32,9 @@ pub struct HighwayGraph {
     length: Vec<f64>,
     x: Vec<f64>,
     y: Vec<f64>,
+    /// Tail node and length of each directed edge, by edge id (`out_start[u] + position`).
+    edge_from: Vec<u32>,
+    edge_len: Vec<f64>,
 }
 
 /// Marks "no next hop" in the byte table.
@@ -69,7 +72,15 @@ impl HighwayGraph {
         let x: Vec<f64> = layout.nodes.iter().map(|p| p.x).collect();
         let y: Vec<f64> = layout.nodes.iter().map(|p| p.y).collect();
         let lengths = if n <= LENGTH_TABLE_MAX { n * n } else { 0 };
-        let mut g = HighwayGraph { n, out_start, out_to, next: vec![NO_HOP; n * n], length: vec![0.0; lengths], x, y };
+        let mut edge_from = Vec::with_capacity(out_to.len());
+        let mut edge_len = Vec::with_capacity(out_to.len());
+        for u in 0..n {
+            for &v in &out_to[out_start[u] as usize..out_start[u + 1] as usize] {
+                edge_from.push(u as u32);
+                edge_len.push(((x[v as usize] - x[u]).powi(2) + (y[v as usize] - y[u]).powi(2)).sqrt());
+            }
+        }
+        let mut g = HighwayGraph { n, out_start, out_to, next: vec![NO_HOP; n * n], length: vec![0.0; lengths], x, y, edge_from, edge_len };
         g.build_tables();
         g
     }
@@ -141,6 +152,34 @@ impl HighwayGraph {
     #[must_use]
     pub fn is_empty(&self) -> bool {
         self.n == 0
+    }
+
+    /// Number of directed edges (spurs count once each way).
+    #[must_use]
+    pub fn edge_count(&self) -> usize {
+        self.out_to.len()
+    }
+
+    /// The id of the directed edge `u -> v` (`NONE` when there is none).
+    #[inline]
+    #[must_use]
+    pub fn edge_id(&self, u: u32, v: u32) -> u32 {
+        let (a, b) = (self.out_start[u as usize] as usize, self.out_start[u as usize + 1] as usize);
+        self.out_to[a..b].iter().position(|&w| w == v).map_or(crate::ids::NONE, |k| (a + k) as u32)
+    }
+
+    /// Tail, head and length of edge `e`.
+    #[inline]
+    #[must_use]
+    pub fn edge(&self, e: u32) -> (u32, u32, f64) {
+        let e = e as usize;
+        (self.edge_from[e], self.out_to[e], self.edge_len[e])
+    }
+
+    /// The ids of the edges leaving `u`, in expansion order.
+    #[must_use]
+    pub fn out_edges(&self, u: u32) -> std::ops::Range<u32> {
+        self.out_start[u as usize]..self.out_start[u as usize + 1]
     }
 
     /// Out-neighbours of `u`, in expansion order.

@@ -81,6 +81,36 @@ pub struct LayoutParams {
     pub chargers: u32,
     /// Length of a charger's spur, px.
     pub spur: f64,
+    /// Rows of crossings whose crossings are unloading zones, spread evenly from the bottom
+    /// row up (1: the bottom row, as in the paper; at most `group_rows`). More rows let
+    /// unloading capacity grow with the warehouse. Default: 1.
+    #[serde(skip_serializing_if = "LayoutParams::one_row")]
+    pub unloading_rows: u32,
+    /// Directions of the horizontal aisles: `"paper"` (every row east but the bottom one,
+    /// which runs west) or `"alternate"` (rows alternate east and west, the top east and the
+    /// bottom west), which gives big warehouses as many westward aisles as eastward ones.
+    /// Vertical aisles alternate north and south either way, the rightmost south. Default:
+    /// `"paper"`.
+    #[serde(skip_serializing_if = "Aisles::is_paper")]
+    pub aisles: Aisles,
+}
+
+/// Directions of a generated layout's horizontal aisles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Aisles {
+    /// Every row east but the bottom one, which runs west (the paper's).
+    #[default]
+    Paper,
+    /// Rows alternate east and west, the top east and the bottom west.
+    Alternate,
+}
+
+impl Aisles {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn is_paper(&self) -> bool {
+        *self == Aisles::Paper
+    }
 }
 
 impl Default for LayoutParams {
@@ -93,7 +123,23 @@ impl LayoutParams {
     /// The paper's warehouse: 2 × 5 groups of 2 × 4 cells, 50 px aisles, six chargers.
     #[must_use]
     pub fn paper() -> Self {
-        LayoutParams { group_rows: 2, group_cols: 5, group_width: 2, group_height: 4, aisle: 50.0, cell: 50.0, chargers: 6, spur: 40.0 }
+        LayoutParams {
+            group_rows: 2,
+            group_cols: 5,
+            group_width: 2,
+            group_height: 4,
+            aisle: 50.0,
+            cell: 50.0,
+            chargers: 6,
+            spur: 40.0,
+            unloading_rows: 1,
+            aisles: Aisles::Paper,
+        }
+    }
+
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn one_row(n: &u32) -> bool {
+        *n == 1
     }
 
     /// Checks every parameter; errors name the field as `layout.FIELD`.
@@ -119,6 +165,9 @@ impl LayoutParams {
         }
         if !(self.spur.is_finite() && self.spur > 0.0) {
             return bad("spur", self.spur.to_string(), "must be greater than 0");
+        }
+        if self.unloading_rows == 0 || self.unloading_rows > self.group_rows {
+            return bad("unloading_rows", self.unloading_rows.to_string(), &format!("must be between 1 and group_rows ({})", self.group_rows));
         }
         if self.chargers == 0 || self.chargers > self.group_cols + 1 {
             return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {} (one per top-aisle crossing)", self.group_cols + 1));
@@ -243,6 +292,10 @@ impl Layout {
         let kn = cols + 1; // crossings per aisle row
         let node_of = |m: usize, k: usize| NodeId((m * kn + k) as u32);
         let north = |k: usize| k % 2 == 0 && !(k == cols && cols % 2 == 0);
+        let east = |m: usize| match p.aisles {
+            Aisles::Paper => m < rows,
+            Aisles::Alternate => m % 2 == 0 && m < rows,
+        };
 
         let mut nodes = Vec::with_capacity((rows + 1) * kn + p.chargers as usize);
         for m in 0..=rows {
@@ -255,7 +308,7 @@ impl Layout {
         for m in 0..=rows {
             for k in 0..kn {
                 let u = node_of(m, k);
-                if m < rows {
+                if east(m) {
                     if k + 1 < kn {
                         edges.push((u, node_of(m, k + 1)));
                     }
@@ -308,7 +361,12 @@ impl Layout {
             spurs,
             cells,
             departure: (0..kn).map(|k| node_of(0, k)).collect(),
-            unloading: (0..kn).map(|k| node_of(rows, k)).collect(),
+            // The bottom row first (its first crossing is the default zone), then rows evenly
+            // spaced above it.
+            unloading: (0..p.unloading_rows as usize)
+                .map(|j| rows - (j * rows).div_ceil(p.unloading_rows as usize))
+                .flat_map(|m| (0..kn).map(move |k| node_of(m, k)))
+                .collect(),
             chargers,
         };
         Ok(layout)

@@ -35,6 +35,7 @@ pub mod schema;
 pub mod sim;
 pub mod simulation;
 pub mod tasks;
+pub mod traffic;
 pub mod world;
 
 pub use alloc::{AllocView, Allocator, Assignment, Goods};
@@ -46,6 +47,6 @@ pub use layout::{Layout, LayoutParams};
 pub use metrics::{Outcome, RobotStats, RunResult};
 pub use original::Original;
 pub use robot::{State, Target};
-pub use scenario::{Rules, Scenario, Unload};
+pub use scenario::{Rules, Scenario, Traffic, Unload};
 pub use simulation::Simulation;
 pub use world::World;

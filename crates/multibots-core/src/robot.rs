@@ -116,6 +116,9 @@ pub struct Robots {
     pub waited: Vec<bool>,
     /// The charger a robot is heading to or charging at (its home in the paper model).
     pub charger: Vec<u32>,
+    /// A detour (traffic policies): the node to take after the next node instead of the
+    /// route's next hop, or `NONE`.
+    pub via: Vec<u32>,
 }
 
 impl Robots {
@@ -162,6 +165,7 @@ impl Robots {
         self.marked.push(false);
         self.waited.push(false);
         self.charger.push(home.0);
+        self.via.push(NONE);
     }
 
     /// Positions as `[x0, y0, x1, y1, …]`, for arrays of shape (N, 2).

@@ -153,6 +153,19 @@ pub fn assign(r: &mut Robots, g: &HighwayGraph, i: usize, target: Target) -> boo
     p.moving
 }
 
+/// Sends robot `i`, standing on a node with a route under way, along the edge to `w`
+/// instead of the route's first edge (a detour, for traffic policies); the route continues
+/// from `w` to its goal.
+pub fn detour_at_node(r: &mut Robots, g: &HighwayGraph, i: usize, w: u32) {
+    debug_assert!(r.at_node[i] != NONE && r.routing[i]);
+    let (x, y) = g.pos(w);
+    r.wp_x[i] = x;
+    r.wp_y[i] = y;
+    r.wp_node[i] = w;
+    r.edge_u[i] = r.at_node[i];
+    r.edge_v[i] = w;
+}
+
 /// Length in px of the planned route.
 #[must_use]
 pub fn length(g: &HighwayGraph, from: Place, target: Target) -> f64 {
@@ -264,7 +277,7 @@ pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, mut budget: f64) -> f
                 break;
             }
         } else {
-            let next = g.next_hop(NodeId(n), NodeId(r.goal[i])).map_or(NONE, |v| v.0);
+            let next = if r.via[i] == NONE { g.next_hop(NodeId(n), NodeId(r.goal[i])).map_or(NONE, |v| v.0) } else { std::mem::replace(&mut r.via[i], NONE) };
             let (x, y) = g.pos(next);
             r.wp_x[i] = x;
             r.wp_y[i] = y;

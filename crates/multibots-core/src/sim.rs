@@ -27,7 +27,8 @@ use crate::metrics::{Outcome, RobotStats, RunResult, Tally};
 use crate::placement::{self, Homes};
 use crate::robot::{Robots, State, Target};
 use crate::route::{self, Place};
-use crate::scenario::{ChargingPolicy, CostWeights, Scenario};
+use crate::scenario::{ChargingPolicy, CostWeights, Scenario, Traffic};
+use crate::traffic::TrafficState;
 use crate::world::World;
 use std::collections::VecDeque;
 use std::sync::Arc;
@@ -114,6 +115,8 @@ pub struct Paper {
     /// Set when a step failed part-way: the run cannot go on.
     failure: Option<String>,
     collisions: Collisions,
+    /// The `gate` and `reserve` traffic policies (`None`: the paper's collision waiting).
+    traffic: Option<TrafficState>,
     /// Phase 2's answers: who wants to move, and its heading.
     wants: Vec<bool>,
     /// Whether anything happened this step: a robot moved, dwelt or charged, or stock
@@ -167,6 +170,8 @@ impl Paper {
             alloc_due: true,
             failure: None,
             collisions: Collisions::new(world.reach_bounds(), reach, n),
+            traffic: (scenario.traffic != Traffic::Wait)
+                .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
             alpha: vec![0.0; n],
             events: Vec::new(),
@@ -264,10 +269,40 @@ impl Paper {
         let n = self.robots.len();
         let p = &self.p;
         let r = &self.robots;
-        self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle);
+        // Who waits and how far each robot may travel: the paper's collision waiting, or a
+        // traffic policy (crate::traffic), which may also stop a robot short.
+        match self.traffic.as_mut() {
+            None => self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle),
+            Some(ts) => {
+                let cone = if ts.policy == Traffic::Gate {
+                    self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle);
+                    Some(&self.collisions.waits[..])
+                } else {
+                    None
+                };
+                let bays = &self.collisions.bay;
+                for (o, k) in ts.out.iter_mut().zip(0..) {
+                    *o = bays.get(k).copied().unwrap_or(false);
+                }
+                ts.decide(&mut self.robots, &self.world.graph, self.tally.t, &self.wants, cone);
+                if ts.policy == Traffic::Reserve {
+                    // Robots waiting to leave a bay are still in it; the grid serves to count
+                    // contacts after the moves.
+                    if !self.collisions.bay.is_empty() {
+                        self.collisions.bay.copy_from_slice(&ts.out);
+                    }
+                    let r = &self.robots;
+                    self.collisions.build_grid(&r.x, &r.y, &r.radius);
+                }
+            }
+        }
+        let (waits, budget) = match self.traffic.as_ref() {
+            None => (&self.collisions.waits[..n], None),
+            Some(ts) => (&ts.waits[..n], Some(&ts.budget[..n])),
+        };
         let mut progress = false;
         let g = &self.world.graph;
-        let (wants, waits) = (&self.wants[..n], &self.collisions.waits[..n]);
+        let wants = &self.wants[..n];
         let st = &mut self.tally.stats;
         let (wait_steps, collisions, distance, energy_used, order_waits) =
             (&mut st.wait_steps[..n], &mut st.collisions[..n], &mut st.distance[..n], &mut st.energy_used[..n], &mut st.order_waits[..n]);
@@ -288,11 +323,12 @@ impl Paper {
                 }
             }
             r.waited[i] = w;
-            // Phase 4: robots that may move travel `speed` px along their routes.
+            // Phase 4: robots that may move travel `speed` px along their routes (or what the
+            // traffic policy allows).
             let moves = wants[i] && !w;
             if moves {
-                let speed = r.speed[i];
-                distance[i] += route::advance(r, g, i, speed);
+                let step = budget.map_or(r.speed[i], |b| b[i]);
+                distance[i] += route::advance(r, g, i, step);
             }
             // Phases 5 and 6.
             match state {
@@ -317,8 +353,9 @@ impl Paper {
     fn count_contacts(&mut self) {
         let n = self.robots.len();
         // Robots that moved: wanted to and did not wait (reusing the phase's buffer).
-        for (w, &waits) in self.wants[..n].iter_mut().zip(&self.collisions.waits[..n]) {
-            *w &= !waits;
+        let waits = self.traffic.as_ref().map_or(&self.collisions.waits[..n], |ts| &ts.waits[..n]);
+        for (w, &waited) in self.wants[..n].iter_mut().zip(waits) {
+            *w &= !waited;
         }
         if !self.wants.contains(&true) {
             return;

@@ -17,6 +17,7 @@ from multibots.scenario import Scenario
 __all__ = [
     "EXIT_INCOMPLETE",
     "RULES",
+    "TRAFFIC",
     "EXIT_INPUT",
     "EXIT_INTERNAL",
     "EXIT_INTERRUPTED",
@@ -91,6 +92,7 @@ def quick_scenario(
     margin: Optional[str],
     step_limit: Optional[str],
     rules: Optional[str] = None,
+    traffic: Optional[str] = None,
 ) -> Scenario:
     """A scenario from a file, from the quick-run flags on the paper layout, or a file with
     flags on top (``run`` and ``view --live`` share these rules)."""
@@ -114,6 +116,8 @@ def quick_scenario(
         changes["step_limit"] = limit
     if rules is not None:
         changes["rules"] = rules
+    if traffic is not None:
+        changes["traffic"] = traffic
     if scenario is not None:
         base = Scenario.from_toml(scenario)
         return base.replace(**changes) if changes else base
@@ -129,6 +133,10 @@ GOODS = typer.Option(None, "--goods", help="Cells to fetch, in order, such as 11
 STARTS = typer.Option(None, "--starts", help="Start nodes, such as A,B,C (default A, B, C, ...).", show_default=False)
 UNLOAD = typer.Option(None, "--unload", help="Unloading zone: a node name, such as M.", show_default=False)
 MARGIN = typer.Option(None, "--margin", help="Collision margin, px (default 0).", show_default=False, metavar="PX")
+TRAFFIC = typer.Option(
+    None, "--traffic", help="Traffic policy: wait (the paper's collision waiting, the default), gate or reserve "
+    "(docs/traffic.md).", show_default=False,
+)
 RULES = typer.Option(
     None, "--rules", help="Rule set: paper (docs/model.md, the default) or original (the authors' code).",
     show_default=False,

@@ -18,6 +18,7 @@ from multibots.cli._common import (
     RULES,
     STARTS,
     STEP_LIMIT,
+    TRAFFIC,
     UNLOAD,
     quick_scenario,
 )
@@ -35,6 +36,7 @@ def run(
     margin: Optional[str] = MARGIN,
     step_limit: Optional[str] = STEP_LIMIT,
     rules: Optional[str] = RULES,
+    traffic: Optional[str] = TRAFFIC,
     as_json: bool = typer.Option(
         False, "--json", help="Print one JSON object on stdout (the same keys for every run; floats rounded)."
     ),
@@ -58,7 +60,7 @@ def run(
     from multibots.result import Result
     from multibots.simulation import simulate
 
-    s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit, rules)
+    s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit, rules, traffic)
     if allocator is not None:
         s = s.replace(allocator=allocator)
     lifelong = s.to_dict().get("orders") is not None

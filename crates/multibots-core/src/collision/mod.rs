@@ -170,17 +170,11 @@ impl Collisions {
         }
     }
 
-    /// Decides who waits. `alpha[i]` is used only where `wants[i]`; `margin` widens every
-    /// contact distance and `angle` is the collision angle in radians. Fills `self.waits`.
-    #[allow(clippy::too_many_arguments)]
-    pub fn resolve(&mut self, x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], margin: f64, angle: f64) {
+    /// Sorts the robots (bays aside) into the grid by their positions; returns whether the
+    /// fleet shares one radius. [`Collisions::resolve`] and [`Collisions::contacts`] read it.
+    pub fn build_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64]) -> bool {
         let n = x.len();
-        // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
-        let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
-        self.waits[..n].fill(false);
-        if !wants.contains(&true) {
-            return;
-        }
+        let (y, radius) = (&y[..n], &radius[..n]);
         let grid = self.grid;
         let (cxs, cys) = (&mut self.cx[..n], &mut self.cy[..n]);
         let bay: &[bool] = if self.bay.is_empty() { &[] } else { &self.bay[..n] };
@@ -206,6 +200,22 @@ impl Collisions {
         } else {
             self.repair_order(x, y, radius, uniform, placed);
         }
+        uniform
+    }
+
+    /// Decides who waits. `alpha[i]` is used only where `wants[i]`; `margin` widens every
+    /// contact distance and `angle` is the collision angle in radians. Fills `self.waits`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn resolve(&mut self, x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], margin: f64, angle: f64) {
+        let n = x.len();
+        // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
+        let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
+        self.waits[..n].fill(false);
+        if !wants.contains(&true) {
+            return;
+        }
+        let uniform = self.build_grid(x, y, radius);
+        let grid = self.grid;
         let (first, stamp, start, end, epoch) = (&self.first[..], &self.stamp[..], &self.start[..], &self.end[..], self.epoch);
         let (cell_of, cxs, cys) = (&self.cell_of[..n], &self.cx[..n], &self.cy[..n]);
         let (by_cell, sx, sy, sr) = (&self.by_cell[..n], &self.sx[..n], &self.sy[..n], &self.sr[..n]);

@@ -14,7 +14,7 @@
 use super::{MAX_GOODS, RADIUS};
 use crate::error::{Error, Result};
 use crate::layout::Layout;
-use crate::scenario::{ChargerUse, ChargingPolicy, Placement, Scenario, Unload};
+use crate::scenario::{ChargerUse, ChargingPolicy, Placement, Scenario, Traffic, Unload};
 
 /// Most robots: one per start crossing A..F.
 const MAX_ROBOTS: u32 = 6;
@@ -53,6 +53,9 @@ pub fn check(s: &Scenario) -> Result<Vec<u32>> {
         if starts.iter().map(String::as_str).ne(STARTS[..s.robots as usize].iter().copied()) {
             return refuse("starts", format!("{starts:?}"), "the original rules start robot k at the k-th of A..F");
         }
+    }
+    if s.traffic != Traffic::Wait {
+        return refuse("traffic", format!("\"{}\"", s.traffic.as_str()), "the original rules have their own collision rule");
     }
     if !matches!(&s.unload, Unload::First) && s.unload != Unload::Node("M".into()) {
         return refuse("unload", format!("\"{}\"", s.unload.as_str()), "the original rules unload at M");

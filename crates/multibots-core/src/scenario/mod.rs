@@ -45,6 +45,12 @@ pub struct Scenario {
     /// code, tick for tick: docs/original-rules.md). Default: `"paper"`.
     #[serde(default, skip_serializing_if = "Rules::is_paper")]
     pub rules: Rules,
+    /// How robots share the aisles: `"wait"` (the paper's collision waiting), `"gate"`
+    /// (waiting, and crossings taken one robot at a time) or `"reserve"`
+    /// (lanes and crossings reserved: no contact, no gridlock; docs/traffic.md). Default:
+    /// `"wait"`.
+    #[serde(default, skip_serializing_if = "Traffic::is_wait")]
+    pub traffic: Traffic,
     /// When robots go to charge.
     #[serde(default)]
     pub charging: Charging,
@@ -163,6 +169,7 @@ impl Scenario {
             step_limit: defaults::step_limit(),
             allocator: defaults::allocator(),
             rules: Rules::Paper,
+            traffic: Traffic::Wait,
             charging: Charging::default(),
             cost: CostWeights::default(),
             robot: RobotParams::default(),

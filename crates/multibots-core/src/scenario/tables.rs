@@ -98,6 +98,42 @@ impl<'de> Deserialize<'de> for Unload {
     }
 }
 
+/// How robots share the aisles (docs/traffic.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Traffic {
+    /// The paper's collision waiting: a robot waits while another stands within reach in a
+    /// cone ahead of it.
+    #[default]
+    Wait,
+    /// Collision waiting, and crossings taken one robot at a time (a robot refused for long
+    /// goes anyway, so the gate never deadlocks).
+    Gate,
+    /// Lanes and crossings reserved: robots keep their distance along each aisle, take a
+    /// crossing only when it is free and their exit has room, in the order they asked, and
+    /// detour when an exit stays full; no two robots ever come closer than r_i + r_j.
+    Reserve,
+}
+
+impl Traffic {
+    /// Whether this is the paper's collision waiting (the default).
+    #[must_use]
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    pub fn is_wait(&self) -> bool {
+        *self == Traffic::Wait
+    }
+
+    /// The name scenario files and the command line use.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Traffic::Wait => "wait",
+            Traffic::Gate => "gate",
+            Traffic::Reserve => "reserve",
+        }
+    }
+}
+
 /// Which rules run a scenario.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
