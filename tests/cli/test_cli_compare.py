@@ -21,7 +21,7 @@ def _read(path):
     [
         (["--robots", "3..1"], "--robots = '3..1': the range 3..1 is empty"),
         (["--robots", "1..7"], "robots = 7: more robots than start nodes (6)"),
-        (["--tasks", "random"], "--tasks = 'random': expected paper or random:K"),
+        (["--tasks", "random"], "--tasks = 'random': expected paper, scenario or random:K"),
         (["--strategies", "in-turn,bogus"], "--strategies = 'bogus': unknown strategy"),
         (["--strategies", "nope_pkg:X"], 'allocator = "nope_pkg:X": cannot import nope_pkg'),
         (["--tasks", "random:5", "--seeds", "0"], "--seeds = 0: must be 1 or more"),
@@ -64,7 +64,7 @@ def test_compare_writes_paired_results_summary_and_plots(cli, tmp_path):
     assert base["pairs"] == "" and base["p_ttest"] == ""
     text = (out / "summary.txt").read_text()
     assert "T (steps): mean [95% CI]" in text and "against in-turn" in text and text.startswith("best on")
-    assert "runs (3 strategies x 2 fleet sizes x 3 task lists)" in r.stdout
+    assert "runs (3 arms x 2 fleet sizes x 3 task lists)" in r.stdout
     for stem in ("strategy_task_time", "strategy_collisions", "strategy_charging", "strategy_cost"):
         assert (out / f"{stem}.png").stat().st_size > 0 and (out / f"{stem}.svg").stat().st_size > 0
     # Deterministic: the same study writes the same files.

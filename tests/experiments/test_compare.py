@@ -28,8 +28,8 @@ def test_option_parsing():
         (study.parse_robots, "3..1"): "--robots = '3..1': the range 3..1 is empty",
         (study.parse_robots, "1-6"): "--robots = '1-6': expected a range such as 1..6",
         (study.parse_robots, "0..2"): "--robots = '0..2': fleet sizes must be 1 or more",
-        (study.parse_tasks, "random:0"): "--tasks = 'random:0': expected paper or random:K",
-        (study.parse_tasks, "papers"): "--tasks = 'papers': expected paper or random:K",
+        (study.parse_tasks, "random:0"): "--tasks = 'random:0': expected paper, scenario or random:K",
+        (study.parse_tasks, "papers"): "--tasks = 'papers': expected paper, scenario or random:K",
         (
             study.parse_strategies,
             "in-turn,greedy",

@@ -27,9 +27,19 @@ def compare(
         "1..6", "--robots", help="Fleet sizes: a range such as 1..6 (inclusive) or a list such as 1,2,4."
     ),
     tasks: str = typer.Option(
-        "paper", "--tasks", help="paper (TABLE III's five lists) or random:K (K goods per list, one list per seed)."
+        "paper", "--tasks",
+        help="paper (TABLE III's five lists), random:K (K goods per list, one list per seed) or scenario (the "
+        "--scenario file's own tasks or orders; with orders, one order stream per seed).",
     ),
-    seeds: int = typer.Option(30, "--seeds", help="With --tasks random:K: how many random lists (seeds 1..SEEDS)."),
+    seeds: int = typer.Option(
+        30, "--seeds", help="With --tasks random:K or scenario: how many lists or order streams (seeds 1..SEEDS)."
+    ),
+    traffic: str = typer.Option(
+        "wait", "--traffic", help="Traffic policies to compare too, comma-separated: wait, gate, reserve."
+    ),
+    rules: str = typer.Option(
+        "paper", "--rules", help="Rule sets to compare too, comma-separated: paper, original (in-turn only)."
+    ),
     out: Path = typer.Option(
         Path("out/compare"), "--out",
         help="Folder for results.csv, summary.csv, summary.txt, the figures and the run journal runs.jsonl.",
@@ -53,6 +63,8 @@ def compare(
     from multibots.scenario import Scenario
 
     names = study.parse_strategies(strategies)
+    traffics = study.parse_choices(traffic, "--traffic", ("wait", "gate", "reserve"))
+    rule_sets = study.parse_choices(rules, "--rules", ("paper", "original"))
     ns = study.parse_robots(robots)
     spec = study.parse_tasks(tasks)
     if workers < 0:
@@ -61,7 +73,7 @@ def compare(
         raise InputError(f"--seeds = {seeds}: must be 1 or more")
     base = Scenario.from_toml(scenario) if scenario is not None else None
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
-    total = len(study.plan_runs(names, ns, spec, seeds, base))
+    total = len(study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets))
     journal = out / "runs.jsonl"
     had_journal = journal.exists()
     reuse: list[int] = []
@@ -69,14 +81,16 @@ def compare(
     with study.progress_bar(total, enabled=not quiet) as bar:
         rows = study.run_study(
             names, ns, spec, seeds, workers, base, progress=bar.advance, journal=journal,
-            reused=lambda k, n: reuse.append(k),
+            reused=lambda k, n: reuse.append(k), traffic=traffics, rules=rule_sets,
         )
     seconds = time.perf_counter() - start
     summary = study.summarize(rows)
     print(study.format_summary(summary, spec.label))
+    print("\n".join(study.format_windows(rows)))
     lists = 5 if spec.kind == "paper" else seeds
+    arms = len(names) * len(traffics) * len(rule_sets)
     print(
-        f"\n{total} runs ({len(names)} strategies x {len(ns)} fleet sizes x {lists} task lists) in {seconds:.1f} s"
+        f"\n{total} runs ({arms} arms x {len(ns)} fleet sizes x {lists} task lists) in {seconds:.1f} s"
         f" on {workers or os.cpu_count()} workers"
     )
     if had_journal:  # also when it reused nothing: an edited strategy or a new engine build

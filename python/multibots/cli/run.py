@@ -10,6 +10,7 @@ from typing import Any, Optional
 
 import typer
 
+from multibots._text import sparkline
 from multibots.cli._common import (
     EXIT_INCOMPLETE,
     GOODS,
@@ -82,19 +83,6 @@ def run(
             file=sys.stderr,
         )
         raise typer.Exit(EXIT_INCOMPLETE)
-
-
-_BARS = "▁▂▃▄▅▆▇█"
-
-
-def sparkline(values: list[int]) -> str:
-    """Values as a line of bar characters, scaled to the largest (at most 60: every k-th)."""
-    if not values:
-        return ""
-    step = -(-len(values) // 60)
-    shown = values[::step]
-    top = max(shown) or 1
-    return "".join(_BARS[min(len(_BARS) - 1, v * (len(_BARS) - 1) // top)] if v else " " for v in shown)
 
 
 def flow_lines(result: Any) -> list[str]:

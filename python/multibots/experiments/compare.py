@@ -31,12 +31,13 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from typing import Any, Optional
 
-from multibots.exceptions import InputError
+from multibots.exceptions import InputError, ScenarioError
 from multibots.experiments.journal import Journal, engine_id, run_key, strategy_id
 from multibots.experiments.summary import (
     BASELINE,
     METRICS,
     format_summary,
+    format_windows,
     headline,
     progress_bar,
     summarize,
@@ -57,21 +58,30 @@ __all__ = [
     "run_study",
     "summarize",
     "format_summary",
+    "format_windows",
     "headline",
     "write_outputs",
     "progress_bar",
 ]
 
+#: Most fleet sizes, seeds and runs a study may plan (docs/limits.md).
+MAX_SIZES = 200
+MAX_SEEDS = 100_000
+MAX_RUNS = 1_000_000
+#: The engine's limit on a fleet.
+MAX_ROBOTS = 1_000_000
+
+
 @dataclass(frozen=True)
 class TaskSpec:
     """Which task lists the study uses: the paper's five, or ``count`` random goods per list."""
 
-    kind: str  # "paper" or "random"
+    kind: str  # "paper", "random" or "scenario" (the --scenario file's own tasks or orders)
     count: int = 0
 
     @property
     def label(self) -> str:
-        return "paper" if self.kind == "paper" else f"random:{self.count}"
+        return self.kind if self.kind != "random" else f"random:{self.count}"
 
 
 def parse_robots(text: str) -> list[int]:
@@ -84,25 +94,31 @@ def parse_robots(text: str) -> list[int]:
             lo, hi = int(m.group(1)), int(m.group(2))
             if lo > hi:
                 raise InputError(f"--robots = {text!r}: the range {part} is empty (write LOW..HIGH)")
+            if hi - lo + 1 > MAX_SIZES:
+                raise InputError(f"--robots = {text[:40]!r}: more than {MAX_SIZES} fleet sizes")
             out.extend(range(lo, hi + 1))
         elif part.isdigit():
             out.append(int(part))
         else:
             raise InputError(f"--robots = {text!r}: expected a range such as 1..6 or a list such as 1,2,4")
+    if len(out) > MAX_SIZES:
+        raise InputError(f"--robots = {text[:40]!r}: more than {MAX_SIZES} fleet sizes")
     if not out or min(out) < 1:
         raise InputError(f"--robots = {text!r}: fleet sizes must be 1 or more")
+    if max(out) > MAX_ROBOTS:
+        raise InputError(f"--robots = {text!r}: at most {MAX_ROBOTS:,} robots")
     return sorted(set(out))
 
 
 def parse_tasks(text: str) -> TaskSpec:
     """``paper`` (TABLE III's five lists) or ``random:K`` (K goods per list, one list per seed)."""
     t = text.strip()
-    if t == "paper":
-        return TaskSpec("paper")
+    if t in ("paper", "scenario"):
+        return TaskSpec(t)
     m = re.fullmatch(r"random:(\d+)", t)
     if m and int(m.group(1)) >= 1:
         return TaskSpec("random", int(m.group(1)))
-    raise InputError(f"--tasks = {text!r}: expected paper or random:K with K >= 1, such as random:10")
+    raise InputError(f"--tasks = {text!r}: expected paper, scenario or random:K with K >= 1, such as random:10")
 
 
 def parse_strategies(text: str) -> list[str]:
@@ -128,38 +144,78 @@ def task_lists(spec: TaskSpec, seeds: int) -> list[tuple[int, Any]]:
         return [(g, list(cells)) for g, cells in PAPER_TASKS.items()]
     if seeds < 1:
         raise InputError(f"--seeds = {seeds}: must be 1 or more")
+    if seeds > MAX_SEEDS:
+        raise InputError(f"--seeds = {seeds}: at most {MAX_SEEDS:,}")
+    if spec.kind == "scenario":
+        return [(seed, None) for seed in range(1, seeds + 1)]
     return [(seed, {"random": spec.count, "seed": seed}) for seed in range(1, seeds + 1)]
 
 
 @dataclass(frozen=True)
 class Run:
+    #: The arm compared: the strategy, with the traffic policy and rule set when several
+    #: are compared (``nearest/reserve``).
     strategy: str
     N: int
     list_id: int
     scenario: Scenario
+    traffic: str = "wait"
+    rules: str = "paper"
+
+
+def parse_choices(text: str, flag: str, known: Sequence[str]) -> list[str]:
+    """A comma-separated list of names from ``known``, in order, each once."""
+    names = [n.strip() for n in text.split(",")]
+    if not text.strip() or any(not n for n in names):
+        raise InputError(f"{flag} = {text!r}: expected comma-separated names ({', '.join(known)})")
+    for n in names:
+        if n not in known:
+            raise InputError(f"{flag} = {n!r}: expected one of {', '.join(known)}")
+        if names.count(n) > 1:
+            raise InputError(f"{flag} = {n!r}: named twice")
+    return names
 
 
 def plan_runs(
-    strategies: Sequence[str], robots: Sequence[int], spec: TaskSpec, seeds: int, base: Optional[Scenario] = None
+    strategies: Sequence[str], robots: Sequence[int], spec: TaskSpec, seeds: int, base: Optional[Scenario] = None,
+    traffic: Sequence[str] = ("wait",), rules: Sequence[str] = ("paper",),
 ) -> list[Run]:
-    """Every (strategy, N, task list) combination, strategy outer; scenarios validated here."""
+    """Every (strategy, traffic policy, rule set, N, task list) combination, in that order;
+    scenarios validated here. With one traffic policy and one rule set the arms are the
+    strategies; else each arm names its policy and rule set too."""
+    if spec.kind == "scenario" and base is None:
+        raise InputError("--tasks scenario: give the scenario with --scenario FILE")
     lists = task_lists(spec, seeds)
+    total = len(strategies) * len(traffic) * len(rules) * len(robots) * len(lists)
+    if total > MAX_RUNS:
+        raise InputError(f"the study plans {total:,} runs: at most {MAX_RUNS:,}")
     template = {} if base is None else base.to_dict()
-    for key in ("tasks", "robots", "allocator", "starts"):
+    for key in ("robots", "allocator", "starts", "traffic", "rules") + (("tasks",) if spec.kind != "scenario" else ()):
         template.pop(key, None)
     runs = []
     for s in strategies:
-        for n in robots:
-            for list_id, tasks in lists:
-                scenario = Scenario.from_dict({**template, "robots": n, "tasks": tasks, "allocator": s})
-                runs.append(Run(s, n, list_id, scenario))
+        for tr in traffic:
+            for ru in rules:
+                arm = "/".join([s] + ([tr] if len(traffic) > 1 else []) + ([ru] if len(rules) > 1 else []))
+                for n in robots:
+                    for list_id, tasks in lists:
+                        fields = {**template, "robots": n, "allocator": s, "traffic": tr, "rules": ru}
+                        if tasks is not None:
+                            fields["tasks"] = tasks
+                        elif fields.get("orders") is not None:
+                            # The scenario's own tasks; its order stream drawn anew per seed.
+                            fields["orders"] = {**fields["orders"], "seed": list_id}
+                        try:
+                            scenario = Scenario.from_dict(fields)
+                        except ScenarioError as e:
+                            raise ScenarioError(f"{arm}, N = {n}: {e}") from None
+                        runs.append(Run(arm, n, list_id, scenario, tr, ru))
     return runs
 
 
-def _row(run: Run, spec: TaskSpec, raw: dict[str, Any], weights: dict[str, float]) -> dict[str, Any]:
+def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
     distance = float(raw["distance"])
     t = raw["T"]
-    cost = None if t is None else weights["distance"] * distance + weights["time"] * t + weights["collision"] * raw["S"]
     return {
         "strategy": run.strategy,
         "N": run.N,
@@ -169,10 +225,16 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any], weights: dict[str, float
         "S": raw["S"],
         "C": raw["C"],
         "distance": distance,
-        "cost": cost,
+        "cost": raw.get("cost"),
         "outcome": raw["outcome"],
         "delivered": raw["delivered"],
         "goods_total": raw["goods_total"],
+        "throughput": raw.get("throughput"),
+        "contacts": raw.get("contacts"),
+        "wait_share": raw.get("wait_share"),
+        "traffic": run.traffic,
+        "rules": run.rules,
+        "windows": ";".join(str(w) for w in raw.get("windows", [])),
     }
 
 
@@ -181,6 +243,8 @@ def _slim_raw(raw: dict[str, Any]) -> dict[str, Any]:
     return {
         "T": raw["T"], "S": raw["S"], "C": raw["C"], "distance": float(raw["distance"].sum()),
         "outcome": raw["outcome"], "delivered": raw["delivered"], "goods_total": raw["goods_total"],
+        "cost": raw["cost"], "throughput": raw["throughput"], "contacts": raw["contacts"],
+        "wait_share": raw["wait_share"], "windows": list(raw["windows"]),
     }
 
 
@@ -201,6 +265,8 @@ def run_study(
     progress: Optional[Callable[[int], None]] = None,
     journal: Optional[str | os.PathLike[str]] = None,
     reused: Optional[Callable[[int, int], None]] = None,
+    traffic: Sequence[str] = ("wait",),
+    rules: Sequence[str] = ("paper",),
 ) -> list[dict[str, Any]]:
     """Runs the study and returns one row per run, in plan order (deterministic).
 
@@ -213,8 +279,7 @@ def run_study(
     """
     from multibots import _core
 
-    runs = plan_runs(strategies, robots, spec, seeds, base)
-    weights = (base or runs[0].scenario).to_dict()["cost"]
+    runs = plan_runs(strategies, robots, spec, seeds, base, traffic, rules)
     workers = workers or os.cpu_count() or 1
     results: list[Optional[dict[str, Any]]] = [None] * len(runs)
     tick = progress or (lambda k: None)
@@ -262,6 +327,6 @@ def run_study(
                 # Finished runs are in the journal; do not wait for the others.
                 pool.shutdown(wait=False, cancel_futures=True)
                 raise
-    return [_row(run, spec, raw, weights) for run, raw in zip(runs, results) if raw is not None]
+    return [_row(run, spec, raw) for run, raw in zip(runs, results) if raw is not None]
 
 

@@ -35,23 +35,41 @@ __all__ = [
     "write_outputs",
 ]
 
-#: The indicators summarised, in order; "cost" is Cost_total.
-METRICS: tuple[str, ...] = ("T", "S", "C", "cost")
+#: The indicators summarised, in order; "cost" is Cost_total, "throughput" deliveries per
+#: 1,000 steps, "contacts" pairs of robots closer than r_i + r_j after a move (docs/metrics.md).
+METRICS: tuple[str, ...] = ("T", "S", "C", "cost", "throughput", "contacts")
 #: The range of each indicator, which its confidence interval is clipped to.
 METRIC_RANGE: dict[str, tuple[float, Optional[float]]] = {m: (0.0, None) for m in METRICS}
-#: The strategy every other one is tested against.
+#: The strategy every other one is tested against, when it is in the study (else the first
+#: one compared: an arm such as ``in-turn/wait`` when traffic policies are compared too).
 BASELINE = "in-turn"
 #: The widest line the text tables print.
 WIDTH = 100
 
 RESULT_FIELDS = [
     "strategy", "N", "tasks", "list", "T", "S", "C", "distance", "cost", "outcome", "delivered", "goods_total",
+    "throughput", "contacts", "wait_share", "traffic", "rules", "windows",
 ]
 SUMMARY_FIELDS = [
     "strategy", "N", "metric", "n", "mean", "sd", "ci_low", "ci_high",
     "pairs", "diff_vs_in_turn", "rel_diff_pct", "p_ttest", "p_wilcoxon",
 ]
-_NAMES = {"T": "T (steps)", "S": "S (collisions)", "C": "C (charges)", "cost": "Cost_total"}
+_NAMES = {
+    "T": "T (steps)", "S": "S (collisions)", "C": "C (charges)", "cost": "Cost_total",
+    "throughput": "throughput (deliveries per 1,000 steps)", "contacts": "contacts",
+}
+
+
+def baseline_of(strategies: Sequence[str]) -> str:
+    """The arm every other one is tested against: ``in-turn`` (alone, or its first arm when
+    traffic policies or rule sets are compared too), else the first arm."""
+    for s in strategies:
+        if s == BASELINE:
+            return s
+    for s in strategies:
+        if s.split("/")[0] == BASELINE:
+            return s
+    return strategies[0]
 
 
 # --- statistics ---------------------------------------------------------------------------
@@ -71,7 +89,7 @@ def _paired(xs: Sequence[float], ys: Sequence[float]) -> tuple[Optional[float], 
 
 
 def _value(row: dict[str, Any], metric: str) -> Optional[float]:
-    v = row[metric]
+    v = row.get(metric)
     return None if v is None else float(v)
 
 
@@ -82,7 +100,8 @@ def summarize(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     ns = sorted({r["N"] for r in rows})
     by_key = {(r["strategy"], r["N"], r["list"]): r for r in rows}
     lists = list(dict.fromkeys(r["list"] for r in rows))
-    has_baseline = any(k[0] == BASELINE for k in by_key)
+    base = baseline_of(strategies)
+    has_baseline = len(strategies) > 1
     out = []
     for s in strategies:
         for n in [*ns, "all"]:
@@ -96,16 +115,16 @@ def summarize(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
                     "mean": mean, "sd": sd, "ci_low": lo, "ci_high": hi,
                     "pairs": None, "diff_vs_in_turn": None, "rel_diff_pct": None, "p_ttest": None, "p_wilcoxon": None,
                 }
-                if s != BASELINE and has_baseline:
-                    row.update(_against_baseline(by_key, keys, metric))
+                if s != base and has_baseline:
+                    row.update(_against_baseline(by_key, keys, metric, base))
                 out.append(row)
     return out
 
 
-def _against_baseline(by_key: dict[Any, dict[str, Any]], keys: list[Any], metric: str) -> dict[str, Any]:
+def _against_baseline(by_key: dict[Any, dict[str, Any]], keys: list[Any], metric: str, base: str) -> dict[str, Any]:
     xs, ys = [], []
     for k in keys:
-        b = by_key.get((BASELINE, k[1], k[2]))
+        b = by_key.get((base, k[1], k[2]))
         mine = by_key.get(k)
         if b is None or mine is None:
             continue
@@ -180,17 +199,42 @@ def _grid(title: str, labels: list[str], columns: list[str], cells: dict[tuple[s
     return lines
 
 
+def format_windows(rows: Sequence[dict[str, Any]]) -> list[str]:
+    """Deliveries per window over time, the mean over each arm's runs, as sparklines (for
+    studies whose runs last at least two windows)."""
+    from multibots._text import sparkline
+
+    series: dict[str, list[list[int]]] = {}
+    for r in rows:
+        w = [int(v) for v in str(r.get("windows") or "").split(";") if v]
+        if len(w) >= 2:
+            series.setdefault(r["strategy"], []).append(w)
+    if not series:
+        return []
+    width = _label_width(list(series))
+    lines = ["", "deliveries per window over time (mean over each arm's runs; see results.csv):"]
+    for arm, runs in series.items():
+        k = min(len(w) for w in runs)
+        mean = [statistics.fmean(w[j] for w in runs) for j in range(k)]
+        line = f"{arm:<{width}} {sparkline(mean, 60)} {min(mean):.0f}..{max(mean):.0f}"
+        lines.append(line if len(line) <= WIDTH else line[:WIDTH])
+    return lines
+
+
 def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> str:
     """The summary as plain text, at most :data:`WIDTH` columns: per metric, mean [95% CI] per
     strategy and N (in blocks of N that fit), then the paired tests, headlines first."""
     strategies = list(dict.fromkeys(r["strategy"] for r in summary))
     ns = list(dict.fromkeys(r["N"] for r in summary))
     idx = {(r["strategy"], r["N"], r["metric"]): r for r in summary}
+    base_name = baseline_of(strategies)
     lines = []
     if spec_label:
         lines.append(f"task lists: {spec_label}")
     for metric in METRICS:
-        digits = 0 if metric in ("T", "cost") else 2
+        if all(idx[(s, n, metric)]["n"] == 0 for s in strategies for n in ns):
+            continue  # T and Cost_total of lifelong runs, which never complete
+        digits = 0 if metric in ("T", "cost", "contacts") else 1 if metric == "throughput" else 2
         cells = {}
         for s in strategies:
             for n in ns:
@@ -200,9 +244,10 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
         lines.append("")
         lines += _grid(f"{_NAMES[metric]}: mean [95% CI]", strategies, [f"N={n}" for n in ns], cells)
     if any(r["pairs"] for r in summary):
-        lines += ["", f"against {BASELINE}, pooled over N (paired; diff = strategy - {BASELINE}; negative is better):"]
+        lines += ["", f"against {base_name}, pooled over N (paired; diff = strategy - {base_name};",
+                  "negative is better, but for throughput):"]
         w = _label_width(strategies)
-        head = f"{'strategy':<{w}} | metric | pairs |     diff |  diff % | p (t-test) | p (Wilcoxon)"
+        head = f"{'strategy':<{w}} |     metric | pairs |      diff |  diff % | p (t-test) | p (Wilcoxon)"
         lines += [head, "-" * len(head)]
         for s in strategies:
             first = True
@@ -213,7 +258,7 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
                 label = s if first or len(s) <= w else ""  # a long name once, on its own line
                 first = False
                 rest = (
-                    f" | {metric:>6} | {r['pairs']:>5} | {_fmt(r['diff_vs_in_turn'], 1):>8} | "
+                    f" | {metric:>10} | {r['pairs']:>5} | {_fmt(r['diff_vs_in_turn'], 1):>9} | "
                     f"{_fmt(r['rel_diff_pct'], 1):>7} | {_fmt_p(r['p_ttest']):>10} | {_fmt_p(r['p_wilcoxon']):>12}"
                 )
                 lines += _labelled(label, w, rest)
@@ -221,12 +266,12 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
         best = headline(summary, metric)
         if best is None:
             continue
-        base = idx.get((BASELINE, "all", metric))
+        base = idx.get((base_name, "all", metric))
         text = f"best on {_NAMES[metric]} (mean over every N and list): {best['strategy']} with {_fmt(best['mean'], 1)}"
-        if base is not None and base["mean"] and best["strategy"] != BASELINE:
+        if base is not None and base["mean"] and best["strategy"] != base_name:
             d = best["mean"] - base["mean"]
             text += (
-                f", {abs(d):.1f} ({abs(100 * d / base['mean']):.1f}%) {'below' if d < 0 else 'above'} {BASELINE}"
+                f", {abs(d):.1f} ({abs(100 * d / base['mean']):.1f}%) {'below' if d < 0 else 'above'} {base_name}"
                 f" ({_fmt(base['mean'], 1)}); paired t-test {_p_is(best['p_ttest'])},"
                 f" Wilcoxon {_p_is(best['p_wilcoxon'])}"
             )
