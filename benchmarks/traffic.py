@@ -51,7 +51,8 @@ def main() -> None:
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--policies", default="wait,gate,reserve")
     args = ap.parse_args()
-    print("| robots | orders/step | policy | throughput | sustained | worst/best window after 3k | waiting | contacts | robot-steps/s |")
+    print("| robots | orders/step | policy | throughput | sustained | worst/best window after 3k | waiting | contacts "
+          "| robot-steps/s |")
     print("| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |")
     for robots in (int(s) for s in args.sizes.split(",")):
         for rate in SIZES[robots][1]:
