@@ -176,6 +176,8 @@ class Replay(ReplayState):
             "C": int(footer.get("C", 0)),
             "outcome": str(footer.get("outcome", "incomplete")),
             "delivered": int(footer.get("delivered", 0)),
+            "window": int(footer.get("window", 1000)),
+            "windows": [int(w) for w in footer.get("windows", [])],
             "frames": self.frames,
         }
 

@@ -212,3 +212,29 @@ def test_a_generated_layout_is_drawn_from_its_data(page, tmp_path):
         page.wait_for_function("() => { const s = window.mbViewer.state(); return s.frame === s.last; }",
                                timeout=120_000)
         assert text(page, "#c-T") == str(result.T)
+
+
+def test_the_throughput_over_time_is_drawn_as_bars(page, tmp_path):
+    # A lifelong run of 3,500 steps: three complete windows of deliveries, drawn as three bars
+    # whose heights follow the engine's counts.
+    from multibots.viewer import Viewer
+
+    s = multibots.Scenario.from_dict({
+        "robots": 6, "tasks": [], "orders": {"rate": 0.05, "horizon": 3500, "seed": 2},
+        "metrics": {"window": 1000},
+    })
+    path = tmp_path / "flow.mbr"
+    result = multibots.simulate(s, record=path)
+    assert len(result.windows) == 3 and sum(result.windows) > 0
+    v = Viewer.for_replay(str(path))
+    v.start()
+    try:
+        open_viewer(page, v)
+        page.wait_for_selector("#flow:not([hidden])")
+        heights = page.evaluate(
+            "() => [...document.querySelectorAll('#flow-bars rect')].map(r => Number(r.getAttribute('height')))")
+        assert len(heights) == 3
+        top = max(result.windows)
+        assert [round(h, 1) for h in heights] == [round(38 * w / top, 1) for w in result.windows]
+    finally:
+        v.close()

@@ -155,6 +155,8 @@ impl ReplayWriter {
             "C": result.c,
             "outcome": result.outcome.map_or("running", |o| o.as_str()),
             "delivered": result.delivered,
+            "window": result.window,
+            "windows": result.windows,
             "chunks": self.chunks.iter().map(|c| json!({"offset": c.offset, "length": c.length, "raw_length": c.raw_length, "first_frame": c.first_frame, "frames": c.frames})).collect::<Vec<_>>(),
         });
         let footer = serde_json::to_vec(&footer).expect("JSON serialises");

@@ -25,6 +25,12 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
+def _flow(sim: Any) -> Dict[str, Any]:
+    """Deliveries per window so far, for the viewer's throughput bars."""
+    raw = sim._sim.result()
+    return {"window": int(raw["window"]), "windows": [int(w) for w in raw["windows"]]}
+
+
 class LiveRunner:
     """Steps a simulation at ``speed`` x 30 steps per second, paused or not, and keeps the
     latest frame as a ready-to-send JSON message (``message``, ``version``).
@@ -78,6 +84,7 @@ class LiveRunner:
             "T": None if T is None else int(T),
             "outcome": str(sim.outcome) if sim.done else None,
             "frame": base64.b64encode(raw).decode("ascii"),
+            **_flow(sim),
             "cells": base64.b64encode(cells).decode("ascii"),
         }
         with self.cond:

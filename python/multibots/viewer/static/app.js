@@ -80,8 +80,34 @@ function drawNow() {
   return true;
 }
 
+/** Deliveries per window as bars, the current window marked (the throughput over time). */
+function drawFlow(windows, window, step) {
+  const box = $("flow");
+  if (!windows || windows.length === 0) { box.hidden = true; return; }
+  box.hidden = false;
+  setText("flow-window", window.toLocaleString("en"));
+  const key = `${windows.length}:${Math.floor(step / window)}:${windows[windows.length - 1]}`;
+  if (box.dataset.key === key) return;
+  box.dataset.key = key;
+  const svg = $("flow-bars");
+  const top = Math.max(...windows, 1);
+  const w = 200 / windows.length;
+  const current = Math.floor(step / window);
+  svg.innerHTML = windows.map((d, k) => {
+    const h = 38 * d / top;
+    const fill = k === current ? "#ffbf00" : "#1f77b4";
+    return `<rect x="${(k * w).toFixed(2)}" y="${(40 - h).toFixed(2)}" width="${Math.max(w - 0.5, 0.5).toFixed(2)}" height="${h.toFixed(2)}" fill="${fill}"><title>${k * window}..${(k + 1) * window}: ${d}</title></rect>`;
+  }).join("");
+}
+
 function updateDom(v) {
   const { frame, info } = v;
+  if (app.mode === "replay") {
+    const s = app.meta.summary || {};
+    drawFlow(s.windows, s.window || 1000, frame.step);
+  } else if (app.source.latest) {
+    drawFlow(app.source.latest.msg.windows, app.source.latest.msg.window || 1000, frame.step);
+  }
   setText("c-step", info.last !== null && info.last !== undefined ? `${frame.step} / ${info.last}` : String(frame.step));
   setText("c-S", String(frame.S));
   setText("c-C", String(frame.C));
