@@ -45,6 +45,12 @@ SIZE_OF = {6: "paper", 100: "small", 1000: "large", 10000: "huge"}
 TARGETS = {"large": 10e6, "huge": 5e6, "paper": 10e6}
 
 
+def describe(m: dict[str, Any]) -> str:
+    """One line for a machine from :func:`machine`."""
+    return (f"{m.get('cpu_model')}, {m.get('lscpu_cpus')} CPUs ({m.get('cores_per_socket')} cores per socket, "
+            f"{m.get('threads_per_core')} threads per core), {m['platform']}, Python {m['python']}")
+
+
 def machine() -> dict[str, Any]:
     info: dict[str, Any] = {
         "platform": platform.platform(),
@@ -109,7 +115,7 @@ def build_markdown(d: dict[str, Any]) -> str:
         "",
         f"- Command: `{d['command']}` (after `cargo bench -p multibots-core --bench step -- --quick`)",
         f"- Date (UTC): {d['created_utc']}; total {d['total_seconds']:.0f} s",
-        f"- Machine: {m.get('cpu_model')}, {m.get('lscpu_cpus')} CPUs ({m.get('cores_per_socket')} cores per socket, {m.get('threads_per_core')} threads per core), {m['platform']}, Python {m['python']}",
+        f"- Machine: {describe(m)}",
         f"- Load average (1 min) at start / end: {d['load'][0]} / {d['load'][1]}. The machine is shared: every speed is a median of {d['repetitions']} repetitions, one thread.",
         "",
         "## Engine speed and memory (named sizes, one thread)",
@@ -232,9 +238,9 @@ def main(argv: list[str] | None = None) -> int:
     d["scale"] = [scale.robot_steps_per_s(n, a.repetitions) for n in scale.SIZES]
     d["memory"] = [scale.memory_per_robot(n) for n in scale.SIZES]
     d["experiment_30"] = scale.experiment_30_ms()
-    from multibots import Scenario, simulate
+    from multibots import PAPER_TASKS, Scenario, simulate
 
-    d["paper_robot_steps"] = 6 * simulate(Scenario.paper(robots=6, goods=pure_python.GOODS)).steps
+    d["paper_robot_steps"] = 6 * simulate(Scenario.paper(robots=6, goods=PAPER_TASKS[1])).steps
     print("pure-Python model ...", file=sys.stderr, flush=True)
     d["pure_python"] = pure_python.measure(a.repetitions)
     d["criterion"] = criterion_medians()
@@ -244,6 +250,10 @@ def main(argv: list[str] | None = None) -> int:
     d["load"] = [load0, loadavg()]
     d["total_seconds"] = time.perf_counter() - started
     md = build_markdown(d)
+    # Sections other scripts write (traffic, studies, ...) are kept.
+    import sections
+
+    md = sections.keep(md, a.out.read_text(encoding="utf-8") if a.out.exists() else "")
     peers.write_json_atomic(a.json_path, d)
     atomic_write_text(a.out, md)
     print(md)

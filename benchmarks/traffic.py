@@ -50,10 +50,11 @@ def main() -> None:
     ap.add_argument("--sizes", default="100,1000,10000")
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--policies", default="wait,gate,reserve")
+    ap.add_argument("--write", action="store_true", help="also write the table into docs/benchmarks.md")
     args = ap.parse_args()
-    print("| robots | orders/step | policy | throughput | sustained | worst/best window after 3k | waiting | contacts "
-          "| robot-steps/s |")
-    print("| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |")
+    lines = ["| robots | orders/step | policy | throughput | sustained | worst/best window after 3k | waiting "
+             "| contacts | robot-steps/s |", "| ---: | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: |"]
+    print("\n".join(lines), flush=True)
     for robots in (int(s) for s in args.sizes.split(",")):
         for rate in SIZES[robots][1]:
             for policy in args.policies.split(","):
@@ -63,9 +64,30 @@ def main() -> None:
                 secs = time.perf_counter() - t0
                 after = r.windows[3:]
                 ratio = min(after) / max(after) if after and max(after) > 0 else 0.0
-                print(f"| {robots:,} | {rate:g} | {policy} | {r.throughput:.1f} | {r.sustained_throughput:.1f} | "
-                      f"{ratio:.2f} | {r.wait_share:.1%} | {r.contacts:,} | {robots * r.steps / secs / 1e6:.2f} M |",
-                      flush=True)
+                speed = robots * r.steps / secs / 1e6
+                lines.append(f"| {robots:,} | {rate:g} | {policy} | {r.throughput:.1f} | {r.sustained_throughput:.1f} "
+                             f"| {ratio:.2f} | {r.wait_share:.1%} | {r.contacts:,} | {speed:.2f} M |")
+                print(lines[-1], flush=True)
+    if args.write:
+        import datetime
+
+        import sections
+        from run_all import describe, loadavg, machine
+
+        head = [
+            "## Traffic policies at scale (docs/traffic.md)",
+            "",
+            f"- Command: `.venv/bin/python benchmarks/traffic.py --sizes {args.sizes} --steps {args.steps} --write`",
+            f"- Date (UTC): {datetime.datetime.now(datetime.timezone.utc).isoformat(timespec='seconds')}; machine: "
+            f"{describe(machine())}; load average at the end: {loadavg():.2f}",
+            f"- {args.steps:,} steps per run, one run each, one thread. Warehouses built like "
+            "`scenarios/warehouse-1000.toml` for each fleet size; order rates from light load to overload. "
+            "`throughput`: deliveries per 1,000 steps over the run; `sustained`: over the last half of its windows; "
+            "`worst/best`: the worst 1,000-step window after the first 3,000 steps over the best one there. "
+            "Speeds are single wall-clock runs on a shared machine: read them as orders of magnitude.",
+            "",
+        ]
+        sections.put("traffic", "\n".join(head + lines))
 
 
 if __name__ == "__main__":
