@@ -12,7 +12,7 @@ RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml 2>/dev/null
 export VIRTUAL_ENV := $(VENV)
 export PATH := $(VENV)/bin:$(PATH)
 
-.PHONY: help run test test-rust test-python bench lint develop browser clean schema
+.PHONY: help run test test-rust test-python bench lint develop browser clean schema fuzz
 
 schema: ## regenerate docs/schema/*.json and the field tables of docs/scenario-format.md
 	cargo run -q -p multibots-core --example schema
@@ -27,6 +27,15 @@ run: develop ## run the paper's 30-run experiment: table, results.csv and figure
 test: develop browser ## run every test: cargo, pytest (engine, CLI, viewer in Chromium)
 	cargo test --release --workspace --exclude multibots-py
 	$(PY) -m pytest -q
+
+FUZZ_MINUTES ?= 10
+fuzz: develop ## fuzz scenario, layout and replay files and CLI flags (Hypothesis) for FUZZ_MINUTES minutes, fresh seeds each round
+	@end=$$(( $$(date +%s) + 60 * $(FUZZ_MINUTES) )); round=0; \
+	while [ $$(date +%s) -lt $$end ]; do \
+	  round=$$((round + 1)); seed=$$(od -An -N4 -tu4 /dev/urandom | tr -d ' '); \
+	  echo "fuzz round $$round, seed $$seed"; \
+	  MULTIBOTS_FUZZ=fuzz $(PY) -m pytest -q -p no:cacheprovider tests/fuzz --hypothesis-seed=$$seed || exit 1; \
+	done
 
 bench: develop ## benchmarks: criterion and Python scripts; figures go to docs/benchmarks.md
 	cargo bench -p multibots-core --bench step -- --quick

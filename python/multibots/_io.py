@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import stat
 import tempfile
 from collections.abc import Iterator
@@ -19,7 +20,22 @@ from typing import BinaryIO
 
 from multibots.exceptions import OutputError
 
-__all__ = ["atomic_open", "atomic_target", "atomic_write_bytes", "atomic_write_text", "check_target"]
+__all__ = [
+    "MAX_INPUT_BYTES",
+    "atomic_open",
+    "atomic_target",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "check_folder",
+    "check_target",
+    "read_input",
+    "regular_file",
+    "staged_folder",
+]
+
+#: The largest input file (scenario, layout, orders, strategy source) read whole: the
+#: engine's limit (``limits::MAX_INPUT_BYTES``, docs/limits.md).
+MAX_INPUT_BYTES = 64 << 20
 
 # Read once, at import: os.umask can only be read by setting it, and setting it while other
 # threads create files would race with them.
@@ -27,6 +43,56 @@ _UMASK = os.umask(0o022)
 os.umask(_UMASK)
 #: The mode a new output file gets: what open() would give it (0o666 minus the umask).
 FILE_MODE = 0o666 & ~_UMASK
+
+
+def regular_file(path: str | os.PathLike[str], error: type[Exception], what: str = "file") -> os.stat_result:
+    """Checks that ``path`` is a regular file, before anything opens it.
+
+    Opening a FIFO with no writer blocks forever and ``/dev/zero`` never ends, so input files
+    are checked with ``stat`` first (symlinks followed) and anything else is refused.
+
+    Raises:
+        error: with one line naming the path: missing, a directory, not a regular file.
+    """
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise error(f"{os.fspath(path)}: no such {what}") from None
+    except OSError as e:
+        raise error(f"{os.fspath(path)}: cannot read ({e.strerror})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise error(f"{os.fspath(path)}: is a directory, not a {what}")
+    if not stat.S_ISREG(st.st_mode):
+        raise error(f"{os.fspath(path)}: is not a regular file (a device, FIFO or socket), not a {what}")
+    return st
+
+
+def read_input(path: str | os.PathLike[str], error: type[Exception], what: str = "file",
+               limit: int = MAX_INPUT_BYTES) -> str:
+    """The UTF-8 text of the regular file ``path``, of at most ``limit`` bytes.
+
+    Raises:
+        error: one line naming the path: not a regular file, too large, unreadable, not UTF-8.
+    """
+    st = regular_file(path, error, what)
+    name = os.fspath(path)
+    if st.st_size > limit:
+        raise error(f"{name}: is {st.st_size:,} bytes; a {what} may have at most {limit:,}")
+    try:
+        # O_NONBLOCK: if the path was swapped for a FIFO since the check, open does not hang.
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                raise error(f"{name}: is not a regular file, not a {what}")
+            data = f.read(limit + 1)
+    except OSError as e:
+        raise error(f"{name}: cannot read ({e.strerror})") from None
+    if len(data) > limit:
+        raise error(f"{name}: grew past {limit:,} bytes while being read")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise error(f"{name}: is not UTF-8 text (byte {e.start})") from None
 
 
 def check_target(path: str | os.PathLike[str]) -> Path:
@@ -48,6 +114,84 @@ def check_target(path: str | os.PathLike[str]) -> Path:
     return path
 
 
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError):
+        return True  # someone else's process, or not a pid: leave it
+    return True
+
+
+def _remove_stale(path: Path) -> None:
+    """Removes temporary files for ``path`` left by writers that were killed.
+
+    Temporary files are named ``.NAME.PID.*`` (the engine's ``.NAME.PID.tmp`` too), so one
+    whose process is gone belongs to nobody: a ``kill -9`` costs disk space only until the
+    next write of the same file.
+    """
+    prefix = f".{path.name}."
+    try:
+        entries = list(os.scandir(path.parent))
+    except OSError:
+        return
+    for entry in entries:
+        if not entry.name.startswith(prefix):
+            continue
+        pid = entry.name[len(prefix):].split(".", 1)[0]
+        if pid.isdigit() and int(pid) != os.getpid() and not _alive(int(pid)):
+            with contextlib.suppress(OSError):
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path)
+                else:
+                    os.unlink(entry.path)
+
+
+def check_folder(path: str | os.PathLike[str], option: str = "--out") -> Path:
+    """Checks that ``path`` is a folder or a new path, for an option naming an output folder.
+
+    Raises:
+        OutputError: ``path`` exists and is not a folder (one line naming the option).
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputError(f"{option} = {os.fspath(path)!r}: exists and is not a folder; name a folder for the outputs")
+    return path
+
+
+@contextlib.contextmanager
+def staged_folder(out: str | os.PathLike[str], option: str = "--out") -> Iterator[Path]:
+    """A staging folder whose files move into ``out`` only when the whole block succeeds.
+
+    A set of outputs (a table and its figures) is either written whole or not at all: on a
+    full disk or an error half-way, ``out`` keeps what it had. The staging folder sits beside
+    ``out`` (same file system, so each move is a rename) and is removed on failure; one left
+    by a killed process is removed by the next write of the same folder.
+    """
+    out = check_folder(out, option)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        _remove_stale(out)
+        stage = Path(tempfile.mkdtemp(prefix=f".{out.name}.{os.getpid()}.", suffix=".staging", dir=out.parent))
+    except OSError as e:
+        raise OutputError(f"{option} = {os.fspath(out)!r}: cannot write ({e.strerror})") from None
+    try:
+        os.chmod(stage, 0o777 & ~_UMASK)
+        yield stage
+        for src in sorted(p for p in stage.rglob("*") if not p.is_dir()):
+            dest = out / src.relative_to(stage)
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            check_target(dest)
+            os.replace(src, dest)
+    except OSError as e:
+        if isinstance(e, OutputError):
+            raise
+        raise OutputError(f"{option} = {os.fspath(out)!r}: cannot write ({e.strerror})") from None
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+
+
 @contextlib.contextmanager
 def atomic_target(path: str | os.PathLike[str], suffix: str = ".tmp") -> Iterator[Path]:
     """A temporary path beside ``path`` to write to; renamed over ``path`` if the block succeeds.
@@ -63,7 +207,8 @@ def atomic_target(path: str | os.PathLike[str], suffix: str = ".tmp") -> Iterato
     path = check_target(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+        _remove_stale(path)
+        fd, name = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=suffix, dir=path.parent)
     except OSError as e:
         raise OutputError(f"{path}: cannot write in {path.parent} ({e.strerror})") from None
     tmp = Path(name)

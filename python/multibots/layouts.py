@@ -12,11 +12,13 @@ Example:
 from __future__ import annotations
 
 import json
+import math
 import os
 from pathlib import Path
 from typing import Any, Optional
 
 from multibots import _core
+from multibots._io import read_input
 from multibots.exceptions import ScenarioError
 
 __all__ = ["generate_layout", "parse_group_size", "check_layout_file", "check_layout_text"]
@@ -61,19 +63,16 @@ def generate_layout(
     for key in ("group_rows", "group_cols", "group_width", "group_height", "chargers"):
         if params[key] < 0:
             raise ScenarioError(f"layout.{key} = {params[key]}: must be at least 1")
+    for key in ("aisle", "cell", "spur"):
+        if not math.isfinite(params[key]):
+            raise ScenarioError(f"layout.{key} = {params[key]}: must be a finite number")
     return _core.generate_layout_toml(json.dumps(params), name)
 
 
 def check_layout_file(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Reads and checks a layout file; returns its layout JSON (``docs/replay-format.md``)."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{p}: no such file") from None
-    except (OSError, UnicodeDecodeError) as e:
-        raise ScenarioError(f"{p}: cannot read ({e})") from None
-    return check_layout_text(text, str(p))
+    return check_layout_text(read_input(p, ScenarioError, "layout file"), str(p))
 
 
 def check_layout_text(text: str, source: str = "<layout>") -> dict[str, Any]:

@@ -20,6 +20,8 @@ from typing import Any, Dict, List, Optional
 import numpy as np
 
 from multibots import _core
+from multibots._io import regular_file
+from multibots._text import shown
 from multibots.exceptions import MultibotsError, ReplayError
 from multibots.replay_state import EVENT_NAMES, MOVING_STATES, STATE_NAMES, ReplayState
 
@@ -30,6 +32,10 @@ VERSION = _core.REPLAY_VERSION
 
 # A header or footer larger than this is not a replay we wrote.
 _MAX_JSON = 256 * 1024 * 1024
+# Fleets and frame counts past these are not replays the engine can write (docs/limits.md).
+_MAX_ROBOTS = 1_000_000
+_MAX_FRAMES = 1 << 40
+_MISSING = object()
 
 
 def _chunk_limit(frames: int, robots: int) -> int:
@@ -52,6 +58,7 @@ class Replay(ReplayState):
                  cache_bytes: int = 96 * 1024 * 1024) -> None:
         self.path = os.fspath(path)
         self._name = self.path
+        regular_file(self.path, ReplayError, "replay file")
         try:
             self._fd = os.open(self.path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
         except FileNotFoundError:
@@ -92,7 +99,7 @@ class Replay(ReplayState):
     def _json(self, raw: bytes, what: str) -> Dict[str, Any]:
         try:
             value = json.loads(raw.decode("utf-8"))
-        except (UnicodeDecodeError, ValueError):
+        except (UnicodeDecodeError, ValueError, RecursionError):
             raise self._fail(f"{what} is not valid UTF-8 JSON") from None
         if not isinstance(value, dict):
             raise self._fail(f"{what} is not a JSON object")
@@ -118,68 +125,102 @@ class Replay(ReplayState):
 
         if header.get("format") != "multibots-replay":
             raise self._fail("header 'format' is not 'multibots-replay'")
-        try:
-            self.robots = int(header["robots"])
-            self.chunk_steps = int(header["chunk_steps"])
-            self.energy_full = float(header["energy_full"])
-            self.threshold = float(header["threshold"])
-            self.goods_total = int(header["goods_total"])
-            self.layout = header["layout"]
-            cells_full = header["cells_full"]
-            self.radius = np.asarray(header["radius"], dtype=np.float64)
-            self.home = np.asarray(header["home"], dtype=np.int64)
-        except KeyError as exc:
-            raise self._fail(f"header lacks the key {exc.args[0]!r}") from None
-        except (TypeError, ValueError) as exc:
-            raise self._fail(f"header has a malformed value ({exc})") from None
-        if self.robots < 1:
-            raise self._fail(f"header 'robots' is {self.robots}; expected at least 1")
-        if self.radius.shape != (self.robots,) or self.home.shape != (self.robots,):
-            raise self._fail("header 'radius' and 'home' must list one value per robot")
+        self.robots = self._int(header, "robots", "header", 1, _MAX_ROBOTS)
+        self.chunk_steps = self._int(header, "chunk_steps", "header", 1, _MAX_FRAMES)
+        self.energy_full = self._float(header, "energy_full", "header")
+        self.threshold = self._float(header, "threshold", "header")
+        self.goods_total = self._int(header, "goods_total", "header", 0, _MAX_FRAMES)
+        self.layout = self._get(header, "layout", "header")
         if not isinstance(self.layout, dict):
             raise self._fail("header 'layout' is not a JSON object")
-        self.cells_full = np.asarray(cells_full, dtype=np.uint8)
-        if self.cells_full.ndim != 1:
-            raise self._fail("header 'cells_full' is not a list")
+        self.radius = self._array(header, "radius", np.float64, 0, math.inf, self.robots)
+        self.home = self._array(header, "home", np.int64, 0, _MAX_FRAMES, self.robots)
+        self.cells_full = self._array(header, "cells_full", np.uint8, 0, 1)
 
-        try:
-            self.frames = int(footer["frames"])
-            table = footer["chunks"]
-            self._offsets = [int(c["offset"]) for c in table]
-            self._lengths = [int(c["length"]) for c in table]
-            self._firsts = [int(c["first_frame"]) for c in table]
-            self._counts = [int(c["frames"]) for c in table]
-            self._limits = [
-                int(c["raw_length"]) if "raw_length" in c else _chunk_limit(int(c["frames"]), self.robots)
-                for c in table
-            ]
-        except KeyError as exc:
-            raise self._fail(f"footer lacks the key {exc.args[0]!r}") from None
-        except (TypeError, ValueError) as exc:
-            raise self._fail(f"footer has a malformed value ({exc})") from None
+        self.frames = self._int(footer, "frames", "footer", 1, _MAX_FRAMES)
+        table = self._get(footer, "chunks", "footer")
+        if not isinstance(table, list) or not all(isinstance(c, dict) for c in table):
+            raise self._fail("footer 'chunks' is not a list of JSON objects")
+        what = "footer chunk"
+        self._offsets = [self._int(c, "offset", what, 0, self._size) for c in table]
+        self._lengths = [self._int(c, "length", what, 1, self._size) for c in table]
+        self._firsts = [self._int(c, "first_frame", what, 0, _MAX_FRAMES) for c in table]
+        self._counts = [self._int(c, "frames", what, 1, _MAX_FRAMES) for c in table]
+        self._limits = [
+            self._int(c, "raw_length", what, 16, 1 << 40, _chunk_limit(n, self.robots))
+            for c, n in zip(table, self._counts)
+        ]
         expect = 0
         for i, (off, ln, first, cnt) in enumerate(zip(self._offsets, self._lengths, self._firsts, self._counts)):
-            if first != expect or cnt < 1:
+            if first != expect:
                 raise self._fail(f"chunk {i} holds frames {first}..{first + cnt - 1}; expected to start at {expect}")
-            if off < 16 + hlen or ln < 1 or off + ln > foot_off:
+            if off < 16 + hlen or off + ln > foot_off:
                 raise self._fail(f"chunk {i} lies outside the data area (truncated?)")
             expect = first + cnt
-        if expect != self.frames or self.frames < 1:
+        if expect != self.frames:
             raise self._fail(f"the chunks hold {expect} frames but the footer says {self.frames}")
         self.header = header
         self.footer = footer
         self.chunk_count = len(table)
-        t = footer.get("T")
+        outcome = footer.get("outcome", "incomplete")
+        if not isinstance(outcome, str):
+            raise self._fail(f"footer 'outcome' is {shown(json.dumps(outcome))}; expected text")
+        windows = footer.get("windows", [])
+        if not isinstance(windows, list):
+            raise self._fail(f"footer 'windows' is {shown(json.dumps(windows))}; expected a list")
         self.summary = {
-            "T": None if t is None else int(t),
-            "S": int(footer.get("S", 0)),
-            "C": int(footer.get("C", 0)),
-            "outcome": str(footer.get("outcome", "incomplete")),
-            "delivered": int(footer.get("delivered", 0)),
-            "window": int(footer.get("window", 1000)),
-            "windows": [int(w) for w in footer.get("windows", [])],
+            "T": None if footer.get("T") is None else self._int(footer, "T", "footer", 0, _MAX_FRAMES),
+            "S": self._int(footer, "S", "footer", 0, 1 << 62, 0),
+            "C": self._int(footer, "C", "footer", 0, 1 << 62, 0),
+            "outcome": shown(outcome, 40),
+            "delivered": self._int(footer, "delivered", "footer", 0, 1 << 62, 0),
+            "window": self._int(footer, "window", "footer", 1, _MAX_FRAMES, 1000),
+            "windows": [self._int({"windows": w}, "windows", "footer", 0, 1 << 62) for w in windows],
             "frames": self.frames,
         }
+
+    # Checked reads of header and footer values: a file from elsewhere may hold text, lists,
+    # 1e400 (inf once parsed) or ragged arrays where numbers belong; each gets one line.
+    def _get(self, table: Dict[str, Any], key: str, what: str) -> Any:
+        if key not in table:
+            raise self._fail(f"{what} lacks the key {key!r}")
+        return table[key]
+
+    def _bad(self, key: str, what: str, value: Any, expected: str) -> "ReplayError":
+        try:
+            text = json.dumps(value)
+        except (TypeError, ValueError):
+            text = repr(value)
+        return self._fail(f"{what} {key!r} is {shown(text)}; expected {expected}")
+
+    def _int(self, table: Dict[str, Any], key: str, what: str, lo: int, hi: int, default: Any = _MISSING) -> int:
+        if default is not _MISSING and key not in table:
+            return default
+        v = self._get(table, key, what)
+        ok = isinstance(v, int) or (isinstance(v, float) and v.is_integer())
+        if isinstance(v, bool) or not ok or not lo <= v <= hi:
+            raise self._bad(key, what, v, f"an integer from {lo} to {hi}")
+        return int(v)
+
+    def _float(self, table: Dict[str, Any], key: str, what: str) -> float:
+        v = self._get(table, key, what)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise self._bad(key, what, v, "a finite number")
+        return float(v)
+
+    def _array(self, table: Dict[str, Any], key: str, dtype: Any, lo: float, hi: float,
+               length: Optional[int] = None) -> np.ndarray:
+        v = self._get(table, key, "header")
+        if not isinstance(v, list) or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+            raise self._bad(key, "header", v, "a list of numbers")
+        a = np.asarray(v, dtype=np.float64)
+        if not (np.isfinite(a).all() and ((a >= lo) & (a <= hi)).all()):
+            raise self._fail(f"header {key!r} holds a value outside {lo}..{hi}")
+        if np.dtype(dtype).kind in "iu" and not (a == np.floor(a)).all():
+            raise self._fail(f"header {key!r} holds a value that is not an integer")
+        if length is not None and len(a) != length:
+            raise self._fail(f"header {key!r} lists {len(a)} values; expected one per robot ({length})")
+        return a.astype(dtype)
 
     # ------------------------------------------------------------------ lifetime
     def close(self) -> None:

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from multibots import _core
+from multibots._io import read_input
 from multibots.exceptions import ScenarioError
 from multibots.paper import PAPER_TASKS
 
@@ -54,16 +55,7 @@ class Scenario:
             ScenarioError: the file is missing, unreadable, not TOML, or a field is invalid.
         """
         p = Path(path)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise ScenarioError(f"{p}: no such file") from None
-        except IsADirectoryError:
-            raise ScenarioError(f"{p}: is a directory, not a scenario file") from None
-        except UnicodeDecodeError:
-            raise ScenarioError(f"{p}: not UTF-8 text") from None
-        except OSError as e:
-            raise ScenarioError(f"{p}: cannot read ({e.strerror})") from None
+        text = read_input(p, ScenarioError, "scenario file")
         return cls.from_toml_str(text, source=str(p))
 
     @classmethod

@@ -105,7 +105,7 @@ def test_bad_scenario_files(cli, tmp_path, case):
 
 
 def test_missing_unreadable_and_directory_files(cli, tmp_path):
-    cli.assert_one_line_error(cli("run", tmp_path / "nope.toml"), "nope.toml", "no such file")
+    cli.assert_one_line_error(cli("run", tmp_path / "nope.toml"), "nope.toml", "no such scenario file")
     binary = tmp_path / "b.toml"
     binary.write_bytes(b"\xff\xfe\x00tasks")
     cli.assert_one_line_error(cli("run", binary), "b.toml", "UTF-8")

@@ -244,3 +244,47 @@ def test_live_robot_panel(live_viewer):
     assert len(info["route"]) >= 1
     code, _, _ = request(live_viewer, "GET", "/api/robot?id=3")
     assert code == 400
+
+
+def test_shared_server_still_refuses_foreign_names(paper_run):
+    """Bound to every address (--host 0.0.0.0), the server answers addresses and this machine's
+    names, but not a name that resolves to it through someone else's DNS (rebinding)."""
+    from multibots.viewer import Viewer
+
+    with Viewer.for_replay(str(paper_run[0]), host="0.0.0.0") as v:
+        for host in ("evil.example", "evil.example:8765", "127.0.0.1.evil.example", ""):
+            assert request(v, "GET", "/api/meta", headers={"Host": host})[0] == 403, host
+        for host in ("127.0.0.1", "10.1.2.3:8765", "[::1]:1", socket.gethostname()):
+            assert request(v, "GET", "/api/meta", headers={"Host": host})[0] == 200, host
+
+
+def test_deeply_nested_control_message_is_a_400(live_viewer):
+    body = b"[" * 1500 + b"]" * 1500
+    code, _, reply = request(live_viewer, "POST", "/api/control", body=body,
+                             headers={"Content-Type": "application/json", "Host": "127.0.0.1"})
+    assert code == 400 and b"malformed" in reply
+    assert request(live_viewer, "GET", "/api/meta")[0] == 200  # the server lives on
+
+
+def test_connections_are_capped(replay_viewer):
+    """Idle sockets past the cap are closed at once instead of each holding a thread."""
+    from multibots.viewer.handler import MAX_CONNECTIONS
+
+    idle = [socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30) for _ in range(MAX_CONNECTIONS)]
+    try:
+        extra = socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30)
+        extra.sendall(b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        try:
+            got = extra.recv(100)
+        except ConnectionResetError:
+            got = b""
+        extra.close()
+        assert got == b"", got[:40]  # closed unanswered
+    finally:
+        for s in idle:
+            s.close()
+    # Slots come back when clients leave.
+    for _ in range(50):
+        if request(replay_viewer, "GET", "/api/meta")[0] == 200:
+            break
+    assert request(replay_viewer, "GET", "/api/meta")[0] == 200

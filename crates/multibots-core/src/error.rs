@@ -53,7 +53,8 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 /// One line for a TOML file that does not fit its schema: the field's path, or the line for
 /// a syntax error, then the first line of the parser's message.
 pub(crate) fn toml_message(text: &str, e: serde_path_to_error::Error<toml::de::Error>) -> String {
-    let path = e.path().to_string();
+    // The path holds the user's keys, which may be anything (a control character, 10 MB).
+    let path = crate::limits::shown(&e.path().to_string());
     let inner = e.into_inner();
     let msg = crate::limits::inert(inner.message().lines().next().unwrap_or_default().trim());
     if !path.is_empty() && path != "." {

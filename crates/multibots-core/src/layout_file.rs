@@ -281,14 +281,15 @@ pub fn to_toml(layout: &Layout, generated: Option<LayoutParams>) -> String {
 /// a reader never sees half a file.
 pub fn write(path: &Path, text: &str) -> Result<()> {
     let shown = path.display().to_string();
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let file_name = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = dir.join(format!(".{file_name}.{}.tmp", std::process::id()));
+    let tmp = crate::files::output_temp(path).map_err(|message| Error::Io { path: shown.clone(), message })?;
     std::fs::write(&tmp, text).map_err(|e| Error::io(&shown, &e))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
+    let renamed = crate::files::replaceable(path)
+        .map_err(|message| Error::Io { path: crate::limits::shown(&shown), message })
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| Error::io(&shown, &e)));
+    if renamed.is_err() {
         let _ = std::fs::remove_file(&tmp);
-        Error::io(&shown, &e)
-    })
+    }
+    renamed
 }
 
 #[cfg(test)]

@@ -79,8 +79,7 @@ impl ReplayWriter {
     /// Opens the replay and records frame 0 (the state before step 1).
     pub fn create(path: &Path, sim: &Simulation, scenario_toml: &str) -> Result<ReplayWriter> {
         let display = path.display().to_string();
-        let name = path.file_name().ok_or_else(|| Error::Io { path: display.clone(), message: "not a file name".into() })?;
-        let tmp = path.with_file_name(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+        let tmp = crate::files::output_temp(path).map_err(|message| Error::Io { path: display.clone(), message })?;
         let file = File::create(&tmp).map_err(|e| Error::io(&display, &e))?;
         let n = sim.robots().len();
         let chunk_frames = ((1usize << 20) / (BYTES_PER_ROBOT_STEP * n.max(1))).clamp(16, 1024);
@@ -170,6 +169,7 @@ impl ReplayWriter {
             let file = out.into_inner().map_err(|e| Error::io(&display, e.error()))?;
             file.sync_all().map_err(io)?;
             drop(file);
+            crate::files::replaceable(&self.path).map_err(|message| Error::Io { path: crate::limits::shown(&display), message })?;
             std::fs::rename(&self.tmp, &self.path).map_err(io)
         })();
         if written.is_err() {

@@ -7,11 +7,11 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-create_exception!(_core, MultibotsError, PyException, "Base class of every MultiBots error.");
-create_exception!(_core, ScenarioError, MultibotsError, "A scenario field or file the model cannot run with.");
-create_exception!(_core, LayoutError, MultibotsError, "A layout robots cannot use, or a layout file that cannot be read.");
-create_exception!(_core, AllocatorError, MultibotsError, "A strategy returned assignments the engine cannot carry out.");
-create_exception!(_core, EngineError, MultibotsError, "An internal error of the engine (a bug: please report it).");
+create_exception!(multibots._core, MultibotsError, PyException, "Base class of every MultiBots error.");
+create_exception!(multibots._core, ScenarioError, MultibotsError, "A scenario field or file the model cannot run with.");
+create_exception!(multibots._core, LayoutError, MultibotsError, "A layout robots cannot use, or a layout file that cannot be read.");
+create_exception!(multibots._core, AllocatorError, MultibotsError, "A strategy returned assignments the engine cannot carry out.");
+create_exception!(multibots._core, EngineError, MultibotsError, "An internal error of the engine (a bug: please report it).");
 
 /// Steps between two checks for Ctrl-C in long runs.
 pub(crate) const SIGNAL_EVERY: u64 = 1 << 14;

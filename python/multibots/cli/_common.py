@@ -11,10 +11,12 @@ from typing import Any, NoReturn, Optional
 
 import typer
 
+from multibots._text import inert, shown
 from multibots.exceptions import EngineError, InputError, MissingExtraError, MultibotsError, RenderError
 from multibots.scenario import Scenario
 
 __all__ = [
+    "ALLOW_CODE",
     "EXIT_INCOMPLETE",
     "RULES",
     "TRAFFIC",
@@ -23,6 +25,7 @@ __all__ = [
     "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_CODES_HELP",
+    "check_code",
     "parse_cells",
     "parse_names",
     "parse_number",
@@ -69,18 +72,48 @@ def parse_names(value: str, flag: str = "--starts") -> list[str]:
     return names
 
 
-def parse_number(value: Optional[str], flag: str, kind: type) -> Any:
-    """A numeric flag that arrived as text (so that a bad one is reported with its value)."""
+#: The engine's limits (crates/multibots-core/src/limits.rs, docs/limits.md) for flags that
+#: would otherwise reach it as out-of-range integers.
+MAX_ROBOTS = 1_000_000
+MAX_STEPS = (1 << 63) - 1
+
+
+def parse_number(value: Optional[str], flag: str, kind: type, most: Optional[float] = None) -> Any:
+    """A numeric flag that arrived as text (so that a bad one is reported with its value);
+    ``most``: the largest value allowed (docs/limits.md)."""
     if value is None:
         return None
     what = "an integer" if kind is int else "a number"
     try:
         number = kind(value)
     except ValueError:
-        raise InputError(f"{flag} = {value!r}: not {what}") from None
+        raise InputError(f"{flag} = {shown(value)!r}: not {what}") from None
     if not math.isfinite(number):
-        raise InputError(f"{flag} = {value!r}: must be a finite number")
+        raise InputError(f"{flag} = {shown(value)!r}: must be a finite number")
+    if most is not None and number > most:
+        raise InputError(f"{flag} = {shown(value)}: at most {most:,} (docs/limits.md)")
     return number
+
+
+def check_code(scenario: Scenario, path: Optional[Path], allow: bool, overridden: bool = False) -> None:
+    """Refuses a scenario file that names Python code unless the user allowed it.
+
+    ``allocator = "module:Class"`` imports and runs that code (``"os:abort"`` would abort), so
+    a file from elsewhere must not run code by being opened: the command line asks for
+    ``--allow-code`` (or ``MULTIBOTS_ALLOW_CODE=1``). The Python API does not ask: code that
+    calls it already runs with the user's trust. ``overridden``: ``--allocator`` replaced the
+    file's choice.
+    """
+    if path is None or allow or overridden or os.environ.get("MULTIBOTS_ALLOW_CODE") == "1":
+        return
+    from multibots.strategies import is_python_allocator
+
+    name = scenario.to_dict().get("allocator")
+    if isinstance(name, str) and is_python_allocator(name):
+        raise InputError(
+            f"allocator = {shown(name)!r} in {shown(path)}: this scenario file names Python code, which "
+            "would run; add --allow-code if you trust the file"
+        )
 
 
 def quick_scenario(
@@ -96,7 +129,7 @@ def quick_scenario(
 ) -> Scenario:
     """A scenario from a file, from the quick-run flags on the paper layout, or a file with
     flags on top (``run`` and ``view --live`` share these rules)."""
-    n = parse_number(robots, "--robots", int)
+    n = parse_number(robots, "--robots", int, MAX_ROBOTS)
     if n is not None and n < 1:
         raise InputError(f"--robots = {n}: must be at least 1")
     changes: dict[str, Any] = {}
@@ -111,7 +144,7 @@ def quick_scenario(
     m = parse_number(margin, "--margin", float)
     if m is not None:
         changes["collision"] = {"margin": m}
-    limit = parse_number(step_limit, "--step-limit", int)
+    limit = parse_number(step_limit, "--step-limit", int, MAX_STEPS)
     if limit is not None:
         changes["step_limit"] = limit
     if rules is not None:
@@ -141,6 +174,10 @@ RULES = typer.Option(
     None, "--rules", help="Rule set: paper (docs/model.md, the default) or original (the authors' code).",
     show_default=False,
 )
+ALLOW_CODE = typer.Option(
+    False, "--allow-code", help="Let a scenario file that names a Python strategy (allocator = \"module:Class\") "
+    "run it: only for files you trust (docs/strategies.md).",
+)
 STEP_LIMIT = typer.Option(
     None, "--step-limit", help="Steps before the run ends incomplete (default 100000).", show_default=False,
     metavar="STEPS",
@@ -148,7 +185,7 @@ STEP_LIMIT = typer.Option(
 
 
 def _fail(message: str, code: int, prefix: str = "error: ") -> NoReturn:
-    line = " ".join(str(message).split())  # one line, whatever the message held
+    line = inert(message)  # one line of printable text, whatever the message held
     print(f"{PROG}: {prefix}{line}", file=sys.stderr)
     sys.exit(code)
 

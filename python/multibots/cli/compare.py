@@ -11,6 +11,7 @@ from typing import Optional
 
 import typer
 
+from multibots._io import check_folder
 from multibots.exceptions import InputError
 
 __all__ = ["DEFAULT_STRATEGIES", "compare"]
@@ -62,6 +63,7 @@ def compare(
     from multibots.experiments import compare as study
     from multibots.scenario import Scenario
 
+    check_folder(out)
     names = study.parse_strategies(strategies)
     traffics = study.parse_choices(traffic, "--traffic", ("wait", "gate", "reserve"))
     rule_sets = study.parse_choices(rules, "--rules", ("paper", "original"))

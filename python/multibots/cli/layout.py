@@ -91,8 +91,9 @@ def generate(
         for field, flag in _FLAGS.items():
             msg = msg.replace(f"layout.{field} =", f"{flag} =")
         raise ScenarioError(msg) from None
+    # Checked before writing: a layout the engine would refuse never reaches the disk.
+    data = check_layout_text(text, str(out))
     path = atomic_write_text(out, text)
-    data = check_layout_text(text, str(path))
     highway = sum(1 for n in data["nodes"] if n["kind"] == "highway")
     print(
         f"wrote {path}: {highway} crossings, {len(data['edges'])} edges, {len(data['cells'])} cells, "

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import typer
 
+from multibots._io import check_folder, staged_folder
 from multibots.exceptions import InputError
 
 __all__ = ["paper"]
@@ -37,19 +38,22 @@ def paper(
     chosen = {"both": ("original", "paper"), "original": ("original",), "paper": ("paper",)}.get(rules)
     if chosen is None:
         raise InputError(f"--rules = {rules!r}: expected both, original or paper")
+    check_folder(out)
     rows, seconds = run_paper(margin=margin, workers=workers, rules=chosen)
     published = published_rows()
     print(format_paper_table(rows, published))
     print(f"\n{len(rows)} runs in {seconds * 1000:.1f} ms (wall clock, {workers or os.cpu_count()} threads)")
-    csv_path = write_paper_csv(rows, out / "results.csv", published)
-    print(f"wrote {csv_path}")
     pub = [p.as_dict() for p in published]
-    for r in chosen:
-        # The original rules' figures are the paper's own, in its folder; the paper rules'
-        # go beside them when both run.
-        folder = out if r == chosen[0] else out / f"{r}-rules"
-        label = "original rules (the authors' code)" if r == "original" else "paper rules (docs/model.md)"
-        figures = draw_paper_figures([x.as_dict() for x in rows if x.rules == r], folder, published=pub,
-                                     seconds_per_step=SECONDS_PER_TICK, title=label)
-        for f in figures:
-            print(f"wrote {f}")
+    written = []
+    # Staged: the table and its figures land together or not at all (a full disk).
+    with staged_folder(out) as stage:
+        written.append(write_paper_csv(rows, stage / "results.csv", published))
+        for r in chosen:
+            # The original rules' figures are the paper's own, in its folder; the paper rules'
+            # go beside them when both run.
+            folder = stage if r == chosen[0] else stage / f"{r}-rules"
+            label = "original rules (the authors' code)" if r == "original" else "paper rules (docs/model.md)"
+            written += draw_paper_figures([x.as_dict() for x in rows if x.rules == r], folder, published=pub,
+                                          seconds_per_step=SECONDS_PER_TICK, title=label)
+    for f in written:
+        print(f"wrote {out / Path(f).relative_to(stage)}")

@@ -12,6 +12,7 @@ import typer
 
 from multibots._text import sparkline
 from multibots.cli._common import (
+    ALLOW_CODE,
     EXIT_INCOMPLETE,
     GOODS,
     MARGIN,
@@ -21,6 +22,7 @@ from multibots.cli._common import (
     STEP_LIMIT,
     TRAFFIC,
     UNLOAD,
+    check_code,
     quick_scenario,
 )
 from multibots.exceptions import ScenarioError
@@ -52,6 +54,7 @@ def run(
     horizon: Optional[int] = typer.Option(
         None, "--horizon", help="Lifelong scenarios: steps to run (overrides orders.horizon).", show_default=False
     ),
+    allow_code: bool = ALLOW_CODE,
 ) -> None:
     """Run one scenario, from a file or from the quick-run flags on the paper layout.
 
@@ -62,6 +65,7 @@ def run(
     from multibots.simulation import simulate
 
     s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit, rules, traffic)
+    check_code(s, scenario, allow_code, overridden=allocator is not None)
     if allocator is not None:
         s = s.replace(allocator=allocator)
     lifelong = s.to_dict().get("orders") is not None

@@ -14,7 +14,19 @@ from typing import Any, Callable, List, Optional
 
 import typer
 
-from multibots.cli._common import GOODS, MARGIN, ROBOTS, RULES, STARTS, STEP_LIMIT, TRAFFIC, UNLOAD, quick_scenario
+from multibots.cli._common import (
+    ALLOW_CODE,
+    GOODS,
+    MARGIN,
+    ROBOTS,
+    RULES,
+    STARTS,
+    STEP_LIMIT,
+    TRAFFIC,
+    UNLOAD,
+    check_code,
+    quick_scenario,
+)
 from multibots.exceptions import InputError, ReplayError
 
 __all__ = ["DEFAULT_PORT", "view"]
@@ -50,6 +62,7 @@ def view(
     step_limit: Optional[str] = STEP_LIMIT,
     rules: Optional[str] = RULES,
     traffic: Optional[str] = TRAFFIC,
+    allow_code: bool = ALLOW_CODE,
 ) -> None:
     """Watch a run in the browser: a recorded replay, or --live a simulation as it runs."""
     host = _check_host(host)
@@ -78,7 +91,7 @@ def view(
 
     if not 0.25 <= speed <= 64:
         raise InputError(f"--speed {speed}: must be from 0.25 to 64")
-    sim, name = _live_simulation(path, robots, goods, starts, unload, margin, step_limit, rules, traffic)
+    sim, name = _live_simulation(path, robots, goods, starts, unload, margin, step_limit, rules, traffic, allow_code)
     viewer = _make_viewer(
         lambda **kw: Viewer.for_simulation(
             sim, name=name, speed=speed, paused=paused, allow_hosts=tuple(allow_host), **kw
@@ -102,12 +115,13 @@ def _check_host(host: str) -> str:
 def _live_simulation(
     path: Optional[Path], robots: Optional[str], goods: Optional[str], starts: Optional[str],
     unload: Optional[str], margin: Optional[str], step_limit: Optional[str], rules: Optional[str] = None,
-    traffic: Optional[str] = None,
+    traffic: Optional[str] = None, allow_code: bool = False,
 ) -> tuple[Any, str]:
     """The Simulation to stream, built by the rules of ``multibots run``, and its name."""
     from multibots.simulation import Simulation
 
     scenario = quick_scenario(path, robots, goods, starts, unload, margin, step_limit, rules, traffic)
+    check_code(scenario, path, allow_code)
     if path is not None:
         name = f"live: {path.name}"
     else:

@@ -27,12 +27,13 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 from typing import Any, Optional
 
 from multibots.exceptions import InputError, ScenarioError
 from multibots.experiments.journal import Journal, engine_id, run_key, strategy_id
+from multibots.experiments.processes import process_pool
 from multibots.experiments.summary import (
     BASELINE,
     METRICS,
@@ -314,19 +315,12 @@ def run_study(
         raws = _core.simulate_many([runs[k].scenario._core for k in ks], workers)
         finished([(k, _slim_raw(raw)) for k, raw in zip(ks, raws)])
     if python_jobs:
-        import multiprocessing
-
-        # spawn, not fork: the parent may run a progress thread; the child gets sys.path.
-        ctx = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=min(workers, len(python_jobs)), mp_context=ctx) as pool:
+        # On Ctrl-C or a failed run the workers are stopped, not awaited: finished runs are
+        # in the journal already.
+        with process_pool(min(workers, len(python_jobs))) as pool:
             futures = {pool.submit(_run_in_process, runs[k].scenario.to_toml()): k for k in python_jobs}
-            try:
-                for f in as_completed(futures):
-                    finished([(futures[f], f.result())])
-            except BaseException:
-                # Finished runs are in the journal; do not wait for the others.
-                pool.shutdown(wait=False, cancel_futures=True)
-                raise
+            for f in as_completed(futures):
+                finished([(futures[f], f.result())])
     return [_row(run, spec, raw) for run, raw in zip(runs, results) if raw is not None]
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any, Optional
 
 from multibots import stats
-from multibots._io import atomic_write_text
+from multibots._io import atomic_write_text, staged_folder
 
 __all__ = [
     "BASELINE",
@@ -298,19 +298,20 @@ def write_outputs(
     rows: Sequence[dict[str, Any]], summary: Sequence[dict[str, Any]], out: str | os.PathLike[str],
     spec_label: str = "", plots: bool = True,
 ) -> list[Path]:
-    """Writes results.csv, summary.csv, summary.txt (atomically) and the figures."""
+    """Writes results.csv, summary.csv, summary.txt and the figures, all or none (staged)."""
     out = Path(out)
-    written = [
-        atomic_write_text(out / "results.csv", _csv(rows, RESULT_FIELDS)),
-        atomic_write_text(out / "summary.csv", _csv(summary, SUMMARY_FIELDS)),
-        atomic_write_text(out / "summary.txt", format_summary(summary, spec_label) + "\n"),
-    ]
-    if plots:
-        from multibots.plots import draw_strategy_comparison
+    with staged_folder(out) as stage:
+        written = [
+            atomic_write_text(stage / "results.csv", _csv(rows, RESULT_FIELDS)),
+            atomic_write_text(stage / "summary.csv", _csv(summary, SUMMARY_FIELDS)),
+            atomic_write_text(stage / "summary.txt", format_summary(summary, spec_label) + "\n"),
+        ]
+        if plots:
+            from multibots.plots import draw_strategy_comparison
 
-        per_n = [r for r in summary if r["N"] != "all"]
-        written += draw_strategy_comparison(per_n, out)
-    return written
+            per_n = [r for r in summary if r["N"] != "all"]
+            written += draw_strategy_comparison(per_n, stage)
+    return [out / Path(p).relative_to(stage) for p in written]
 
 
 def progress_bar(total: int, enabled: bool = True) -> Any:

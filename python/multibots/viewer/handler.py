@@ -49,6 +49,9 @@ _CTYPES = {
 }
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,100}$")
 _LOCAL_HOSTS = {"127.0.0.1", "localhost", "::1"}
+#: Connections served at once (each holds a thread); more are closed on arrival. A page
+#: uses a few (the stream, frames, control); 64 leaves room for many tabs.
+MAX_CONNECTIONS = 64
 
 
 def _is_loopback(name: str) -> bool:
@@ -94,6 +97,27 @@ class ViewerHTTPServer(ThreadingHTTPServer):
         self.streams_lock = threading.Lock()
         self.check_host = _is_loopback(host)
         self.allow_hosts = {h.lower() for h in allow_hosts}
+        # Names under which other machines reach this one, for a server shared on purpose.
+        self.own_names = {n.lower() for n in (socket.gethostname(), socket.getfqdn()) if n}
+        self.slots = threading.BoundedSemaphore(MAX_CONNECTIONS)
+
+    def process_request(self, request: Any, client_address: Any) -> None:
+        # One thread per connection, at most MAX_CONNECTIONS: past that a connection is
+        # closed at once, so idle sockets cannot pile up threads without bound.
+        if not self.slots.acquire(blocking=False):
+            self.shutdown_request(request)
+            return
+        try:
+            super().process_request(request, client_address)
+        except BaseException:
+            self.slots.release()
+            raise
+
+    def process_request_thread(self, request: Any, client_address: Any) -> None:
+        try:
+            super().process_request_thread(request, client_address)
+        finally:
+            self.slots.release()
 
     def handle_error(self, request: Any, client_address: Any) -> None:
         # A client that vanishes mid-response is normal; never print tracebacks for it.
@@ -158,14 +182,23 @@ class ViewerHandler(BaseHTTPRequestHandler):
         self._error(404, "not found")
 
     def _host_ok(self) -> bool:
-        if not self.server.check_host:
-            return True
+        # Checked on every address, 0.0.0.0 included: DNS rebinding reaches the server under
+        # the attacker's own name, so only addresses, this machine's names and the names
+        # the user allowed are served. A server bound to loopback accepts only loopback.
         host = self.headers.get("Host", "")
         if host.startswith("["):
             name = host[1:].split("]", 1)[0]
         else:
             name = host.rsplit(":", 1)[0] if host.count(":") == 1 else host
-        return _is_loopback(name) or name.lower() in self.server.allow_hosts
+        if _is_loopback(name) or name.lower() in self.server.allow_hosts:
+            return True
+        if self.server.check_host:  # bound to loopback
+            return False
+        try:
+            ipaddress.ip_address(name)
+            return True
+        except ValueError:
+            return name.lower() in self.server.own_names
 
     def _route(self) -> Optional[Tuple[str, Dict[str, list]]]:
         """The request's path, if it is a clean one; None means 404."""
@@ -403,7 +436,7 @@ class ViewerHandler(BaseHTTPRequestHandler):
             return
         try:
             msg = json.loads(body.decode("utf-8"))
-        except (UnicodeDecodeError, ValueError):
+        except (UnicodeDecodeError, ValueError, RecursionError):  # RecursionError: nested thousands deep
             self._error(400, "malformed message: not UTF-8 JSON")
             return
         if not isinstance(msg, dict) or not isinstance(msg.get("action"), str) \

@@ -135,7 +135,7 @@ impl Scenario {
     pub fn from_json(text: &str) -> Result<Scenario> {
         let mut de = serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = e.path().to_string();
+            let path = crate::limits::shown(&e.path().to_string());
             let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
             // serde_json ends with the position in the JSON text, which the user never wrote.
             let text = e.inner().to_string();
