@@ -56,10 +56,17 @@ pub struct People {
     /// The start of the segment each person walks (its last waypoint).
     seg_x: Vec<f64>,
     seg_y: Vec<f64>,
+    /// The closest a person came to its waypoint, steps without getting closer, and steps
+    /// left giving way (walk.rs).
+    best: Vec<f64>,
+    stuck: Vec<u32>,
+    retreat: Vec<u32>,
+    ret_x: Vec<f64>,
+    ret_y: Vec<f64>,
     tours: Tours,
     zones: zones::Zones,
     /// People near each point, and robots near each point, at the start of the step.
-    people_grid: Buckets,
+    crowd: Buckets,
     robot_grid: Buckets,
     /// Robots that stop for a person this step, and robots that slow down.
     pub(crate) stop: Vec<bool>,
@@ -93,6 +100,11 @@ impl People {
             seg_y: y.clone(),
             x,
             y,
+            best: vec![f64::INFINITY; n],
+            stuck: vec![0; n],
+            retreat: vec![0; n],
+            ret_x: vec![0.0; n],
+            ret_y: vec![0.0; n],
             vx: vec![0.0; n],
             vy: vec![0.0; n],
             phase: vec![Phase::Rest(h.rest); n],
@@ -101,7 +113,7 @@ impl People {
             half_aisle: world.layout.aisle_width / 2.0,
             tours,
             zones,
-            people_grid: Buckets::new(bounds, reach),
+            crowd: Buckets::new(bounds, reach),
             robot_grid: Buckets::new(bounds, reach),
             stop: vec![false; robots.len()],
             slow: vec![false; robots.len()],
@@ -140,6 +152,6 @@ impl People {
     pub fn figures(&self, steps: u64) -> PeopleFigures {
         #[allow(clippy::cast_possible_truncation)]
         let count = self.len() as u32;
-        PeopleFigures { count, ..self.zones.figures(self.len() as u64 * steps, self.tours.tours_done, self.tours.picks_done) }
+        PeopleFigures { count, ..self.zones.figures(self.len() as u64 * steps, self.tours.finished, self.tours.picked) }
     }
 }

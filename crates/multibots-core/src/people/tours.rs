@@ -16,6 +16,8 @@ use rand::{Rng, SeedableRng};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+type Points = Vec<(f64, f64)>;
+
 /// A cell as a picker sees it: the ends of its aisle segment, its service point on the
 /// aisle's line, and the pick point at the shelf face.
 #[derive(Clone, Copy, Debug)]
@@ -32,6 +34,8 @@ pub(crate) struct Tours {
     pos: Vec<(f64, f64)>,
     cells: Vec<PickCell>,
     station: Vec<u32>,
+    /// Where each person rests: beside the warehouse, an aisle's width out from its station.
+    station_pt: Vec<(f64, f64)>,
     /// The current tour's cells, and the index of the cell being walked to or picked at
     /// (`len`: the station).
     tour: Vec<Vec<u32>>,
@@ -45,8 +49,8 @@ pub(crate) struct Tours {
     tour_len: u32,
     pick: u32,
     rest: u32,
-    pub(crate) tours_done: u64,
-    pub(crate) picks_done: u64,
+    pub(crate) finished: u64,
+    pub(crate) picked: u64,
     dist: Vec<f64>,
     prev: Vec<u32>,
 }
@@ -88,31 +92,48 @@ impl Tours {
             .collect::<Vec<_>>();
         let n = h.count as usize;
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(h.seed);
-        // Stations: crossings that are not zones robots start from or unload at, and where
-        // no robot stands at the start.
-        let busy: Vec<usize> = layout.departure.iter().chain(&layout.unloading).map(|u| u.index()).collect();
-        let clear = robots.radius.iter().copied().fold(0.0, f64::max) + radius + robots.speed.iter().copied().fold(0.0, f64::max) + 1.0;
-        let b = world.reach_bounds();
-        let mut grid = super::Buckets::new([b[0] - clear, b[1] - clear, b[2] + clear, b[3] + clear], clear);
-        grid.build(&robots.x, &robots.y, |_| true);
-        let free = |u: usize| {
-            let mut ok = true;
-            grid.near(pos[u].0, pos[u].1, clear, |i| ok &= (robots.x[i] - pos[u].0).hypot(robots.y[i] - pos[u].1) >= clear);
-            ok
-        };
-        let candidates: Vec<u32> = (0..pos.len())
-            .filter(|&u| layout.nodes[u].kind == NodeKind::Highway && !busy.contains(&u) && !adj[u].is_empty())
-            .filter(|&u| free(u))
-            .map(|u| {
-                #[allow(clippy::cast_possible_truncation)]
-                let u = u as u32;
-                u
-            })
-            .collect();
-        if candidates.is_empty() {
-            return Err(Error::scenario("humans.count", h.count, "no crossing is free for a station: the layout has no room for people"));
+        // Stations: beside the warehouse, an aisle's width out from a crossing on its edge,
+        // away from the chargers, so resting people stand out of the robots' way. Shuffled,
+        // then dealt out in turn.
+        let [x0, y0, x1, y1] = layout.bounds;
+        let aisle = layout.aisle_width;
+        let keep_off = aisle + robots.radius.iter().copied().fold(0.0, f64::max) + radius + 2.0 * robots.speed.iter().copied().fold(0.0, f64::max);
+        let chargers: Vec<(f64, f64)> = layout.nodes.iter().filter(|n| n.kind == NodeKind::Charger).map(|n| (n.x, n.y)).collect();
+        let mut candidates: Vec<(u32, (f64, f64))> = Vec::new();
+        for (u, node) in layout.nodes.iter().enumerate() {
+            if node.kind != NodeKind::Highway || adj[u].is_empty() {
+                continue;
+            }
+            // A crossing in the outermost aisle: its station is half an aisle beyond the wall.
+            let out = if node.x - x0 <= aisle {
+                Some((x0 - aisle / 2.0, node.y))
+            } else if x1 - node.x <= aisle {
+                Some((x1 + aisle / 2.0, node.y))
+            } else if y1 - node.y <= aisle {
+                Some((node.x, y1 + aisle / 2.0))
+            } else if node.y - y0 <= aisle {
+                Some((node.x, y0 - aisle / 2.0))
+            } else {
+                None
+            };
+            if let Some(pt) = out {
+                if chargers.iter().all(|&c| dist(c, pt) >= keep_off) && robots.x.iter().zip(&robots.y).all(|(&x, &y)| dist((x, y), pt) >= keep_off) {
+                    #[allow(clippy::cast_possible_truncation)]
+                    candidates.push((u as u32, pt));
+                }
+            }
         }
-        let station: Vec<u32> = (0..n).map(|_| candidates[rng.random_range(0..candidates.len())]).collect();
+        if candidates.is_empty() {
+            return Err(Error::scenario(
+                "humans.count",
+                h.count,
+                "no crossing on the warehouse's edge is free for a station: the layout has no room for people",
+            ));
+        }
+        for k in (1..candidates.len()).rev() {
+            candidates.swap(k, rng.random_range(0..=k));
+        }
+        let (station, station_pt): (Vec<u32>, Vec<(f64, f64)>) = (0..n).map(|k| candidates[k % candidates.len()]).unzip();
         let mut csv = vec![None; n];
         if let Some(path) = &h.csv {
             for (person, cell) in read_csv(std::path::Path::new(path), n, cells.len())? {
@@ -124,6 +145,7 @@ impl Tours {
             pos,
             cells,
             station,
+            station_pt,
             tour: vec![Vec::new(); n],
             next: vec![0; n],
             at_cell: vec![NONE; n],
@@ -134,8 +156,8 @@ impl Tours {
             tour_len: h.tour,
             pick: h.pick,
             rest: h.rest,
-            tours_done: 0,
-            picks_done: 0,
+            finished: 0,
+            picked: 0,
             dist: Vec::new(),
             prev: Vec::new(),
         };
@@ -147,7 +169,7 @@ impl Tours {
 
     /// Where person `k` starts: its station.
     pub(crate) fn start(&self, k: usize) -> (f64, f64) {
-        self.pos[self.station[k] as usize]
+        self.station_pt[k]
     }
 
     /// The point person `k` walks to, if it has one.
@@ -162,6 +184,11 @@ impl Tours {
         self.wp[k] + if to_cell { 2 } else { 1 } >= self.waypoints[k].len()
     }
 
+    /// The points person `k` has passed on its leg, latest first.
+    pub(crate) fn passed(&self, k: usize) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.waypoints[k][..self.wp[k].min(self.waypoints[k].len())].iter().rev().copied()
+    }
+
     /// Person `k` reached its waypoint: the next one, or, at the end of the leg, what it
     /// does there (pick, or rest at the station).
     pub(crate) fn reached(&mut self, k: usize) -> Option<super::Phase> {
@@ -170,11 +197,11 @@ impl Tours {
             return None;
         }
         if self.next[k] < self.tour[k].len() {
-            self.picks_done += 1;
+            self.picked += 1;
             self.at_cell[k] = self.tour[k][self.next[k]];
             Some(super::Phase::Pick(self.pick))
         } else {
-            self.tours_done += 1;
+            self.finished += 1;
             self.at_cell[k] = NONE;
             Some(super::Phase::Rest(self.rest))
         }
@@ -207,24 +234,21 @@ impl Tours {
         // service point).
         let mut wps = Vec::new();
         let sources: Vec<(u32, f64)> = if self.at_cell[k] == NONE {
-            vec![(self.station[k], 0.0)]
+            vec![(self.station[k], dist(self.station_pt[k], self.pos[self.station[k] as usize]))]
         } else {
             let c = self.cells[self.at_cell[k] as usize];
             wps.push(c.service);
             vec![(c.a, dist(c.service, self.pos[c.a as usize])), (c.b, dist(c.service, self.pos[c.b as usize]))]
         };
-        let (targets, tail): (Vec<(u32, f64)>, Vec<(f64, f64)>) = if self.next[k] < self.tour[k].len() {
+        let (targets, tail): (Vec<(u32, f64)>, Points) = if self.next[k] < self.tour[k].len() {
             let c = self.cells[self.tour[k][self.next[k]] as usize];
             (vec![(c.a, dist(self.pos[c.a as usize], c.service)), (c.b, dist(self.pos[c.b as usize], c.service))], vec![c.service, c.pick])
         } else {
-            (vec![(self.station[k], 0.0)], Vec::new())
+            (vec![(self.station[k], 0.0)], vec![self.station_pt[k]])
         };
         self.shortest(&sources);
-        let (end, _) = targets
-            .iter()
-            .map(|&(t, extra)| (t, self.dist[t as usize] + extra))
-            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-            .expect("a target");
+        let (end, _) =
+            targets.iter().map(|&(t, extra)| (t, self.dist[t as usize] + extra)).min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0))).expect("a target");
         let mut nodes = vec![end];
         while self.prev[*nodes.last().expect("a node") as usize] != NONE {
             nodes.push(self.prev[*nodes.last().expect("a node") as usize]);

@@ -29,17 +29,29 @@ const ROBOT_B: f64 = 0.3;
 /// right: without it two bodies head-on on one line stand in a balance of forces for ever
 /// (the "evasive" force of later social-force models, and the keep-right habit).
 const EVADE: f64 = 0.6;
+/// The push to the side of the aisle when a robot comes, in units of the driving force.
+const STEP_ASIDE: f64 = 3.0;
+/// Steps without getting closer to its waypoint after which a person gives way: walks back
+/// to its last waypoint and stays there for `GIVE_WAY` steps, so robots waiting for it can go.
+const PATIENCE: u32 = 40;
+const GIVE_WAY: u32 = 60;
 /// Past this gap, m, a robot exerts no force (the exponential is below 0.1% of A).
 pub(super) const ROBOT_RANGE: f64 = 2.0;
 /// A person walks at most this factor of its desired speed.
 const MAX_SPEED: f64 = 1.3;
-/// The gap kept to robots beyond touching, px: contact is `d < r_i + r_j`.
-pub(super) const CLEAR: f64 = 0.01;
+/// The gap people keep to robots beyond touching, px (4 cm at 25 px/m): contact is `d < r_i + r_j`.
+pub(super) const CLEAR: f64 = 1.0;
 
 /// Turns tried, radians, when a step would touch a robot: right first (y grows downwards
 /// in layout coordinates, so a positive angle turns right).
-const TURNS: [f64; 6] =
-    [std::f64::consts::FRAC_PI_4, -std::f64::consts::FRAC_PI_4, std::f64::consts::FRAC_PI_2, -std::f64::consts::FRAC_PI_2, 2.356_194_490_192_345, -2.356_194_490_192_345];
+const TURNS: [f64; 6] = [
+    std::f64::consts::FRAC_PI_4,
+    -std::f64::consts::FRAC_PI_4,
+    std::f64::consts::FRAC_PI_2,
+    -std::f64::consts::FRAC_PI_2,
+    2.356_194_490_192_345,
+    -2.356_194_490_192_345,
+];
 
 /// The model's constants in pixels and steps.
 #[derive(Clone, Copy, Debug)]
@@ -93,30 +105,73 @@ impl People {
                 }
                 Phase::Walk => {}
             }
-            let Some((gx, gy)) = self.tours.waypoint(k) else { continue };
+            let Some((mut gx, mut gy)) = self.tours.waypoint(k) else { continue };
             let (px, py) = (self.x[k], self.y[k]);
-            let (dx, dy) = (gx - px, gy - py);
-            let d = dx.hypot(dy);
-            // A crossing on the way counts as passed within a quarter of the aisle width (people
-            // cut corners); the service and pick points are reached within one step.
-            let arrive = if self.tours.last_two(k) { self.v0.max(0.5) } else { (self.half_aisle / 2.0).max(self.v0) };
-            if d <= arrive {
-                // Arrived when the point is within one step: step onto it if that is clear.
-                if self.clear_of_robots(robots, gx, gy, rr_max, speed_max) {
-                    self.x[k] = gx;
-                    self.y[k] = gy;
-                    self.seg_x[k] = gx;
-                    self.seg_y[k] = gy;
+            if self.retreat[k] > 0 {
+                // Giving way: back to the last waypoint, out of the robots' way, for a while.
+                self.retreat[k] -= 1;
+                (gx, gy) = (self.ret_x[k], self.ret_y[k]);
+                if (gx - px).hypot(gy - py) <= self.v0 {
                     self.vx[k] = 0.0;
                     self.vy[k] = 0.0;
-                    if let Some(next) = self.tours.reached(k) {
-                        self.phase[k] = next;
-                    }
-                } else {
-                    blocked += 1;
+                    continue;
                 }
-                continue;
+            } else {
+                let d = (gx - px).hypot(gy - py);
+                // A crossing on the way counts as passed within a quarter of the aisle width
+                // (people cut corners); the service and pick points are stepped onto.
+                if !self.tours.last_two(k) && d <= (self.half_aisle / 2.0).max(self.v0) {
+                    self.seg_x[k] = gx;
+                    self.seg_y[k] = gy;
+                    self.best[k] = f64::INFINITY;
+                    self.tours.reached(k);
+                    let Some(next) = self.tours.waypoint(k) else { continue };
+                    (gx, gy) = next;
+                } else if self.tours.last_two(k) && d <= self.v0.max(0.5) {
+                    if self.clear_of_robots(robots, gx, gy, rr_max, speed_max) {
+                        self.x[k] = gx;
+                        self.y[k] = gy;
+                        self.seg_x[k] = gx;
+                        self.seg_y[k] = gy;
+                        self.vx[k] = 0.0;
+                        self.vy[k] = 0.0;
+                        self.best[k] = f64::INFINITY;
+                        if let Some(next) = self.tours.reached(k) {
+                            self.phase[k] = next;
+                        }
+                    } else {
+                        blocked += 1;
+                    }
+                    continue;
+                }
+                // No progress for a while (a robot stands in the way, and the robot waits for
+                // this person): give way.
+                let d = (gx - px).hypot(gy - py);
+                if d < self.best[k] - 0.05 * self.v0 {
+                    self.best[k] = d;
+                    self.stuck[k] = 0;
+                } else {
+                    self.stuck[k] += 1;
+                    if self.stuck[k] >= PATIENCE {
+                        self.stuck[k] = 0;
+                        self.best[k] = f64::INFINITY;
+                        self.retreat[k] = GIVE_WAY;
+                        // Back along the way it came, to the latest point outside every robot's
+                        // warning zone (or the start of the leg).
+                        let w = self.zones.warning;
+                        let grid = &self.robot_grid;
+                        let free = |(x, y): (f64, f64)| {
+                            let mut ok = true;
+                            grid.near(x, y, w + speed_max, |i| ok &= (robots.x[i] - x).hypot(robots.y[i] - y) >= w);
+                            ok
+                        };
+                        let back = self.tours.passed(k).find(|&q| free(q)).or_else(|| self.tours.passed(k).last()).unwrap_or((self.seg_x[k], self.seg_y[k]));
+                        (self.ret_x[k], self.ret_y[k]) = back;
+                    }
+                }
             }
+            let (dx, dy) = (gx - px, gy - py);
+            let d = dx.hypot(dy).max(1e-9);
             // The driving force, then repulsion from people and robots (positions at the
             // start of the step for people, after the robots' moves for robots).
             let (ex, ey) = (dx / d, dy / d);
@@ -124,7 +179,7 @@ impl People {
             let mut fy = (self.v0 * ey - self.vy[k]) / forces.tau;
             let reach_p = 2.0 * rh + 6.0 * forces.people_b;
             let (xs, ys) = (&self.x, &self.y);
-            self.people_grid.near(px, py, reach_p, |j| {
+            self.crowd.near(px, py, reach_p, |j| {
                 if j != k {
                     let (ox, oy) = (px - xs[j], py - ys[j]);
                     let dd = ox.hypot(oy);
@@ -135,6 +190,29 @@ impl People {
                         fx += f * nx - side * ey;
                         fy += f * ny + side * ex;
                     }
+                }
+            });
+            // Stepping aside: a person in the path of a robot coming within its warning zone
+            // moves to the side of the aisle, where the robot can pass it.
+            let (w, corridor) = (self.zones.warning, self.zones.corridor);
+            self.robot_grid.near(px, py, w + speed_max, |i| {
+                if !(robots.routing[i] && robots.state[i].travels()) {
+                    return;
+                }
+                let (hx, hy) = (robots.wp_x[i] - robots.x[i], robots.wp_y[i] - robots.y[i]);
+                let len = hx.hypot(hy);
+                let (ox, oy) = (px - robots.x[i], py - robots.y[i]);
+                if len <= 1e-9 || ox.hypot(oy) >= w {
+                    return;
+                }
+                let (hx, hy) = (hx / len, hy / len);
+                let along = ox * hx + oy * hy;
+                let across = ox * hy - oy * hx; // > 0: the robot's left... either way, away from its line
+                if along > -(robots.radius[i] + rh) && across.abs() < robots.radius[i] + rh + corridor + 1.0 {
+                    // Away from the robot's line; a person right on it goes to the robot's right.
+                    let side = if across.abs() < 1e-6 { -1.0 } else { across.signum() };
+                    fx += STEP_ASIDE * self.v0 / forces.tau * side * hy;
+                    fy -= STEP_ASIDE * self.v0 / forces.tau * side * hx;
                 }
             });
             let reach_r = rr_max + rh + forces.robot_range;

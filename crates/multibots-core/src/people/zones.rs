@@ -61,6 +61,8 @@ pub(super) struct Zones {
     /// Radii, centre to centre, px.
     pub(super) protective: f64,
     pub(super) warning: f64,
+    /// How far beyond touching the protective field reaches to each side of a robot's path, px.
+    pub(super) corridor: f64,
     /// A robot stopped for a person last step.
     was_stopped: Vec<bool>,
     /// Each robot's nearest gap this step (`INFINITY`: none in reach), and the robots touched.
@@ -92,6 +94,7 @@ impl Zones {
         Zones {
             protective,
             warning,
+            corridor: h.protective * h.px_per_m,
             was_stopped: vec![false; robots],
             gap: vec![f64::INFINITY; robots],
             touched: Vec::new(),
@@ -152,8 +155,8 @@ impl People {
         self.stop[..n].fill(false);
         self.slow[..n].fill(false);
         self.robot_grid.build(&robots.x, &robots.y, |_| true);
-        self.people_grid.build(&self.x, &self.y, |_| true);
-        let (p, w, rh) = (self.zones.protective, self.zones.warning, self.radius);
+        self.crowd.build(&self.x, &self.y, |_| true);
+        let (p, w, rh, corridor) = (self.zones.protective, self.zones.warning, self.radius, self.zones.corridor);
         for k in 0..self.len() {
             let (qx, qy) = (self.x[k], self.y[k]);
             let (stop, slow) = (&mut self.stop, &mut self.slow);
@@ -168,10 +171,18 @@ impl People {
                 }
                 slow[i] = true;
                 if d < p {
+                    // The protective field covers the robot's path ahead: a person whose centre
+                    // is within the robot's and its own radius plus the margin of the line the
+                    // robot drives. One within a step of travel stops it from any side.
                     let (hx, hy) = (robots.wp_x[i] - robots.x[i], robots.wp_y[i] - robots.y[i]);
                     let len = hx.hypot(hy);
-                    let ahead = len <= 1e-9 || (dx * hx + dy * hy) / len >= -(robots.radius[i] + rh);
-                    if ahead || d < robots.radius[i] + rh + robots.speed[i] + CLEAR {
+                    let reach = robots.radius[i] + rh;
+                    let in_path = len <= 1e-9 || {
+                        let along = (dx * hx + dy * hy) / len;
+                        let across = (dx * hy - dy * hx).abs() / len;
+                        along > -reach && across < reach + corridor
+                    };
+                    if in_path || d < reach + robots.speed[i] + CLEAR {
                         stop[i] = true;
                     }
                 }
