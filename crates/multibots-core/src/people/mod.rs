@@ -134,6 +134,12 @@ impl People {
         self.x.is_empty()
     }
 
+    /// The zones' radii around a robot, centre to centre, px: protective and warning.
+    #[must_use]
+    pub fn zone_radii(&self) -> [f64; 2] {
+        [self.zones.protective, self.zones.warning]
+    }
+
     /// Whether each person is walking (else picking or resting).
     pub fn walking(&self) -> impl Iterator<Item = bool> + '_ {
         self.phase.iter().map(|p| *p == Phase::Walk)
