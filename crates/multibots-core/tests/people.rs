@@ -47,7 +47,7 @@ fn people_among_a_thousand_robots() {
     let mut s = Scenario::from_toml(&text, "warehouse-1000.toml").unwrap();
     s.humans = Some(Humans { count: 200, seed: 3, ..Humans::default() });
     s.orders.as_mut().unwrap().horizon = 2500;
-    for traffic in ["wait", "reserve"] {
+    for traffic in ["wait", "gate", "reserve"] {
         s.traffic = toml::from_str::<toml::Table>(&format!("t = \"{traffic}\"")).unwrap()["t"].clone().try_into().unwrap();
         let r = Simulation::new(&s).unwrap().run().unwrap();
         let p = r.people.unwrap();
@@ -55,6 +55,28 @@ fn people_among_a_thousand_robots() {
         assert!(p.protective_stops > 0 && p.picks > 0, "{traffic}: {p:?}");
         assert!(r.delivered > 0, "{traffic}");
     }
+}
+
+#[test]
+fn tours_from_a_csv() {
+    // Person 0 picks cells 11 and 53 (in that order, again and again); person 1 cell 79.
+    let dir = std::env::temp_dir().join(format!("mb-people-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("tours.csv");
+    std::fs::write(&csv, "person,cell\n0,11\n0,53\n1,79\n").unwrap();
+    let mut s = paper_with(2, 2, 0);
+    s.humans.as_mut().unwrap().csv = Some(csv.display().to_string());
+    s.step_limit = 3000;
+    let r = Simulation::new(&s).unwrap().run().unwrap();
+    let p = r.people.unwrap();
+    assert_eq!(p.contacts, 0);
+    assert!(p.picks >= 3 && p.tours >= 1, "{p:?}");
+    std::fs::write(&csv, "0,80\n").unwrap();
+    let e = Simulation::new(&s).err().unwrap().to_string();
+    assert!(e.contains("humans.csv") && e.contains("cell 80"), "{e}");
+    std::fs::write(&csv, "2,1\n").unwrap();
+    assert!(Simulation::new(&s).err().unwrap().to_string().contains("person 2"));
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
