@@ -345,7 +345,8 @@ class Replay(ReplayState):
         ``people_y`` (K', P) float32 (P = 0 without people).
         """
         v = self._views(i)
-        keys = ("first_frame", "frames", "counters", "x", "y", "events", "energy_u16", "heading_u8", "people_x", "people_y")
+        keys = ("first_frame", "frames", "counters", "x", "y", "events", "energy_u16", "heading_u8",
+                "people_x", "people_y")
         out = {k: v[k] for k in keys}
         out["energy"] = v["energy_u16"].astype(np.float64) * (self.energy_full / 65535.0)
         out["heading"] = self._heading(v["heading_u8"])
