@@ -38,12 +38,12 @@ _MAX_FRAMES = 1 << 40
 _MISSING = object()
 
 
-def _chunk_limit(frames: int, robots: int) -> int:
+def _chunk_limit(frames: int, robots: int, people: int = 0) -> int:
     """The most bytes a chunk of ``frames`` frames of ``robots`` robots may inflate to, for
     replays whose footer does not record it: every section, and up to 4 events per robot and
     64 more per frame, with room to spare. A small stream that inflates past it is refused
     (a decompression bomb), before it can fill the memory."""
-    return 16 + frames * (12 + robots * _core.BYTES_PER_ROBOT_STEP + 16 * (4 * robots + 64)) + (1 << 20)
+    return 16 + frames * (12 + robots * _core.BYTES_PER_ROBOT_STEP + 8 * people + 16 * (4 * robots + 64)) + (1 << 20)
 
 
 class Replay(ReplayState):
@@ -136,6 +136,12 @@ class Replay(ReplayState):
         self.radius = self._array(header, "radius", np.float64, 0, math.inf, self.robots)
         self.home = self._array(header, "home", np.int64, 0, _MAX_FRAMES, self.robots)
         self.cells_full = self._array(header, "cells_full", np.uint8, 0, 1)
+        # People on the floor (docs/people.md): absent in replays without them.
+        humans = header.get("humans")
+        if humans is not None and not isinstance(humans, dict):
+            raise self._fail("header 'humans' is not a JSON object")
+        self.humans = 0 if humans is None else self._int(humans, "count", "header humans", 0, _MAX_ROBOTS)
+        self.human_radius = 0.0 if humans is None else self._float(humans, "radius", "header humans")
 
         self.frames = self._int(footer, "frames", "footer", 1, _MAX_FRAMES)
         table = self._get(footer, "chunks", "footer")
@@ -147,7 +153,7 @@ class Replay(ReplayState):
         self._firsts = [self._int(c, "first_frame", what, 0, _MAX_FRAMES) for c in table]
         self._counts = [self._int(c, "frames", what, 1, _MAX_FRAMES) for c in table]
         self._limits = [
-            self._int(c, "raw_length", what, 16, 1 << 40, _chunk_limit(n, self.robots))
+            self._int(c, "raw_length", what, 16, 1 << 40, _chunk_limit(n, self.robots, self.humans))
             for c, n in zip(table, self._counts)
         ]
         expect = 0
@@ -307,6 +313,8 @@ class Replay(ReplayState):
         except MultibotsError as exc:
             raise self._codec_error(i, exc) from None
         self._check_head(i, views["first_frame"], views["frames"], views["robots"])
+        if views["people_x"].shape[1] != self.humans:
+            raise self._fail(f"chunk {i} holds {views['people_x'].shape[1]} people; the header says {self.humans}")
         for v in views.values():
             if isinstance(v, np.ndarray):
                 v.setflags(write=False)
@@ -333,10 +341,13 @@ class Replay(ReplayState):
         ``x``, ``y`` (K', N) float32; ``events`` (E, 4) uint32 frame, kind, robot, cell;
         ``energy`` (K', N) float64 in energy units; ``energy_u16`` (K', N) raw;
         ``heading`` (K', N) float64 radians in (-pi, pi]; ``heading_u8`` raw;
-        ``state`` (K', N) uint8 state codes; ``marked`` (K', N) bool.
+        ``state`` (K', N) uint8 state codes; ``marked`` (K', N) bool; ``people_x``,
+        ``people_y`` (K', P) float32 (P = 0 without people).
         """
         v = self._views(i)
-        out = {k: v[k] for k in ("first_frame", "frames", "counters", "x", "y", "events", "energy_u16", "heading_u8")}
+        keys = ("first_frame", "frames", "counters", "x", "y", "events", "energy_u16", "heading_u8",
+                "people_x", "people_y")
+        out = {k: v[k] for k in keys}
         out["energy"] = v["energy_u16"].astype(np.float64) * (self.energy_full / 65535.0)
         out["heading"] = self._heading(v["heading_u8"])
         out["state"] = v["state_raw"] & 0x7F
@@ -363,6 +374,8 @@ class Replay(ReplayState):
             "C": c,
             "delivered": d,
             "counters": {"S": s, "C": c, "delivered": d},
+            "people_x": ch["people_x"][k],
+            "people_y": ch["people_y"][k],
         }
 
     def events(self, f0: int = 0, f1: Optional[int] = None) -> np.ndarray:

@@ -8,7 +8,7 @@ import numpy as np
 
 from multibots._core import STATE_NAMES as _STATE_NAMES
 
-__all__ = ["FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "Result", "STATE_NAMES"]
+__all__ = ["FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "PEOPLE_KEYS", "Result", "STATE_NAMES"]
 
 #: Robot state names, indexed by the state codes of ``Simulation.states`` and replays (the
 #: engine's own names).
@@ -37,6 +37,12 @@ FLOW_KEYS: tuple[str, ...] = (
 )
 
 _ARRAYS = ("distance", "wait_steps", "collisions", "energy_used", "robot_delivered", "charges", "state_steps")
+
+#: The safety figures of a run with people (``Result.people``, docs/people.md).
+PEOPLE_KEYS = (
+    "count", "min_gap", "gap_p1", "contacts", "protective_stops", "stopped_steps", "warning_steps",
+    "person_wait_steps", "person_steps", "tours", "picks", "protective_radius", "warning_radius", "px_per_m",
+)
 
 #: The figures of a lifelong run (``Result.lifelong``), in the order the engine gives them.
 LIFELONG_KEYS: tuple[str, ...] = (
@@ -101,13 +107,18 @@ class Result:
         lifelong: for lifelong runs (``[orders]``), latency_p50/p95/p99/mean (steps),
             energy_per_delivery and the order counts (ordered = delivered + in_flight +
             queued + waiting), the keys of :data:`LIFELONG_KEYS`; None otherwise.
+        people: for runs with people (``[humans]``, docs/people.md), the safety figures, the
+            keys of :data:`PEOPLE_KEYS`: min_gap and gap_p1 (person-robot gap, px, smallest
+            and 1st percentile), contacts, protective_stops, stopped_steps, warning_steps,
+            person_wait_steps, person_steps, tours, picks, the zones' radii and px_per_m;
+            None otherwise.
         distance, wait_steps, collisions, energy_used, robot_delivered, charges: one value
             per robot (NumPy arrays); state_steps: (N, 11) steps ending in each state.
     """
 
     __slots__ = (
         "T", "S", "C", "outcome", "steps", "delivered", "goods_total", "stranded", "cost", *FLOW_KEYS, "lifelong",
-        *_ARRAYS,
+        "people", *_ARRAYS,
     )
 
     T: int | None
@@ -129,6 +140,7 @@ class Result:
     closest: float | None
     gridlock: dict[str, Any] | None
     lifelong: dict[str, Any] | None
+    people: dict[str, Any] | None
     distance: np.ndarray
     wait_steps: np.ndarray
     collisions: np.ndarray
@@ -162,6 +174,7 @@ class Result:
         robots: dict[str, Any] = {k: getattr(self, k).tolist() for k in _ARRAYS if k != "state_steps"}
         robots["state_steps"] = {name: self.state_steps[:, i].tolist() for i, name in enumerate(STATE_NAMES)}
         lifelong = dict.fromkeys(LIFELONG_KEYS) if self.lifelong is None else dict(self.lifelong)
+        people = dict.fromkeys(PEOPLE_KEYS) if self.people is None else dict(self.people)
         flow = {k: getattr(self, k) for k in FLOW_KEYS}
         flow["windows"] = list(self.windows)
         if self.gridlock is not None:
@@ -172,6 +185,7 @@ class Result:
         if rounded:
             robots = {k: _rounded(k, v) for k, v in robots.items()}
             lifelong = {k: _rounded(k, v) for k, v in lifelong.items()}
+            people = {k: round(v, 2) if isinstance(v, float) else v for k, v in people.items()}
             top = {k: _rounded(k, v) if k != "windows" else v for k, v in top.items()}
         return {
             "T": self.T,
@@ -184,6 +198,7 @@ class Result:
             "stranded": list(self.stranded),
             **top,
             "lifelong": lifelong,
+            "people": people,
             "robots": robots,
         }
 

@@ -158,6 +158,17 @@ class Simulation:
         return self._frozen(self._sim.positions)
 
     @property
+    def human_positions(self) -> np.ndarray:
+        """(P, 2) centres of the people on the floor, px, screen coordinates (``[humans]``,
+        docs/people.md); (0, 2) without people."""
+        return self._frozen(self._sim.human_positions)
+
+    @property
+    def human_radii(self) -> np.ndarray:
+        """(P,) radii of the people, px."""
+        return self._frozen(self._sim.human_radii)
+
+    @property
     def headings(self) -> np.ndarray:
         """(N,) heading angles, radians, ``atan2(dy, dx)`` in screen coordinates."""
         return self._frozen(self._sim.headings)

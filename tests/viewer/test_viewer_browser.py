@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import math
+from pathlib import Path
 
 import numpy as np
 from PIL import Image
@@ -236,5 +237,39 @@ def test_the_throughput_over_time_is_drawn_as_bars(page, tmp_path):
         assert len(heights) == 3
         top = max(result.windows)
         assert [round(h, 1) for h in heights] == [round(38 * w / top, 1) for w in result.windows]
+    finally:
+        v.close()
+
+
+def test_people_are_drawn_and_their_zones_on_demand(page, tmp_path):
+    """A replay with people: each person's head (skin colour) is drawn at its recorded place,
+    and `z` draws the zones of robots near people."""
+    from multibots.viewer import Viewer
+
+    path = tmp_path / "people.mbr"
+    root = Path(__file__).resolve().parents[2]
+    multibots.simulate(multibots.Scenario.from_toml(root / "scenarios" / "people.toml"), record=path)
+    with Replay(path) as rp:
+        assert rp.humans == 10
+        f = 300
+        fr = rp.frame(f)
+    v = Viewer.for_replay(str(path))
+    v.start()
+    try:
+        open_viewer(page, v)
+        assert page.evaluate("() => window.mbViewer.meta().humans.count") == 10
+        page.evaluate(f"() => window.mbViewer.seek({f})")
+        shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
+        heads = 0
+        for k in range(10):
+            wx, wy = float(fr["people_x"][k]), float(fr["people_y"][k])
+            p = page.evaluate(f"() => window.mbViewer.worldToClient({wx}, {wy})")
+            if close_to(shot.getpixel((int(p["x"]), int(p["y"]))), (0xF2, 0xC9, 0xA0), tol=12):
+                heads += 1
+        assert heads >= 8, heads  # a robot may stand over a person's edge; most heads show
+        before = page.screenshot()
+        page.keyboard.press("z")
+        page.wait_for_timeout(150)
+        assert page.screenshot() != before, "the zones are drawn"
     finally:
         v.close()

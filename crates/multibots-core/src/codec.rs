@@ -14,8 +14,12 @@
 //! | energy: fraction of full × 65535 | u16 | K·N |
 //! | heading: round(α / 2π × 256) mod 256 | u8 | K·N |
 //! | state: code, +128 when marked to charge | u8 | K·N |
+//! | people (only with `[humans]`): x, then y, per frame and person | f32 | K·P each |
 //!
-//! Every section starts at a multiple of its type's size without padding, all little-endian.
+//! Every section starts at a multiple of its type's size without padding, all little-endian
+//! (the sections before the people's add up to a multiple of 4 bytes). The number of people
+//! P is not in the head: it is what the bytes after the robots' sections hold, 8·K bytes per
+//! person, and the replay header's `humans` says it too.
 
 use crate::simulation::Simulation;
 use flate2::read::ZlibDecoder;
@@ -53,6 +57,8 @@ pub struct ChunkLayout {
     pub energy: (usize, usize),
     pub heading: (usize, usize),
     pub state: (usize, usize),
+    pub people_x: (usize, usize),
+    pub people_y: (usize, usize),
     pub total: usize,
 }
 
@@ -60,7 +66,7 @@ impl ChunkLayout {
     /// The layout of `frames` frames of `robots` robots with `events` events; `None` when
     /// the sizes overflow (a corrupt head).
     #[must_use]
-    pub fn new(frames: usize, robots: usize, events: usize) -> Option<ChunkLayout> {
+    pub fn new(frames: usize, robots: usize, events: usize, people: usize) -> Option<ChunkLayout> {
         let cells = frames.checked_mul(robots)?;
         let mut at = 16usize;
         let mut section = |bytes: usize| -> Option<(usize, usize)> {
@@ -75,7 +81,10 @@ impl ChunkLayout {
         let energy = section(cells.checked_mul(2)?)?;
         let heading = section(cells)?;
         let state = section(cells)?;
-        Some(ChunkLayout { counters, x, y, events, energy, heading, state, total: at })
+        let crowd = frames.checked_mul(people)?;
+        let people_x = section(crowd.checked_mul(4)?)?;
+        let people_y = section(crowd.checked_mul(4)?)?;
+        Some(ChunkLayout { counters, x, y, events, energy, heading, state, people_x, people_y, total: at })
     }
 }
 
@@ -91,6 +100,8 @@ pub struct Frames {
     energy: Vec<u16>,
     heading: Vec<u8>,
     state: Vec<u8>,
+    people_x: Vec<f32>,
+    people_y: Vec<f32>,
 }
 
 impl Frames {
@@ -108,6 +119,8 @@ impl Frames {
             energy: Vec::with_capacity(cells),
             heading: Vec::with_capacity(cells),
             state: Vec::with_capacity(cells),
+            people_x: Vec::new(),
+            people_y: Vec::new(),
         }
     }
 
@@ -134,6 +147,10 @@ impl Frames {
         self.energy.extend(r.energy.iter().map(|&e| energy_word(e, full)));
         self.heading.extend(r.heading.iter().map(|&a| heading_byte(a)));
         self.state.extend(r.state.iter().zip(&r.marked).map(|(&s, &m)| s as u8 | if m { MARKED } else { 0 }));
+        if let Some(p) = sim.people() {
+            self.people_x.extend(p.x.iter().map(|&v| v as f32));
+            self.people_y.extend(p.y.iter().map(|&v| v as f32));
+        }
         if with_events {
             for e in sim.events() {
                 self.events.extend_from_slice(&[frame as u32, e.kind.code(), e.robot, e.cell]);
@@ -153,6 +170,8 @@ impl Frames {
         self.energy.iter().for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
         out.extend_from_slice(&self.heading);
         out.extend_from_slice(&self.state);
+        self.people_x.iter().for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
+        self.people_y.iter().for_each(|v| out.extend_from_slice(&v.to_le_bytes()));
     }
 
     /// Forgets the gathered frames, keeping the buffers.
@@ -165,6 +184,8 @@ impl Frames {
         self.energy.clear();
         self.heading.clear();
         self.state.clear();
+        self.people_x.clear();
+        self.people_y.clear();
     }
 }
 
@@ -184,6 +205,10 @@ pub struct Chunk {
     pub energy: Vec<u16>,
     pub heading: Vec<u8>,
     pub state: Vec<u8>,
+    /// People on the floor (0 without `[humans]`), and `(frames, people)` positions each.
+    pub people: u32,
+    pub people_x: Vec<f32>,
+    pub people_y: Vec<f32>,
 }
 
 /// Inflates a chunk's zlib stream, refusing to produce more than `limit` bytes (a small
@@ -205,7 +230,14 @@ pub fn decode(raw: &[u8]) -> Result<Chunk, String> {
     }
     let word = |k: usize| u32::from_le_bytes([raw[4 * k], raw[4 * k + 1], raw[4 * k + 2], raw[4 * k + 3]]);
     let (first_frame, frames, robots, events) = (word(0), word(1), word(2), word(3));
-    let lay = ChunkLayout::new(frames as usize, robots as usize, events as usize).ok_or("sizes in its head overflow")?;
+    let robots_only = ChunkLayout::new(frames as usize, robots as usize, events as usize, 0).ok_or("sizes in its head overflow")?;
+    // What follows the robots' sections is the people's: 8 bytes per person and frame.
+    let extra = raw.len().checked_sub(robots_only.total).filter(|&b| frames == 0 || b % (8 * frames as usize) == 0);
+    let Some(extra) = extra else {
+        return Err(format!("holds {} bytes; its head ({frames} frames of {robots} robots, {events} events) needs {}", raw.len(), robots_only.total));
+    };
+    let people = if frames == 0 { 0 } else { extra / (8 * frames as usize) };
+    let lay = ChunkLayout::new(frames as usize, robots as usize, events as usize, people).ok_or("sizes in its head overflow")?;
     if raw.len() != lay.total {
         return Err(format!("holds {} bytes; its head ({frames} frames of {robots} robots, {events} events) needs {}", raw.len(), lay.total));
     }
@@ -223,6 +255,10 @@ pub fn decode(raw: &[u8]) -> Result<Chunk, String> {
         energy: sec(lay.energy).chunks_exact(2).map(|b| u16::from_le_bytes([b[0], b[1]])).collect(),
         heading: sec(lay.heading).to_vec(),
         state: sec(lay.state).to_vec(),
+        #[allow(clippy::cast_possible_truncation)]
+        people: people as u32,
+        people_x: f32s(sec(lay.people_x)),
+        people_y: f32s(sec(lay.people_y)),
     })
 }
 

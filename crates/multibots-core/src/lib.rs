@@ -26,6 +26,7 @@ pub mod lifelong;
 pub mod limits;
 pub mod metrics;
 pub mod original;
+pub mod people;
 pub mod placement;
 pub mod replay;
 pub mod robot;

@@ -20,6 +20,9 @@ pub const MAX_COORD: f64 = 1e7;
 /// Most robots in a fleet.
 pub const MAX_ROBOTS: u32 = 1_000_000;
 
+/// Most workers on the floor (`[humans] count`).
+pub const MAX_HUMANS: u32 = 100_000;
+
 /// Most orders a lifelong run may expect (`orders.rate × orders.horizon`): about 20 bytes
 /// each, 2 GB at the end of a run this long (the buffers grow with the orders that arrive).
 pub const MAX_ORDERS: f64 = 100_000_000.0;

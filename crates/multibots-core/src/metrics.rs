@@ -144,6 +144,8 @@ pub struct RunResult {
     pub robots: RobotStats,
     /// Lifelong runs only: throughput, latency, utilisation, energy per delivery.
     pub lifelong: Option<LifelongStats>,
+    /// Runs with people only: the safety figures (docs/people.md).
+    pub people: Option<crate::people::PeopleFigures>,
 }
 
 /// The figures of a lifelong run (docs/model.md section 7).
@@ -330,6 +332,7 @@ impl Tally {
             gridlock: self.gridlock.clone(),
             robots: self.stats.clone(),
             lifelong,
+            people: None,
         }
         .with_steady(self.steady.map(|s| (s, Snapshot::of(self), self.t - self.warmup, robots as u64)))
     }
@@ -351,7 +354,9 @@ impl Paper {
         let r = &self.robots;
         let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
         let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
-        self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong)
+        let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
+        result.people = self.people.as_ref().map(|p| p.figures(self.tally.t));
+        result
     }
 
     /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),

@@ -54,6 +54,10 @@ pub fn header(sim: &Simulation, scenario_toml: &str) -> Value {
         "layout": sim.world().layout.to_json(),
         "scenario": scenario_toml,
     });
+    if let Some(p) = sim.people() {
+        // The people section of each chunk (crate::codec), and what the viewer draws.
+        h["humans"] = json!({"count": p.len(), "radius": p.radius, "zones": p.zone_radii()});
+    }
     if let (Value::Object(h), Value::Object(names)) = (&mut h, names()) {
         h.extend(names);
     }

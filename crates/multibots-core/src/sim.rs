@@ -24,6 +24,7 @@ use crate::goods_queue::GoodsQueue;
 use crate::ids::{NodeId, NONE};
 use crate::lifelong::{self, Lifelong};
 use crate::metrics::{Outcome, RobotStats, RunResult, Tally};
+use crate::people::People;
 use crate::placement::{self, Homes};
 use crate::robot::{Robots, State, Target};
 use crate::route::{self, Place};
@@ -124,6 +125,8 @@ pub struct Paper {
     progress: bool,
     alpha: Vec<f64>,
     events: Vec<Event>,
+    /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
+    pub(crate) people: Option<Box<People>>,
 }
 
 impl Paper {
@@ -156,7 +159,12 @@ impl Paper {
         let n = robots.len();
         let (goods, lifelong) = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv, n);
         let reach = 2.0 * scenario.robot.radius + scenario.collision.margin;
+        let people = match &scenario.humans {
+            Some(h) => People::new(h, &world, &robots)?.map(Box::new),
+            None => None,
+        };
         Ok(Paper {
+            people,
             p: Params::of(scenario),
             cost_weights: scenario.cost.clone(),
             tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics).with_livelock_after(livelock_after(scenario)),
@@ -212,7 +220,13 @@ impl Paper {
             return Err(e);
         }
         self.intend();
+        if let Some(people) = self.people.as_mut() {
+            people.guard(&self.robots, &self.wants);
+        }
         self.block_and_move();
+        if let Some(people) = self.people.as_mut() {
+            people.step(&self.robots);
+        }
         self.transitions();
         self.end();
         Ok(())
@@ -300,6 +314,11 @@ impl Paper {
             None => (&self.collisions.waits[..n], None),
             Some(ts) => (&ts.waits[..n], Some(&ts.budget[..n])),
         };
+        // People: robots that stop for a person (not a collision) or slow down near one.
+        let (halt, slow, slow_factor) = match self.people.as_deref() {
+            Some(pp) => (Some(&pp.stop[..n]), Some(&pp.slow[..n]), pp.slow_factor),
+            None => (None, None, 1.0),
+        };
         let mut progress = false;
         let g = &self.world.graph;
         let wants = &self.wants[..n];
@@ -325,9 +344,12 @@ impl Paper {
             r.waited[i] = w;
             // Phase 4: robots that may move travel `speed` px along their routes (or what the
             // traffic policy allows).
-            let moves = wants[i] && !w;
+            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]);
             if moves {
-                let step = budget.map_or(r.speed[i], |b| b[i]);
+                let mut step = budget.map_or(r.speed[i], |b| b[i]);
+                if slow.is_some_and(|s| s[i]) {
+                    step = step.min(r.speed[i] * slow_factor);
+                }
                 distance[i] += route::advance(r, g, i, step);
             }
             // Phases 5 and 6.

@@ -191,6 +191,15 @@ impl Simulation {
             RuleSet::Original(r) => r.o.robots(),
         }
     }
+    /// The people on the floor (docs/people.md), if the scenario has any.
+    #[must_use]
+    pub fn people(&self) -> Option<&crate::people::People> {
+        match &self.rules {
+            RuleSet::Paper(p) => p.people.as_deref(),
+            RuleSet::Original(_) => None,
+        }
+    }
+
     /// Per-robot statistics so far.
     #[must_use]
     pub fn stats(&self) -> &RobotStats {

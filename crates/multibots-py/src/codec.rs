@@ -26,6 +26,9 @@ pub(crate) fn decode_chunk<'py>(py: Python<'py>, compressed: &Bound<'py, PyBytes
     d.set_item("energy_u16", PyArray1::from_vec(py, c.energy).reshape([k, n])?)?;
     d.set_item("heading_u8", PyArray1::from_vec(py, c.heading).reshape([k, n])?)?;
     d.set_item("state_raw", PyArray1::from_vec(py, c.state).reshape([k, n])?)?;
+    let p = c.people as usize;
+    d.set_item("people_x", PyArray1::from_vec(py, c.people_x).reshape([k, p])?)?;
+    d.set_item("people_y", PyArray1::from_vec(py, c.people_y).reshape([k, p])?)?;
     Ok(d)
 }
 

@@ -107,6 +107,17 @@ impl PySimulation {
         PyArray1::from_vec(py, r.positions_flat()).reshape([r.len(), 2])
     }
     #[getter]
+    fn human_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (x, y) = self.sim.people().map_or((&[][..], &[][..]), |p| (&p.x[..], &p.y[..]));
+        let flat: Vec<f64> = x.iter().zip(y).flat_map(|(&a, &b)| [a, b]).collect();
+        PyArray1::from_vec(py, flat).reshape([x.len(), 2])
+    }
+    #[getter]
+    fn human_radii<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let p = self.sim.people();
+        PyArray1::from_vec(py, vec![p.map_or(0.0, |p| p.radius); p.map_or(0, multibots_core::people::People::len)])
+    }
+    #[getter]
     fn headings<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.sim.robots().heading)
     }

@@ -41,6 +41,10 @@ def compare(
     rules: str = typer.Option(
         "paper", "--rules", help="Rule sets to compare too, comma-separated: paper, original (in-turn only)."
     ),
+    humans: str = typer.Option(
+        "", "--humans", help="People on the floor to compare too, comma-separated counts such as 0,20,40 "
+        "(the scenario's [humans] table, or its defaults: docs/people.md).",
+    ),
     out: Path = typer.Option(
         Path("out/compare"), "--out",
         help="Folder for results.csv, summary.csv, summary.txt, the figures and the run journal runs.jsonl.",
@@ -67,6 +71,7 @@ def compare(
     names = study.parse_strategies(strategies)
     traffics = study.parse_choices(traffic, "--traffic", ("wait", "gate", "reserve"))
     rule_sets = study.parse_choices(rules, "--rules", ("paper", "original"))
+    crowds = study.parse_humans(humans)
     ns = study.parse_robots(robots)
     spec = study.parse_tasks(tasks)
     if workers < 0:
@@ -75,7 +80,7 @@ def compare(
         raise InputError(f"--seeds = {seeds}: must be 1 or more")
     base = Scenario.from_toml(scenario) if scenario is not None else None
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
-    total = len(study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets))
+    total = len(study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets, crowds))
     journal = out / "runs.jsonl"
     had_journal = journal.exists()
     reuse: list[int] = []
@@ -83,14 +88,14 @@ def compare(
     with study.progress_bar(total, enabled=not quiet) as bar:
         rows = study.run_study(
             names, ns, spec, seeds, workers, base, progress=bar.advance, journal=journal,
-            reused=lambda k, n: reuse.append(k), traffic=traffics, rules=rule_sets,
+            reused=lambda k, n: reuse.append(k), traffic=traffics, rules=rule_sets, humans=crowds,
         )
     seconds = time.perf_counter() - start
     summary = study.summarize(rows)
     print(study.format_summary(summary, spec.label))
     print("\n".join(study.format_windows(rows)))
     lists = 5 if spec.kind == "paper" else seeds
-    arms = len(names) * len(traffics) * len(rule_sets)
+    arms = len(names) * len(traffics) * len(rule_sets) * len(crowds)
     print(
         f"\n{total} runs ({arms} arms x {len(ns)} fleet sizes x {lists} task lists) in {seconds:.1f} s"
         f" on {workers or os.cpu_count()} workers"

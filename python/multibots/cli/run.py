@@ -27,7 +27,7 @@ from multibots.cli._common import (
 )
 from multibots.exceptions import ScenarioError
 
-__all__ = ["flow_lines", "lifelong_lines", "result_lines", "run", "sparkline"]
+__all__ = ["flow_lines", "lifelong_lines", "people_lines", "result_lines", "run", "sparkline"]
 
 
 def run(
@@ -78,6 +78,9 @@ def run(
         print(json.dumps(result.to_dict(rounded=True), separators=(",", ":")))
     else:
         print("\n".join(lifelong_lines(result) if lifelong else result_lines(result)))
+        if result.people is not None:
+            # The cost of people: the same run with nobody on the floor.
+            print("\n".join(people_lines(result, simulate(s.replace(humans={"count": 0})))))
         if record is not None:
             print(f"\nreplay written to {record}")
     if result.outcome not in ("complete", "horizon"):
@@ -137,6 +140,33 @@ def result_lines(result: Any) -> list[str]:
             f"  {result.collisions[i]}  {result.charges[i]}  {result.energy_used[i]:>11.3f}"
         )
     return lines
+
+
+def people_lines(result: Any, without: Any) -> list[str]:
+    """The safety figures of a run with people, and what people cost against ``without``
+    (the same run with nobody on the floor)."""
+    p = result.people
+    m = p["px_per_m"]
+
+    def gap(v: Any) -> str:
+        return "-" if v is None else f"{v / m:.2f} m ({v:.1f} px)"
+
+    share = p["person_wait_steps"] / p["person_steps"] if p["person_steps"] else 0.0
+    if result.lifelong is not None or without.T is None or result.T is None:
+        a, b = result.throughput, without.throughput
+        cost = f"throughput {a or 0:.1f} against {b or 0:.1f} deliveries per 1,000 steps without people"
+        if a is not None and b:
+            cost += f" ({(a - b) / b:+.1%})"
+    else:
+        cost = f"T {result.T} against {without.T} steps without people ({(result.T - without.T) / without.T:+.1%})"
+    return [
+        f"people       {p['count']} on the floor: {p['tours']} tours, {p['picks']} picks; "
+        f"blocked by robots {share:.1%} of person-steps",
+        f"gap          smallest {gap(p['min_gap'])}, 1st percentile {gap(p['gap_p1'])}; contacts {p['contacts']}",
+        f"robots       {p['protective_stops']} protective stops ({p['stopped_steps']} robot-steps stopped), "
+        f"{p['warning_steps']} robot-steps with a person in the warning zone",
+        f"cost         {cost}",
+    ]
 
 
 def lifelong_lines(result: Any) -> list[str]:

@@ -55,6 +55,7 @@ __all__ = [
     "parse_robots",
     "parse_tasks",
     "parse_strategies",
+    "parse_humans",
     "plan_runs",
     "run_study",
     "summarize",
@@ -162,6 +163,23 @@ class Run:
     scenario: Scenario
     traffic: str = "wait"
     rules: str = "paper"
+    #: People on the floor (``[humans] count``); None: as the scenario says.
+    humans: Optional[int] = None
+
+
+def parse_humans(text: str) -> list[Optional[int]]:
+    """``--humans 0,20,40``: worker counts to compare, each an arm (docs/people.md)."""
+    if not text.strip():
+        return [None]
+    out: list[Optional[int]] = []
+    for part in text.split(","):
+        part = part.strip()
+        if not part.isdigit() or int(part) > 100_000:
+            raise InputError(f"--humans = {part!r}: expected comma-separated counts from 0 to 100000")
+        if int(part) in out:
+            raise InputError(f"--humans = {part!r}: named twice")
+        out.append(int(part))
+    return out
 
 
 def parse_choices(text: str, flag: str, known: Sequence[str]) -> list[str]:
@@ -179,7 +197,7 @@ def parse_choices(text: str, flag: str, known: Sequence[str]) -> list[str]:
 
 def plan_runs(
     strategies: Sequence[str], robots: Sequence[int], spec: TaskSpec, seeds: int, base: Optional[Scenario] = None,
-    traffic: Sequence[str] = ("wait",), rules: Sequence[str] = ("paper",),
+    traffic: Sequence[str] = ("wait",), rules: Sequence[str] = ("paper",), humans: Sequence[Optional[int]] = (None,),
 ) -> list[Run]:
     """Every (strategy, traffic policy, rule set, N, task list) combination, in that order;
     scenarios validated here. With one traffic policy and one rule set the arms are the
@@ -187,30 +205,34 @@ def plan_runs(
     if spec.kind == "scenario" and base is None:
         raise InputError("--tasks scenario: give the scenario with --scenario FILE")
     lists = task_lists(spec, seeds)
-    total = len(strategies) * len(traffic) * len(rules) * len(robots) * len(lists)
+    total = len(strategies) * len(traffic) * len(rules) * len(humans) * len(robots) * len(lists)
     if total > MAX_RUNS:
         raise InputError(f"the study plans {total:,} runs: at most {MAX_RUNS:,}")
     template = {} if base is None else base.to_dict()
     for key in ("robots", "allocator", "starts", "traffic", "rules") + (("tasks",) if spec.kind != "scenario" else ()):
         template.pop(key, None)
     runs = []
-    for s in strategies:
-        for tr in traffic:
-            for ru in rules:
-                arm = "/".join([s] + ([tr] if len(traffic) > 1 else []) + ([ru] if len(rules) > 1 else []))
-                for n in robots:
-                    for list_id, tasks in lists:
-                        fields = {**template, "robots": n, "allocator": s, "traffic": tr, "rules": ru}
-                        if tasks is not None:
-                            fields["tasks"] = tasks
-                        elif fields.get("orders") is not None:
-                            # The scenario's own tasks; its order stream drawn anew per seed.
-                            fields["orders"] = {**fields["orders"], "seed": list_id}
-                        try:
-                            scenario = Scenario.from_dict(fields)
-                        except ScenarioError as e:
-                            raise ScenarioError(f"{arm}, N = {n}: {e}") from None
-                        runs.append(Run(arm, n, list_id, scenario, tr, ru))
+    for s, tr, ru, hu in ((s, tr, ru, hu) for s in strategies for tr in traffic for ru in rules for hu in humans):
+        arm = "/".join([s] + ([tr] if len(traffic) > 1 else []) + ([ru] if len(rules) > 1 else [])
+                       + ([f"{hu} people"] if len(humans) > 1 else []))
+        for n in robots:
+            for list_id, tasks in lists:
+                fields = {**template, "robots": n, "allocator": s, "traffic": tr, "rules": ru}
+                if hu is not None:
+                    fields["humans"] = {**(fields.get("humans") or {}), "count": hu}
+                if fields.get("humans") is not None:
+                    # People's tours drawn anew per task list, the same in every arm (paired).
+                    fields["humans"] = {**fields["humans"], "seed": list_id}
+                if tasks is not None:
+                    fields["tasks"] = tasks
+                elif fields.get("orders") is not None:
+                    # The scenario's own tasks; its order stream drawn anew per seed.
+                    fields["orders"] = {**fields["orders"], "seed": list_id}
+                try:
+                    scenario = Scenario.from_dict(fields)
+                except ScenarioError as e:
+                    raise ScenarioError(f"{arm}, N = {n}: {e}") from None
+                runs.append(Run(arm, n, list_id, scenario, tr, ru, hu))
     return runs
 
 
@@ -235,6 +257,9 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
         "wait_share": raw.get("wait_share"),
         "traffic": run.traffic,
         "rules": run.rules,
+        "humans": run.humans,
+        "protective_stops": raw.get("protective_stops"),
+        "min_gap": raw.get("min_gap"),
         "windows": ";".join(str(w) for w in raw.get("windows", [])),
     }
 
@@ -246,6 +271,8 @@ def _slim_raw(raw: dict[str, Any]) -> dict[str, Any]:
         "outcome": raw["outcome"], "delivered": raw["delivered"], "goods_total": raw["goods_total"],
         "cost": raw["cost"], "throughput": raw["throughput"], "contacts": raw["contacts"],
         "wait_share": raw["wait_share"], "windows": list(raw["windows"]),
+        "protective_stops": (raw.get("people") or {}).get("protective_stops"),
+        "min_gap": (raw.get("people") or {}).get("min_gap"),
     }
 
 
@@ -268,6 +295,7 @@ def run_study(
     reused: Optional[Callable[[int, int], None]] = None,
     traffic: Sequence[str] = ("wait",),
     rules: Sequence[str] = ("paper",),
+    humans: Sequence[Optional[int]] = (None,),
 ) -> list[dict[str, Any]]:
     """Runs the study and returns one row per run, in plan order (deterministic).
 
@@ -280,7 +308,7 @@ def run_study(
     """
     from multibots import _core
 
-    runs = plan_runs(strategies, robots, spec, seeds, base, traffic, rules)
+    runs = plan_runs(strategies, robots, spec, seeds, base, traffic, rules, humans)
     workers = workers or os.cpu_count() or 1
     results: list[Optional[dict[str, Any]]] = [None] * len(runs)
     tick = progress or (lambda k: None)

@@ -48,7 +48,7 @@ WIDTH = 100
 
 RESULT_FIELDS = [
     "strategy", "N", "tasks", "list", "T", "S", "C", "distance", "cost", "outcome", "delivered", "goods_total",
-    "throughput", "contacts", "wait_share", "traffic", "rules", "windows",
+    "throughput", "contacts", "wait_share", "traffic", "rules", "humans", "protective_stops", "min_gap", "windows",
 ]
 SUMMARY_FIELDS = [
     "strategy", "N", "metric", "n", "mean", "sd", "ci_low", "ci_high",

@@ -3,16 +3,24 @@ or a live run (:class:`LiveSource`), started and stopped by :class:`Viewer`."""
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 import urllib.parse
-from typing import Any, Dict, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple
 
 from multibots import _core
 from multibots.replay import Replay
 from multibots.viewer.handler import ViewerHTTPServer, load_assets
 
 __all__ = ["LiveSource", "ReplaySource", "Viewer"]
+
+
+def _zones(header: Dict[str, Any]) -> Optional[List[float]]:
+    z = (header.get("humans") or {}).get("zones")
+    number = (int, float)
+    ok = isinstance(z, list) and len(z) == 2 and all(isinstance(v, number) and math.isfinite(v) and v > 0 for v in z)
+    return [float(v) for v in z] if ok else None
 
 
 class ReplaySource:
@@ -44,6 +52,11 @@ class ReplaySource:
             # The engine's names of the codes (also in new replays' headers).
             "state_names": list(_core.STATE_NAMES),
             "event_names": {str(k): v for k, v in _core.EVENT_NAMES.items()},
+            # People (docs/people.md): their number and radius, checked by the reader; the zones
+            # only if they are two finite numbers.
+            "humans": None if not r.humans else {
+                "count": r.humans, "radius": r.human_radius, "zones": _zones(r.header),
+            },
         }
 
     def start_index(self) -> None:

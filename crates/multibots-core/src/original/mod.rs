@@ -268,6 +268,7 @@ impl Original {
             stranded: (0..self.agents.len()).filter(|&i| self.ran_flat[i]).map(|i| i as u32).collect(),
             robots: self.stats.clone(),
             lifelong: None,
+            people: None,
             // The flow figures are measured by `crate::Simulation`, which runs these rules.
             cost: None,
             window: 1000,

@@ -82,6 +82,10 @@ pub struct Scenario {
     /// How the run is measured: throughput windows, warm-up, gridlock detection.
     #[serde(default, skip_serializing_if = "MetricsParams::is_default")]
     pub metrics: MetricsParams,
+    /// Workers on the floor and the safety zones robots keep around them (extension,
+    /// docs/people.md). Absent: no people, and the run is exactly as without this table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub humans: Option<Humans>,
 }
 
 mod defaults {
@@ -179,6 +183,7 @@ impl Scenario {
             placement: Placement::Departure,
             orders: None,
             metrics: MetricsParams::default(),
+            humans: None,
         }
     }
 
@@ -267,6 +272,12 @@ impl Scenario {
         if let Tasks::Random { random, .. } = self.tasks {
             if random == 0 {
                 return Err(Error::scenario("tasks.random", 0, "must be at least 1"));
+            }
+        }
+        if let Some(h) = &self.humans {
+            h.check()?;
+            if h.count > 0 && self.rules == Rules::Original {
+                return Err(Error::scenario("humans.count", h.count, "people need the paper rules (rules = \"paper\"): the authors' code has none"));
             }
         }
         if let Some(o) = &self.orders {

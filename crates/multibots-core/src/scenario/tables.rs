@@ -381,3 +381,105 @@ impl<'de> Deserialize<'de> for Tasks {
         d.deserialize_any(TasksVisitor)
     }
 }
+
+/// Workers on the floor (extension, docs/people.md): pickers who walk the aisles in either
+/// direction, dwell at storage cells and return to a station, and the safety zones robots
+/// keep around them. Lengths are in metres and speeds in metres per second, tied to the
+/// layout's pixels by `px_per_m` and to steps by `step_seconds`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct Humans {
+    /// Number of workers (0 to 100000). Default: 0.
+    pub count: u32,
+    /// Walking speed, m/s (> 0). Default: 1.2.
+    pub speed: f64,
+    /// Body radius, m (> 0). Default: 0.25.
+    pub radius: f64,
+    /// Pixels per metre of the layout (> 0). Default: 25 (the paper's 25 px robot is 1 m wide,
+    /// its 50 px aisles 2 m).
+    pub px_per_m: f64,
+    /// Seconds per step (> 0). Default: 0.05 (the paper's T fits 0.0508 s per step).
+    pub step_seconds: f64,
+    /// Storage cells visited per pick tour (≥ 1). Default: 3.
+    pub tour: u32,
+    /// Steps spent picking at each cell (≥ 0). Default: 40.
+    pub pick: u32,
+    /// Steps spent at the station between tours (≥ 0). Default: 20.
+    pub rest: u32,
+    /// Seed of the tours and stations (ChaCha8). Default: 0.
+    pub seed: u64,
+    /// A CSV file of `person,cell` rows: each worker's tour, in order, repeated (instead of
+    /// drawn tours).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub csv: Option<String>,
+    /// Robot deceleration, m/s² (> 0): sizes the stopping distance v²/2a. Default: 5.
+    pub decel: f64,
+    /// Protective zone: stopping distance, one step of travel and this margin, m (≥ 0), beyond
+    /// the robot's and the person's radii. A person ahead or beside inside it stops the robot.
+    /// Default: 0.2.
+    pub protective: f64,
+    /// Warning zone: this much further than the protective zone, m (≥ 0); inside it a robot
+    /// slows to `slow` of its speed. Default: 1.
+    pub warning: f64,
+    /// Speed factor in the warning zone, in (0, 1]. Default: 0.5.
+    pub slow: f64,
+}
+
+impl Default for Humans {
+    fn default() -> Self {
+        Humans {
+            count: 0,
+            speed: 1.2,
+            radius: 0.25,
+            px_per_m: 25.0,
+            step_seconds: 0.05,
+            tour: 3,
+            pick: 40,
+            rest: 20,
+            seed: 0,
+            csv: None,
+            decel: 5.0,
+            protective: 0.2,
+            warning: 1.0,
+            slow: 0.5,
+        }
+    }
+}
+
+impl Humans {
+    /// Checks every value; the error names the field as `humans.NAME`.
+    pub(crate) fn check(&self) -> crate::error::Result<()> {
+        use crate::error::Error;
+        if self.count > crate::limits::MAX_HUMANS {
+            return Err(Error::scenario("humans.count", self.count, format!("at most {}", crate::limits::MAX_HUMANS)));
+        }
+        for (field, v) in [
+            ("humans.speed", self.speed),
+            ("humans.radius", self.radius),
+            ("humans.px_per_m", self.px_per_m),
+            ("humans.step_seconds", self.step_seconds),
+            ("humans.decel", self.decel),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::scenario(field, v, "must be greater than 0"));
+            }
+        }
+        for (field, v) in [("humans.protective", self.protective), ("humans.warning", self.warning)] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::scenario(field, v, "must be 0 or more"));
+            }
+        }
+        if !(self.slow.is_finite() && self.slow > 0.0 && self.slow <= 1.0) {
+            return Err(Error::scenario("humans.slow", self.slow, "must be in (0, 1]"));
+        }
+        if self.tour == 0 {
+            return Err(Error::scenario("humans.tour", 0, "must be at least 1 cell"));
+        }
+        // Zones in pixels must stay within the layout's coordinate range.
+        let px = self.px_per_m * (self.radius + self.protective + self.warning + self.speed * self.step_seconds);
+        if !(px.is_finite() && px <= crate::limits::MAX_COORD) {
+            return Err(Error::scenario("humans.px_per_m", self.px_per_m, "makes the zones larger than any layout"));
+        }
+        Ok(())
+    }
+}

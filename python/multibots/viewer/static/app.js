@@ -44,7 +44,7 @@ function currentView() {
       info: {
         cells: app.source.cells(f), last: app.last, T: s.T, done: f === app.last,
         outcome: s.outcome, goodsTotal: app.meta.goods_total, selected: app.selected,
-        route: app.route, blinkOn: app.blink, next, alpha,
+        route: app.route, blinkOn: app.blink, next, alpha, zones: app.zones,
       },
     };
   }
@@ -55,6 +55,7 @@ function currentView() {
     info: {
       cells: L.cells, last: null, T: L.msg.T, done: L.msg.done, outcome: L.msg.outcome,
       goodsTotal: L.msg.goods_total, selected: app.selected, route: app.route, blinkOn: app.blink,
+      zones: app.zones,
     },
   };
 }
@@ -296,6 +297,7 @@ function setupPage() {
     else if (e.key === "+" || e.key === "=") setSpeed(SPEEDS[Math.min(SPEEDS.length - 1, SPEEDS.indexOf(app.speed) + 1)]);
     else if (e.key === "-") setSpeed(SPEEDS[Math.max(0, SPEEDS.indexOf(app.speed) - 1)]);
     else if (e.key === "Escape") select(-1);
+    else if (e.key === "z") { app.zones = !app.zones; drawNow(); }
   });
 
   if (app.mode === "live") {

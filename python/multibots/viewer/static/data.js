@@ -35,7 +35,14 @@ export function decodeChunk(buf) {
   const energy = take(Uint16Array, k * n);
   const heading = take(Uint8Array, k * n);
   const state = take(Uint8Array, k * n);
-  return { first, count: k, n, nEvents: e, counters, x, y, events, energy, heading, state, bytes: buf.byteLength };
+  // People (docs/people.md): whatever follows, 8 bytes per person and frame.
+  const rest = buf.byteLength - pos;
+  const p = k > 0 ? rest / (8 * k) : 0;
+  if (!Number.isInteger(p)) throw new Error("chunk has a partial people section");
+  const px = take(Float32Array, k * p);
+  const py = take(Float32Array, k * p);
+  return { first, count: k, n, nEvents: e, counters, x, y, events, energy, heading, state, p, px, py,
+           bytes: buf.byteLength };
 }
 
 /** The frame at index k of a decoded chunk: subarray views. */
@@ -47,6 +54,7 @@ export function frameOf(ch, k) {
     heading: ch.heading.subarray(a, b), state: ch.state.subarray(a, b),
     energy: ch.energy.subarray(a, b),
     S: ch.counters[3 * k], C: ch.counters[3 * k + 1], delivered: ch.counters[3 * k + 2],
+    hx: ch.px.subarray(k * ch.p, (k + 1) * ch.p), hy: ch.py.subarray(k * ch.p, (k + 1) * ch.p),
   };
 }
 

@@ -63,6 +63,8 @@ export class Renderer {
     this.meta = meta;
     this.layout = meta.layout;
     this.n = meta.robots;
+    // People on the floor (docs/people.md): {count, radius, zones: [protective, warning]}.
+    this.humans = meta.humans || null;
     this.radius = Float64Array.from(meta.radius);
     this.maxRadius = this.radius.reduce((a, b) => Math.max(a, b), 0);
     this.thrFrac = meta.threshold / meta.energy_full;
@@ -527,7 +529,49 @@ export class Renderer {
     this._drawDelivered(ctx, frame.delivered);
     if (info.selected >= 0 && info.route && info.route.length > 1) this._drawRoute(ctx, frame, info);
     this._drawRobots(ctx, frame, info);
+    if (this.humans && frame.hx && frame.hx.length) this._drawPeople(ctx, frame, info);
     ctx.restore();
+  }
+
+  /** People as seen from above (shoulders and head), and on demand (info.zones) the
+   * protective and warning zones of the robots near them. */
+  _drawPeople(ctx, frame, info) {
+    const HX = frame.hx, HY = frame.hy, r = this.humans.radius, px = 1 / this.scale;
+    const zones = this.humans.zones;
+    if (info.zones && zones) {
+      const [prot, warn] = zones, xs = this.lastXs || frame.x, ys = this.lastYs || frame.y;
+      ctx.lineWidth = 1.2 * px;
+      ctx.setLineDash([5 * px, 4 * px]);
+      for (let i = 0; i < this.n; i++) {
+        let near = false;
+        for (let k = 0; k < HX.length && !near; k++) {
+          const dx = HX[k] - xs[i], dy = HY[k] - ys[i];
+          near = dx * dx + dy * dy < warn * warn * 1.5;
+        }
+        if (!near) continue;
+        ctx.strokeStyle = "rgba(230, 160, 0, 0.9)";
+        ctx.beginPath(); ctx.arc(xs[i], ys[i], warn, 0, TAU); ctx.stroke();
+        ctx.strokeStyle = "rgba(200, 30, 30, 0.9)";
+        ctx.beginPath(); ctx.arc(xs[i], ys[i], prot, 0, TAU); ctx.stroke();
+      }
+      ctx.setLineDash([]);
+    }
+    ctx.fillStyle = "#2b6cb0";
+    ctx.strokeStyle = "#10243e";
+    ctx.lineWidth = Math.min(1.2 * px, r * 0.15);
+    ctx.beginPath();
+    for (let k = 0; k < HX.length; k++) {
+      ctx.moveTo(HX[k] + r, HY[k]);
+      ctx.ellipse(HX[k], HY[k], r, r * 0.62, 0, 0, TAU);
+    }
+    ctx.fill(); ctx.stroke();
+    ctx.fillStyle = "#f2c9a0";
+    ctx.beginPath();
+    for (let k = 0; k < HX.length; k++) {
+      ctx.moveTo(HX[k] + r * 0.42, HY[k]);
+      ctx.arc(HX[k], HY[k], r * 0.42, 0, TAU);
+    }
+    ctx.fill(); ctx.stroke();
   }
 
   _drawDelivered(ctx, delivered) {

@@ -1,0 +1,163 @@
+//! People in the aisles (docs/people.md): pickers who walk the aisles in either direction,
+//! pick at storage cells and return to a station, and the safety zones robots keep around
+//! them.
+//!
+//! Each step, around the robots' phases 3 and 4 (crate::sim):
+//! 1. [`People::guard`] (before robots move): a robot with a person ahead or beside it
+//!    inside its protective zone stops (a protective stop, counted apart from S); one with a
+//!    person inside its warning zone slows down ([`zones`]).
+//! 2. The robots move.
+//! 3. [`People::walk`] (after): each person walks towards the next point of its tour with
+//!    the social-force model, and never steps into contact with a robot ([`walk`]); then
+//!    the safety figures are measured on the positions after the step.
+//!
+//! With both rules no step can bring a person and a robot into contact: a robot moves only
+//! when every person within its reach is behind it and further than one step, and a person
+//! moves only to a point clear of every robot.
+
+pub(crate) mod buckets;
+mod tours;
+mod walk;
+mod zones;
+
+pub use zones::PeopleFigures;
+
+use crate::error::Result;
+use crate::robot::Robots;
+use crate::scenario::Humans;
+use crate::world::World;
+use buckets::Buckets;
+use tours::Tours;
+
+/// What a person is doing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Phase {
+    Walk,
+    /// Steps left picking at a cell.
+    Pick(u32),
+    /// Steps left at the station between tours.
+    Rest(u32),
+}
+
+/// The workers on the floor, struct of arrays.
+#[derive(Debug)]
+pub struct People {
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+    vx: Vec<f64>,
+    vy: Vec<f64>,
+    phase: Vec<Phase>,
+    /// Radius, px.
+    pub radius: f64,
+    /// Walking speed, px per step.
+    v0: f64,
+    /// Half the aisle width: how far from the line of its path a person may stand.
+    half_aisle: f64,
+    /// The start of the segment each person walks (its last waypoint).
+    seg_x: Vec<f64>,
+    seg_y: Vec<f64>,
+    /// The closest a person came to its waypoint, steps without getting closer, and steps
+    /// left giving way (walk.rs).
+    best: Vec<f64>,
+    stuck: Vec<u32>,
+    retreat: Vec<u32>,
+    ret_x: Vec<f64>,
+    ret_y: Vec<f64>,
+    tours: Tours,
+    zones: zones::Zones,
+    /// People near each point, and robots near each point, at the start of the step.
+    crowd: Buckets,
+    robot_grid: Buckets,
+    /// Robots that stop for a person this step, and robots that slow down.
+    pub(crate) stop: Vec<bool>,
+    pub(crate) slow: Vec<bool>,
+    /// The warning zone's speed factor.
+    pub(crate) slow_factor: f64,
+    forces: walk::Forces,
+}
+
+impl People {
+    /// The people of a scenario's `[humans]` table; `None` when there are none.
+    pub(crate) fn new(h: &Humans, world: &World, robots: &Robots) -> Result<Option<People>> {
+        if h.count == 0 {
+            return Ok(None);
+        }
+        let n = h.count as usize;
+        let radius = h.radius * h.px_per_m;
+        let v0 = h.speed * h.step_seconds * h.px_per_m;
+        let rr = robots.radius.iter().copied().fold(0.0, f64::max);
+        let speed = robots.speed.iter().copied().fold(0.0, f64::max);
+        let zones = zones::Zones::new(h, rr, speed, radius, robots.len());
+        let tours = Tours::new(h, world, robots, radius)?;
+        let (x, y): (Vec<f64>, Vec<f64>) = (0..n).map(|k| tours.start(k)).unzip();
+        let bounds = world.reach_bounds();
+        let pad = zones.warning + rr + radius;
+        let bounds = [bounds[0] - pad, bounds[1] - pad, bounds[2] + pad, bounds[3] + pad];
+        // Cells as wide as the largest reach any query uses, so a query spans 3 x 3 cells.
+        let reach = (zones.warning + speed + rr + radius).max(6.0 * radius + 4.0 * walk::ROBOT_RANGE * h.px_per_m);
+        Ok(Some(People {
+            seg_x: x.clone(),
+            seg_y: y.clone(),
+            x,
+            y,
+            best: vec![f64::INFINITY; n],
+            stuck: vec![0; n],
+            retreat: vec![0; n],
+            ret_x: vec![0.0; n],
+            ret_y: vec![0.0; n],
+            vx: vec![0.0; n],
+            vy: vec![0.0; n],
+            phase: vec![Phase::Rest(h.rest); n],
+            radius,
+            v0,
+            half_aisle: world.layout.aisle_width / 2.0,
+            tours,
+            zones,
+            crowd: Buckets::new(bounds, reach),
+            robot_grid: Buckets::new(bounds, reach),
+            stop: vec![false; robots.len()],
+            slow: vec![false; robots.len()],
+            slow_factor: h.slow,
+            forces: walk::Forces::new(h.px_per_m, h.step_seconds),
+        }))
+    }
+
+    /// Number of people.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there are none (never, once built).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// The zones' radii around a robot, centre to centre, px: protective and warning.
+    #[must_use]
+    pub fn zone_radii(&self) -> [f64; 2] {
+        [self.zones.protective, self.zones.warning]
+    }
+
+    /// Whether each person is walking (else picking or resting).
+    pub fn walking(&self) -> impl Iterator<Item = bool> + '_ {
+        self.phase.iter().map(|p| *p == Phase::Walk)
+    }
+
+    /// After the robots moved: people walk, pick or rest, then the gaps are measured.
+    pub(crate) fn step(&mut self, robots: &Robots) {
+        let forces = self.forces;
+        let blocked = self.walk_people(robots, &forces);
+        self.zones.person_wait_steps += blocked;
+        self.measure(robots);
+    }
+
+    /// The figures so far, after `steps` steps.
+    #[must_use]
+    pub fn figures(&self, steps: u64) -> PeopleFigures {
+        #[allow(clippy::cast_possible_truncation)]
+        let count = self.len() as u32;
+        PeopleFigures { count, ..self.zones.figures(self.len() as u64 * steps, self.tours.finished, self.tours.picked) }
+    }
+}

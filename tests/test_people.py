@@ -1,0 +1,67 @@
+"""People in the aisles from Python and the command line (docs/people.md)."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import numpy as np
+
+import multibots
+
+from conftest import ROOT
+
+PEOPLE = ROOT / "scenarios" / "people.toml"
+
+
+def test_positions_and_radii() -> None:
+    s = multibots.Scenario.from_toml(PEOPLE)
+    sim = multibots.Simulation(s)
+    assert sim.human_positions.shape == (10, 2) and np.all(sim.human_radii == 6.25)
+    start = sim.human_positions.copy()
+    for _ in range(100):
+        sim.step()
+    assert not np.array_equal(start, sim.human_positions), "people walk"
+    # No person ever inside a robot's body.
+    gaps = np.hypot(*(sim.human_positions[:, None, :] - sim.positions[None, :, :]).transpose(2, 0, 1))
+    assert gaps.min() >= 12.5 + 6.25
+    plain = multibots.Simulation(multibots.Scenario.from_dict({"layout": "paper", "robots": 2, "tasks": [11]}))
+    assert plain.human_positions.shape == (0, 2) and plain.human_radii.shape == (0,)
+
+
+def test_result_figures_and_cost_of_people(cli) -> None:
+    r = multibots.simulate(multibots.Scenario.from_toml(PEOPLE))
+    p = r.people
+    assert p["count"] == 10 and p["contacts"] == 0 and p["protective_stops"] > 0
+    assert p["min_gap"] >= 0 and p["gap_p1"] >= p["min_gap"] - 0.25
+    assert p["person_steps"] == 10 * r.steps
+    none = multibots.simulate(multibots.Scenario.from_toml(PEOPLE).replace(humans={"count": 0}))
+    assert none.people is None and none.T < r.T, "people cost the fleet time"
+    out = cli("run", PEOPLE)
+    assert out.returncode == 0, out.stderr
+    assert "protective stops" in out.stdout and "contacts 0" in out.stdout and "without people" in out.stdout
+    js = json.loads(cli("run", PEOPLE, "--json").stdout)
+    assert js["people"]["count"] == 10 and js["people"]["contacts"] == 0
+    plain = json.loads(cli("run", "--goods", "11,8", "--json").stdout)
+    assert set(plain["people"]) == set(js["people"]) and plain["people"]["count"] is None
+
+
+def test_compare_varies_the_number_of_people(cli, tmp_path) -> None:
+    out = cli("compare", "--scenario", PEOPLE, "--tasks", "scenario", "--seeds", "2", "--humans", "0,5",
+              "--strategies", "in-turn,nearest", "--robots", "3", "--out", tmp_path, "--no-plots", "--quiet")
+    assert out.returncode == 0, out.stderr
+    rows = list(csv.DictReader((tmp_path / "results.csv").open()))
+    assert {r["strategy"] for r in rows} == {"in-turn/0 people", "in-turn/5 people", "nearest/0 people",
+                                             "nearest/5 people"}
+    assert {r["humans"] for r in rows} == {"0", "5"}
+    assert all(r["protective_stops"] == "" for r in rows if r["humans"] == "0")
+    cli.assert_one_line_error(cli("compare", "--humans", "many", "--quiet"), "--humans", "many")
+
+
+def test_bad_people_values_are_one_line_errors(cli, tmp_path) -> None:
+    for body, field in [("speed = -1", "humans.speed"), ("slow = 2", "humans.slow"), ("nope = 1", "nope")]:
+        (tmp_path / "s.toml").write_text(f'layout = "paper"\nrobots = 2\ntasks = [11]\n[humans]\ncount = 2\n{body}\n')
+        cli.assert_one_line_error(cli("run", tmp_path / "s.toml"), field)
+    original = 'layout = "paper"\nrobots = 2\ntasks = [11]\nrules = "original"\n[humans]\ncount = 2\n'
+    (tmp_path / "o.toml").write_text(original)
+    cli.assert_one_line_error(cli("run", tmp_path / "o.toml"), "humans.count", "paper rules")
