@@ -60,6 +60,7 @@ __all__ = [
     "layout_json",
     "simulate",
     "simulate_many",
+    "sweep",
 ]
 
 __version__ = "0.1.0"
@@ -79,8 +80,17 @@ SUBMODULES: tuple[str, ...] = (
     "simulation",
     "stats",
     "strategies",
+    "sweeps",
     "viewer",
 )
+
+
+def sweep(spec: Any, out: Any, **kwargs: Any) -> Any:
+    """Runs a sweep and returns its runs as a polars DataFrame (:func:`multibots.sweeps.sweep`,
+    docs/sweeps.md)."""
+    from multibots.sweeps import sweep as run
+
+    return run(spec, out, **kwargs)
 
 
 def __getattr__(name: str) -> Any:

@@ -19,7 +19,7 @@ from typing import Optional
 
 import typer
 
-from multibots.cli import compare, layout, paper, render, run, view
+from multibots.cli import compare, layout, paper, render, run, sweep, view
 from multibots.cli._common import EXIT_CODES_HELP, run_app
 
 __all__ = ["app", "main"]
@@ -55,6 +55,7 @@ def _root(
 app.command("run", epilog=EXIT_CODES_HELP)(run.run)
 app.command("paper")(paper.paper)
 app.command("compare")(compare.compare)
+app.command("sweep")(sweep.sweep)
 app.add_typer(layout.app, name="layout")
 app.command("view")(view.view)
 app.command("render")(render.render)

@@ -1,0 +1,100 @@
+"""Sweeps at scale (docs/sweeps.md): the polling floor, workers, Ray and the store's cost.
+
+    .venv/bin/python benchmarks/sweep.py [--runs 10000] [--write]
+
+1. The paper's 30 runs through `simulate_many` (one thread) against the engine's own time
+   (the same runs one `simulate` call each): target within 1.2x.
+2. A sweep of RUNS paper-scenario runs (random task lists of 10 goods, N = 1..6): 1 worker
+   against 2 (target at least 1.8x), and the Ray backend on this machine against the local
+   one (target within 1.5x).
+3. The store's cost: the sweep on 1 worker against `simulate_many` of the same scenarios on
+   1 thread (target below 5%).
+Medians of 3; prints figures, it is not a test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "python"))
+
+import multibots  # noqa: E402
+from multibots import _core  # noqa: E402
+from multibots.paper import PAPER_TASKS  # noqa: E402
+
+
+def timed(f) -> float:
+    t0 = time.perf_counter()
+    f()
+    return time.perf_counter() - t0
+
+
+def median_of(f, n: int = 3) -> float:
+    return statistics.median(timed(f) for _ in range(n))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=10_000)
+    ap.add_argument("--write", action="store_true")
+    a = ap.parse_args()
+    paper = [multibots.Scenario.paper(robots=n, goods=list(g))._core for n in range(1, 7) for g in PAPER_TASKS.values()]
+    engine = median_of(lambda: [_core.simulate(s) for s in paper], 5)
+    many = median_of(lambda: _core.simulate_many(paper, 1), 5)
+    seeds = max(1, a.runs // 6)
+    spec = {"base": {"layout": "paper", "robots": 1, "tasks": {"random": 10, "seed": 1}},
+            "axes": {"robots": [1, 2, 3, 4, 5, 6], "seed": list(range(1, seeds + 1))}}
+    n = 6 * seeds
+    points = multibots.sweeps.parse_spec(spec).points()
+    cores = [p.scenario._core for p in points]
+    bare = median_of(lambda: _core.simulate_many(cores, 1))
+
+    def sweep(workers: int, backend: str = "local") -> float:
+        out = Path(tempfile.mkdtemp(prefix="mb-sweep-bench-"))
+        try:
+            return timed(lambda: multibots.sweep(spec, out, workers=workers, backend=backend))
+        finally:
+            shutil.rmtree(out, ignore_errors=True)
+
+    one = statistics.median(sweep(1) for _ in range(3))
+    two = statistics.median(sweep(2) for _ in range(3))
+    ray = None
+    try:
+        import ray as _ray  # noqa: F401
+
+        sweep(2, "ray")  # warm: the cluster's first start
+        ray = statistics.median(sweep(2, "ray") for _ in range(3))
+    except ImportError:
+        pass
+    lines = [
+        "| figure | value | target |",
+        "| --- | ---: | --- |",
+        f"| paper's 30 runs: `simulate_many` (1 thread) / one `simulate` each | {many * 1e3:.1f} ms / "
+        f"{engine * 1e3:.1f} ms = {many / engine:.2f} | at most 1.2 |",
+        f"| {n:,}-run sweep, 1 worker / 2 workers | {one:.2f} s / {two:.2f} s = {one / two:.2f}x | at least 1.8x |",
+        "| same, Ray on this machine (2 CPUs) / local (2 workers) | "
+        + (f"{ray:.2f} s / {two:.2f} s = {ray / two:.2f} |" if ray else "ray not installed |") + " at most 1.5 |",
+        f"| store's cost: sweep (1 worker) / `simulate_many` of its scenarios (1 thread) | {one:.2f} s / "
+        f"{bare:.2f} s = {one / bare:.3f} | below 1.05 |",
+    ]
+    print("\n".join(lines))
+    if a.write:
+        sys.path.insert(0, str(ROOT / "benchmarks"))
+        import sections
+        from run_all import describe, machine
+
+        head = ["## Sweeps (docs/sweeps.md)", "",
+                f"- Command: `.venv/bin/python benchmarks/sweep.py --runs {a.runs} --write`",
+                f"- Machine: {describe(machine())}; medians of 3 (5 for the 30 runs).", ""]
+        sections.put("sweep", "\n".join(head + lines))
+
+
+if __name__ == "__main__":
+    main()

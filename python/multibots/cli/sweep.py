@@ -1,0 +1,76 @@
+"""``multibots sweep``: a study over any scenario fields (docs/sweeps.md)."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+from typing import List, Optional
+
+import typer
+
+from multibots._io import check_folder
+from multibots.cli._common import ALLOW_CODE
+from multibots.exceptions import InputError
+
+__all__ = ["sweep"]
+
+
+def sweep(
+    spec: Path = typer.Argument(..., help="The sweep spec (TOML): base scenario and axes."),
+    out: Path = typer.Option(Path("out/sweep"), "--out", help="Folder for the run store (runs/), results.csv, "
+                             "summary.csv, tests.csv and plots."),
+    backend: str = typer.Option("local", "--backend", help="local (this machine's cores) or ray."),
+    ray_address: Optional[str] = typer.Option(
+        None, "--ray-address", help="A Ray cluster to join (default: a local one started for the study).",
+        show_default=False,
+    ),
+    workers: int = typer.Option(
+        0, "--workers", help="Threads or processes (0: one per core); Ray: CPUs of a local cluster."
+    ),
+    baseline: Optional[str] = typer.Option(
+        None, "--baseline", help="AXIS=VALUE: paired tests of every other value of AXIS against VALUE (tests.csv).",
+        show_default=False,
+    ),
+    plot: List[str] = typer.Option(
+        [], "--plot", help="METRIC:AXIS[:BY]: the metric against a numeric axis, a line per value of BY; repeatable.",
+        show_default=False,
+    ),
+    quiet: bool = typer.Option(False, "--quiet", help="No progress bar."),
+    allow_code: bool = ALLOW_CODE,
+) -> None:
+    """Run a sweep: every combination (or zip) of the spec's axes, stored run by run in --out;
+    run it again to resume (finished runs are reused, never repeated)."""
+    from multibots.experiments.summary import progress_bar
+    from multibots.strategies import is_python_allocator
+    from multibots.sweeps import load_spec, write_outputs
+    from multibots.sweeps import sweep as run_sweep
+    from multibots.sweeps.store import polars
+
+    polars()  # the extra, before any work
+    if workers < 0:
+        raise InputError(f"--workers = {workers}: must be 0 or more")
+    if backend not in ("local", "ray"):
+        raise InputError(f"--backend = {backend!r}: expected local or ray")
+    check_folder(out)
+    sp = load_spec(spec)
+    points = sp.points()
+    named = {p.allocator for p in points}
+    code = sorted(n for n in named if is_python_allocator(n))
+    if code and not allow_code and os.environ.get("MULTIBOTS_ALLOW_CODE") != "1":
+        raise InputError(f"{spec}: names Python code ({', '.join(code)}), which would run; add --allow-code if you "
+                         "trust the spec")
+    reuse: list[int] = []
+    start = time.perf_counter()
+    with progress_bar(len(points), enabled=not quiet) as bar:
+        df = run_sweep(sp, out, workers=workers, backend=backend, ray_address=ray_address, progress=bar.advance,
+                       reused=lambda k, n: reuse.append(k))
+    seconds = time.perf_counter() - start
+    print(f"{len(points)} runs ({', '.join(f'{n}: {len(v)}' for n, v in sp.axes.items())}"
+          f"{f', repeats: {sp.repeats}' if sp.repeats > 1 else ''}) in {seconds:.1f} s, backend {backend}")
+    print(f"reused {reuse[0] if reuse else 0} of {len(points)} runs from {out / 'runs'}")
+    incomplete = df.filter(df["outcome"] != "complete").height if "outcome" in df.columns else 0
+    if incomplete:
+        print(f"{incomplete} runs did not complete (see the outcome column)")
+    for p in write_outputs(df, sp, out, baseline=baseline, plots=tuple(plot)):
+        print(f"wrote {p}")

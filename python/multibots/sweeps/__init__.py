@@ -1,0 +1,87 @@
+"""Studies of any size (docs/sweeps.md): a base scenario, axes to vary, a results store that
+survives a kill, the local machine or a Ray cluster, and statistics over any axis.
+
+    >>> import multibots
+    >>> df = multibots.sweep({"base": {"layout": "paper", "robots": 2, "tasks": {"random": 5, "seed": 1}},
+    ...                       "axes": {"robots": [1, 2], "seed": [1, 2]}}, out=tmp)   # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Callable, Optional, Union
+
+from multibots.sweeps.spec import Point, Spec, load_spec, parse_spec
+from multibots.sweeps.store import Store, polars
+
+__all__ = ["Point", "Spec", "Store", "load_spec", "parse_spec", "sweep"]
+
+
+def sweep(spec: Union[str, os.PathLike[str], Mapping[str, Any], Spec], out: Union[str, os.PathLike[str]],
+          workers: int = 0, backend: str = "local", ray_address: Optional[str] = None,
+          progress: Optional[Callable[[int], None]] = None,
+          reused: Optional[Callable[[int, int], None]] = None) -> Any:
+    """Runs a sweep (a spec file, a dictionary shaped like one, or a :class:`Spec`), storing
+    every run in ``out/runs/``; runs already stored there (same scenario, strategy code and
+    engine) are reused. Returns every run of the sweep, in plan order, as a polars DataFrame:
+    ``key``, ``index``, one column per axis, and the figures (``runner.FIGURES``).
+
+    Why polars: one package (no pandas and pyarrow pair) that reads and writes Parquet itself,
+    keeps column types strict, and loads a study of millions of runs quickly.
+    """
+    from multibots.sweeps.runner import run_points
+
+    pl = polars()
+    if isinstance(spec, Spec):
+        sp = spec
+    elif isinstance(spec, Mapping):
+        sp = parse_spec(spec)
+    else:
+        sp = load_spec(spec)
+    points = sp.points()
+    store = Store(out)
+    keys = run_points(points, store, workers=workers, backend=backend, ray_address=ray_address, progress=progress,
+                      reused=reused)
+    df = store.frame()
+    mine = pl.DataFrame({"key": keys, "index": [p.index for p in points]})
+    # The sweep's own runs (the store may hold other studies' too), in plan order.
+    return mine.join(df.drop("index"), on="key", how="left", maintain_order="left").sort("index")
+
+
+def write_outputs(df: Any, spec: Spec, out: Union[str, os.PathLike[str]], baseline: Optional[str] = None,
+                  plots: tuple[str, ...] = ()) -> list[Path]:
+    """results.csv, summary.csv (mean and 95% interval per cell), tests.csv (with a baseline)
+    and the plots, staged so they land together."""
+    from multibots._io import atomic_write_text, staged_folder
+    from multibots.sweeps.analysis import paired_tests, parse_baseline, plot, summarize
+
+    rows = df.to_dicts()
+    axes = spec.axis_names
+    written: list[Path] = []
+    out = Path(out)
+    with staged_folder(out) as stage:
+        df.write_csv(stage / "results.csv")
+        written.append(stage / "results.csv")
+        written.append(atomic_write_text(stage / "summary.csv", _csv(summarize(rows, axes))))
+        if baseline:
+            axis, value = parse_baseline(baseline, axes)
+            written.append(atomic_write_text(stage / "tests.csv", _csv(paired_tests(rows, axes, axis, value))))
+        for p in plots:
+            written.append(plot(rows, axes, p, stage))
+    return [out / Path(w).relative_to(stage) for w in written]
+
+
+def _csv(rows: list[dict[str, Any]]) -> str:
+    import csv
+    import io
+
+    if not rows:
+        return ""
+    fields = list(dict.fromkeys(k for r in rows for k in r))
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=fields, lineterminator="\n")
+    w.writeheader()
+    w.writerows(rows)
+    return buf.getvalue()

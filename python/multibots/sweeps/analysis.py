@@ -1,0 +1,118 @@
+"""Statistics over a sweep's results: mean and 95% interval per cell of the grid, paired tests
+against a baseline value of one axis, and plots of a metric against a numeric axis."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any, Optional
+
+from multibots.exceptions import InputError
+from multibots.stats import mean_ci, paired_t_test, wilcoxon
+
+__all__ = ["METRICS", "paired_tests", "plot", "summarize"]
+
+#: The metrics summarised (those a run has; None values are left out).
+METRICS = ("T", "S", "C", "cost", "distance", "throughput", "wait_share", "contacts")
+
+
+def _number(v: Any) -> Optional[float]:
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
+
+
+def summarize(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[dict[str, Any]]:
+    """One row per cell (the axes' values other than ``seed``) and metric: n, mean, sd and the
+    95% interval of the mean (counts clipped at 0)."""
+    cells = [a for a in axes if a != "seed"]
+    groups: dict[tuple[Any, ...], list[dict[str, Any]]] = {}
+    for r in rows:
+        groups.setdefault(tuple(r.get(a) for a in cells), []).append(r)
+    out = []
+    for cell, members in groups.items():
+        for m in METRICS:
+            values = [x for x in (_number(r.get(m)) for r in members) if x is not None]
+            mean, sd, lo, hi = mean_ci(values, low=0.0 if m in ("S", "C", "contacts", "T") else None)
+            out.append({**dict(zip(cells, cell)), "metric": m, "n": len(values), "mean": mean, "sd": sd,
+                        "ci_low": lo, "ci_high": hi})
+    return out
+
+
+def parse_baseline(text: str, axes: Sequence[str]) -> tuple[str, str]:
+    axis, sep, value = text.partition("=")
+    if not sep or axis not in axes or axis == "seed":
+        raise InputError(f"--baseline = {text!r}: expected AXIS=VALUE with one of the axes ({', '.join(axes)})")
+    return axis, value
+
+
+def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str, value: str) -> list[dict[str, Any]]:
+    """Each other value of ``axis`` against ``value``, run for run: pairs agree on every other
+    axis (the seed included). Mean difference, paired t test and Wilcoxon signed-rank p-values."""
+    others = [a for a in axes if a != axis]
+    cells = [a for a in others if a != "seed"]
+    by_key = {(str(r.get(axis)),) + tuple(r.get(a) for a in others): r for r in rows}
+    values = sorted({str(r.get(axis)) for r in rows} - {value})
+    if value not in {str(r.get(axis)) for r in rows}:
+        raise InputError(f"--baseline {axis}={value}: no run has {axis} = {value}")
+    out = []
+    cell_keys = sorted({tuple(r.get(a) for a in cells) for r in rows}, key=repr)
+    for v in values:
+        for cell in cell_keys:
+            for m in METRICS:
+                xs, ys = [], []
+                for r in rows:
+                    if str(r.get(axis)) != value or tuple(r.get(a) for a in cells) != cell:
+                        continue
+                    other = by_key.get((v,) + tuple(r.get(a) for a in others))
+                    x, y = _number(r.get(m)), _number(other.get(m)) if other else None
+                    if x is not None and y is not None:
+                        xs.append(x)
+                        ys.append(y)
+                diffs = [y - x for x, y in zip(xs, ys)]
+                p_t = p_w = None
+                if len(diffs) >= 2 and any(d != diffs[0] for d in diffs):
+                    p_t = paired_t_test(xs, ys)
+                    p_w = wilcoxon(diffs)
+                out.append({**dict(zip(cells, cell)), axis: v, "baseline": value, "metric": m, "pairs": len(diffs),
+                            "mean_diff": sum(diffs) / len(diffs) if diffs else None, "p_ttest": p_t, "p_wilcoxon": p_w})
+    return out
+
+
+def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Path) -> Path:
+    """``METRIC:AXIS[:BY]``: the metric's mean (with its 95% interval) against a numeric axis,
+    one line per value of BY (default: the first other axis with several values)."""
+    from multibots.plots._common import new_figure, save_atomic
+
+    parts = spec.split(":")
+    if len(parts) not in (2, 3) or parts[0] not in METRICS or parts[1] not in axes:
+        raise InputError(f"--plot = {spec!r}: expected METRIC:AXIS[:BY], METRIC one of {', '.join(METRICS)}, "
+                         f"AXIS one of {', '.join(axes)}")
+    metric, axis = parts[0], parts[1]
+    if any(_number(r.get(axis)) is None for r in rows):
+        raise InputError(f"--plot = {spec!r}: axis {axis} is not numeric")
+    by = parts[2] if len(parts) == 3 else next(
+        (a for a in axes if a not in (axis, "seed") and len({repr(r.get(a)) for r in rows}) > 1), None)
+    if by is not None and by not in axes:
+        raise InputError(f"--plot = {spec!r}: {by} is not an axis")
+    fig = new_figure(figsize=(7, 4.5))
+    ax = fig.add_subplot()
+    lines = sorted({repr(r.get(by)) for r in rows}) if by else ["all"]
+    for line in lines:
+        members = [r for r in rows if by is None or repr(r.get(by)) == line]
+        xs = sorted({float(r[axis]) for r in members})
+        means, los, his = [], [], []
+        for x in xs:
+            vals = [v for v in (_number(r.get(metric)) for r in members if float(r[axis]) == x) if v is not None]
+            mean, _, lo, hi = mean_ci(vals)
+            means.append(mean if mean is not None else math.nan)
+            los.append(lo if lo is not None else means[-1])
+            his.append(hi if hi is not None else means[-1])
+        label = f"{by} = {line.strip(chr(39))}" if by else metric
+        ax.plot(xs, means, marker="o", label=label)
+        ax.fill_between(xs, los, his, alpha=0.15)
+    ax.set_xlabel(axis)
+    ax.set_ylabel(f"{metric} (mean, 95% interval)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    path = out / f"plot-{metric}-{axis.replace('.', '_')}.png"
+    return save_atomic(fig, path)

@@ -1,0 +1,206 @@
+"""Running a sweep: the local backend (the engine's threads for built-in strategies, worker
+processes for Python ones) or Ray, with results stored batch by batch (store.py)."""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import as_completed
+from typing import Any, Optional
+
+from multibots import _core
+from multibots.exceptions import InputError, MissingExtraError
+from multibots.experiments.journal import engine_id, run_key, strategy_id
+from multibots.experiments.processes import process_pool
+from multibots.scenario import Scenario
+from multibots.strategies import is_python_allocator
+from multibots.sweeps.spec import Point
+from multibots.sweeps.store import Store, rows_of
+
+__all__ = ["FIGURES", "estimate_cost", "figures_of", "keys_of", "run_points"]
+
+#: The figures stored for each run (docs/sweeps.md).
+FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost", "distance", "throughput",
+           "sustained_throughput", "wait_share", "utilisation", "contacts", "closest")
+#: A local batch is written once it holds this many seconds of runs (at most that much work
+#: is repeated after a kill), and Ray tasks hold at least this many robot-steps.
+FLUSH_SECONDS = 1.0
+RAY_BATCH_COST = 2_000_000
+
+
+def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
+    """A run's engine result reduced to the stored scalars (JSON- and Parquet-ready)."""
+    out = {k: raw.get(k) for k in FIGURES if k != "distance"}
+    out["distance"] = float(raw["distance"].sum()) if hasattr(raw.get("distance"), "sum") else raw.get("distance")
+    lifelong = raw.get("lifelong") or {}
+    for k in ("latency_p50", "latency_p95", "energy_per_delivery"):
+        out[k] = lifelong.get(k)
+    people = raw.get("people") or {}
+    for k in ("protective_stops", "min_gap", "warning_steps", "person_wait_steps"):
+        out[f"people_{k}"] = people.get(k)
+    return out
+
+
+def estimate_cost(s: Scenario) -> float:
+    """Robot-steps a run is expected to take, for batching: the fleet times the horizon of a
+    lifelong run, or times a few hundred steps per goods and robot."""
+    d = s.to_dict()
+    robots = int(d.get("robots", 1))
+    if d.get("orders"):
+        steps = int(d["orders"].get("horizon", 10_000))
+    else:
+        tasks = d.get("tasks")
+        goods = tasks.get("random", 10) if isinstance(tasks, dict) else len(tasks or [])
+        steps = 500 + 300 * goods / max(1, robots)
+    return robots * min(steps, int(d.get("step_limit", 100_000)))
+
+
+def _run_python(toml: str) -> dict[str, Any]:
+    """A worker process's job: one run with a Python strategy."""
+    return figures_of(_core.simulate(Scenario.from_toml_str(toml, "<sweep>")._core))
+
+
+def run_points(points: Sequence[Point], store: Store, workers: int = 0, backend: str = "local",
+               ray_address: Optional[str] = None, progress: Optional[Callable[[int], None]] = None,
+               reused: Optional[Callable[[int, int], None]] = None) -> list[str]:
+    """Runs every point whose key is not in the store yet, writing batches as they finish;
+    returns the points' keys."""
+    workers = workers or os.cpu_count() or 1
+    keys = keys_of(points)
+    done = store.keys()
+    todo = [k for k, key in enumerate(keys) if key not in done]
+    if reused is not None:
+        reused(len(points) - len(todo), len(points))
+    tick = progress or (lambda k: None)
+    tick(len(points) - len(todo))
+    if backend == "ray":
+        _run_ray(points, keys, todo, store, workers, ray_address, tick)
+    elif backend == "local":
+        _run_local(points, keys, todo, store, workers, tick)
+    else:
+        raise InputError(f"--backend = {backend!r}: expected local or ray")
+    return keys
+
+
+def keys_of(points: Sequence[Point]) -> list[str]:
+    """Each point's run key: its scenario, its strategy's code and the engine build."""
+    engine = engine_id()
+    code = {name: strategy_id(name) for name in {p.allocator for p in points}}
+    return [run_key(p.scenario, code[p.allocator], engine) for p in points]
+
+
+def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], store: Store, workers: int,
+               tick: Callable[[int], None]) -> None:
+    pending: list[tuple[int, dict[str, Any]]] = []
+    last = time.monotonic()
+    # MULTIBOTS_SWEEP_FLUSH: seconds between batches (tests write often to kill in between).
+    flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", FLUSH_SECONDS))
+
+    def finished(entries: list[tuple[int, dict[str, Any]]], force: bool = False) -> None:
+        nonlocal last
+        pending.extend(entries)
+        tick(len(entries))
+        if pending and (force or time.monotonic() - last >= flush):
+            ks = [k for k, _ in pending]
+            store.write(rows_of([points[k] for k in ks], [keys[k] for k in ks], [r for _, r in pending]))
+            pending.clear()
+            last = time.monotonic()
+
+    engine_jobs = [k for k in todo if not is_python_allocator(points[k].allocator)]
+    python_jobs = [k for k in todo if is_python_allocator(points[k].allocator)]
+    # Calls of a few runs per thread: the progress bar moves and a batch is written about
+    # every FLUSH_SECONDS; the engine's pool has no polling floor, so small calls cost what
+    # their runs cost.
+    chunk = max(8 * workers, 16)
+    try:
+        for start in range(0, len(engine_jobs), chunk):
+            ks = engine_jobs[start:start + chunk]
+            raws = _core.simulate_many([points[k].scenario._core for k in ks], workers)
+            finished([(k, figures_of(raw)) for k, raw in zip(ks, raws)])
+        if python_jobs:
+            with process_pool(min(workers, len(python_jobs))) as pool:
+                futures = {pool.submit(_run_python, points[k].scenario.to_toml()): k for k in python_jobs}
+                for f in as_completed(futures):
+                    finished([(futures[f], f.result())])
+    finally:
+        # Whatever finished is kept, also when the study stops on an error or Ctrl-C.
+        if pending:
+            finished([], force=True)
+
+
+# ---------------------------------------------------------------- Ray
+
+
+def _ray() -> Any:
+    try:
+        import ray
+    except ImportError:
+        raise MissingExtraError("multibots sweep --backend ray", "ray") from None
+    return ray
+
+
+def _ray_batch(tomls: list[str]) -> list[dict[str, Any]]:
+    """A Ray task: runs a batch of scenarios one after another on its worker."""
+    marker = os.environ.get("MULTIBOTS_TEST_KILL_ONCE")
+    if marker and not os.path.exists(marker):
+        # Tests: the first task to get here dies as a killed worker would.
+        open(marker, "w").close()
+        os._exit(1)
+    scenarios = [Scenario.from_toml_str(t, "<sweep>") for t in tomls]
+    out = []
+    for s in scenarios:
+        if is_python_allocator(s.to_dict()["allocator"]):
+            out.append(figures_of(_core.simulate(s._core)))
+        else:
+            out.append(figures_of(_core.simulate_many([s._core], 1)[0]))
+    return out
+
+
+def _batches(points: Sequence[Point], todo: Sequence[int], workers: int) -> list[list[int]]:
+    """Runs grouped so each task holds at least RAY_BATCH_COST robot-steps (a task is never
+    tiny), yet there are a few tasks per worker to balance the load."""
+    costs = [estimate_cost(points[k].scenario) for k in todo]
+    target = max(RAY_BATCH_COST, sum(costs) / max(1, 4 * workers))
+    out: list[list[int]] = []
+    cur: list[int] = []
+    acc = 0.0
+    for k, c in zip(todo, costs):
+        cur.append(k)
+        acc += c
+        if acc >= target:
+            out.append(cur)
+            cur, acc = [], 0.0
+    if cur:
+        out.append(cur)
+    return out
+
+
+def _run_ray(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], store: Store, workers: int,
+             address: Optional[str], tick: Callable[[int], None]) -> None:
+    ray = _ray()
+    started = False
+    if not ray.is_initialized():
+        env = {"env_vars": {k: v for k, v in os.environ.items() if k == "MULTIBOTS_TEST_KILL_ONCE"}}
+        if address:
+            ray.init(address=address, runtime_env=env, log_to_driver=False, ignore_reinit_error=True)
+        else:
+            ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False, runtime_env=env,
+                     _node_ip_address="127.0.0.1", ignore_reinit_error=True)
+        started = True
+    try:
+        # Retried when a worker dies (not when a run raises: that is an answer).
+        task = ray.remote(max_retries=3, num_cpus=1)(_ray_batch)
+        batches = _batches(points, todo, workers)
+        pending = {task.remote([points[k].scenario.to_toml() for k in b]): b for b in batches}
+        while pending:
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for ref in ready:
+                b = pending.pop(ref)
+                raws = ray.get(ref)
+                store.write(rows_of([points[k] for k in b], [keys[k] for k in b], raws))
+                tick(len(b))
+    finally:
+        if started:
+            ray.shutdown()
+

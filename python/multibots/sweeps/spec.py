@@ -1,0 +1,198 @@
+"""Sweep specs: a base scenario and the axes to vary (docs/sweeps.md).
+
+```toml
+base = "scenarios/paper.toml"   # a scenario file (relative to the spec), or a [base] table
+product = "grid"                # every combination of the axes' values; "zip": element by element
+repeats = 1                     # runs per point, seeds 1..repeats (see below)
+
+[axes]
+robots = [2, 4, 6]
+"robot.threshold" = [2.5, 3.5]
+allocator = ["in-turn", "nearest"]
+traffic = ["wait", "reserve"]
+seed = [1, 2, 3]
+```
+
+An axis is any scenario field, named by its dotted path (``charging.policy``,
+``orders.rate``, ``humans.count``). ``seed`` is special: it sets every seed the scenario
+draws with (``tasks.seed`` of random task lists, ``orders.seed``, ``humans.seed``).
+``repeats = R`` without a ``seed`` axis runs each point with seeds 1..R.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+import sys
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Optional
+
+from multibots._io import read_input
+from multibots._text import shown
+from multibots.exceptions import InputError, ScenarioError
+from multibots.scenario import Scenario
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - the same parser, from PyPI
+    import tomli as tomllib
+
+__all__ = ["MAX_POINTS", "Point", "Spec", "load_spec", "parse_spec"]
+
+#: The most runs a sweep may plan (docs/limits.md).
+MAX_POINTS = 1_000_000
+
+
+@dataclass(frozen=True)
+class Point:
+    """One run of a sweep: its index in the plan, the axis values and the scenario."""
+
+    index: int
+    values: tuple[tuple[str, Any], ...]
+    scenario: Scenario
+    #: The strategy the run uses (the scenario's ``allocator``).
+    allocator: str = "in-turn"
+
+
+@dataclass
+class Spec:
+    """A parsed sweep spec."""
+
+    base: Scenario
+    axes: dict[str, list[Any]]
+    product: str = "grid"
+    repeats: int = 1
+    source: str = "<spec>"
+    names: list[str] = field(default_factory=list)
+
+    def points(self) -> list[Point]:
+        """Every run, in plan order (deterministic): the grid (or zip) of the axes, each
+        point repeated with seeds 1..repeats when there is no seed axis."""
+        names = list(self.axes)
+        if self.product == "zip":
+            combos: Sequence[tuple[Any, ...]] = list(zip(*(self.axes[n] for n in names)))
+        else:
+            combos = list(itertools.product(*(self.axes[n] for n in names)))
+        reps = [None] if self.repeats == 1 or "seed" in self.axes else list(range(1, self.repeats + 1))
+        total = len(combos) * len(reps)
+        if total > MAX_POINTS:
+            raise InputError(f"{self.source}: the sweep plans {total:,} runs: at most {MAX_POINTS:,}")
+        base = self.base.to_dict()
+        out = []
+        for combo in combos:
+            for rep in reps:
+                values = list(zip(names, combo)) + ([("seed", rep)] if rep is not None else [])
+                scenario, allocator = _apply(base, values, self.source)
+                out.append(Point(len(out), tuple(values), scenario, allocator))
+        return out
+
+    @property
+    def axis_names(self) -> list[str]:
+        return list(self.axes) + (["seed"] if self.repeats > 1 and "seed" not in self.axes else [])
+
+
+def _apply(base: dict[str, Any], values: Sequence[tuple[str, Any]], source: str) -> tuple[Scenario, str]:
+    d = _deep_copy(base)
+    for name, value in values:
+        if name == "seed":
+            _set_seed(d, value, source)
+        else:
+            _set(d, name.split("."), value)
+    where = ", ".join(f"{n} = {shown(v)}" for n, v in values)
+    try:
+        return Scenario.from_dict(d), str(d.get("allocator", "in-turn"))
+    except ScenarioError as e:
+        raise ScenarioError(f"{source}: at {where}: {e}") from None
+
+
+def _deep_copy(d: Any) -> Any:
+    if isinstance(d, dict):
+        return {k: _deep_copy(v) for k, v in d.items()}
+    if isinstance(d, list):
+        return [_deep_copy(v) for v in d]
+    return d
+
+
+def _set(d: dict[str, Any], path: list[str], value: Any) -> None:
+    for key in path[:-1]:
+        nxt = d.get(key)
+        if not isinstance(nxt, dict):
+            nxt = d[key] = {}
+        d = nxt
+    d[path[-1]] = value
+
+
+def _set_seed(d: dict[str, Any], seed: Any, source: str) -> None:
+    drawn = False
+    if isinstance(d.get("tasks"), dict):
+        d["tasks"]["seed"] = seed
+        drawn = True
+    for table in ("orders", "humans"):
+        if isinstance(d.get(table), dict):
+            d[table]["seed"] = seed
+            drawn = True
+    if not drawn:
+        raise InputError(f"{source}: axis seed: the scenario draws nothing at random (no random tasks, orders or "
+                         "people)")
+
+
+def load_spec(path: str | os.PathLike[str]) -> Spec:
+    """Reads and checks a spec file."""
+    p = Path(path)
+    text = read_input(p, InputError, "sweep spec")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise InputError(f"{p}: not TOML ({shown(e, 200)})") from None
+    return parse_spec(data, source=str(p), folder=p.parent)
+
+
+def parse_spec(data: Mapping[str, Any], source: str = "<spec>", folder: Optional[Path] = None) -> Spec:
+    """A spec from a dictionary shaped like the file (``multibots.sweep`` accepts either)."""
+    known = {"base", "axes", "product", "repeats"}
+    for key in data:
+        if key not in known:
+            raise InputError(f"{source}: unknown key {shown(key)!r} (known: {', '.join(sorted(known))})")
+    base_v = data.get("base")
+    if isinstance(base_v, str):
+        bp = Path(base_v)
+        if not bp.is_absolute() and folder is not None and not bp.exists():
+            bp = folder / bp
+        base = Scenario.from_toml(bp)
+    elif isinstance(base_v, Mapping):
+        base = Scenario.from_dict(base_v)
+    elif isinstance(base_v, Scenario):
+        base = base_v
+    else:
+        raise InputError(f"{source}: base = {shown(base_v)}: expected a scenario file's path or a [base] table")
+    axes_v = data.get("axes")
+    if not isinstance(axes_v, Mapping) or not axes_v:
+        raise InputError(f"{source}: [axes]: expected at least one axis, such as robots = [2, 4, 6]")
+    axes: dict[str, list[Any]] = {}
+    for name, values in axes_v.items():
+        if not isinstance(name, str) or not name or any(not part for part in name.split(".")):
+            raise InputError(f"{source}: axes: {shown(name)!r} is not a field path such as robot.threshold")
+        if not isinstance(values, list) or not values:
+            raise InputError(f"axes.{shown(name)} = {shown(values)}: expected a non-empty list of values")
+        for v in values:
+            if isinstance(v, float) and not math.isfinite(v):
+                raise InputError(f"axes.{shown(name)} = {shown(v)}: must be a finite number")
+        if len({repr(v) for v in values}) != len(values):
+            raise InputError(f"axes.{shown(name)}: a value is named twice")
+        axes[name] = list(values)
+    product = data.get("product", "grid")
+    if product not in ("grid", "zip"):
+        raise InputError(f"{source}: product = {shown(product)!r}: expected grid or zip")
+    if product == "zip" and len({len(v) for v in axes.values()}) > 1:
+        lengths = ", ".join(f"{n}: {len(v)}" for n, v in axes.items())
+        raise InputError(f"{source}: product = zip needs axes of one length ({lengths})")
+    repeats = data.get("repeats", 1)
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= 100_000:
+        raise InputError(f"{source}: repeats = {shown(repeats)}: expected an integer from 1 to 100000")
+    spec = Spec(base=base, axes=axes, product=product, repeats=repeats, source=source)
+    if repeats > 1 and "seed" not in axes:
+        _set_seed(_deep_copy(base.to_dict()), 1, f"{source}: repeats = {repeats}")
+    return spec
