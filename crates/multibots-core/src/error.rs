@@ -27,6 +27,11 @@ pub enum Error {
     #[error("allocator '{strategy}': {reason}")]
     Allocator { strategy: String, reason: String },
 
+    /// Decisions from outside the engine (a learning environment, `Simulation::decide`) that
+    /// it cannot carry out, or a call out of turn. The run is unchanged and can go on.
+    #[error("decision at step {step}: {reason}")]
+    Decision { step: u64, reason: String },
+
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io { path: String, message: String },

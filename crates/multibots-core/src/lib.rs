@@ -13,6 +13,7 @@ pub mod batch;
 pub mod charging;
 pub mod codec;
 pub mod collision;
+pub mod decision_point;
 pub mod energy;
 pub mod error;
 pub mod events;
@@ -38,7 +39,7 @@ pub mod tasks;
 pub mod traffic;
 pub mod world;
 
-pub use alloc::{AllocView, Allocator, Assignment, Goods};
+pub use alloc::{AllocView, Allocator, Assignment, Decisions, Goods};
 pub use error::{Error, Result};
 pub use events::{Event, EventKind};
 pub use graph::HighwayGraph;

@@ -190,8 +190,23 @@ impl Paper {
 
     /// Runs one step (all eight phases). Does nothing once the run has ended.
     pub fn step(&mut self) -> Result<()> {
-        if self.outcome.is_some() {
+        if !self.begin_step()? {
             return Ok(());
+        }
+        if let Err(e) = self.hand_out() {
+            self.failure = Some(e.to_string());
+            return Err(e);
+        }
+        self.finish_step();
+        Ok(())
+    }
+
+    /// A new step up to phase 1: the step count, then phase 0. Returns `false` once the run
+    /// has ended. Phase 1 comes next: [`Paper::hand_out`] with the allocator, or decisions
+    /// from outside (`decision_point.rs`).
+    pub(crate) fn begin_step(&mut self) -> Result<bool> {
+        if self.outcome.is_some() {
+            return Ok(false);
         }
         if let Some(failure) = &self.failure {
             // Phases after the allocator's error never ran: carrying on would skip them.
@@ -200,6 +215,9 @@ impl Paper {
                 reason: format!("the run stopped at step {}: {failure}", self.tally.t),
             });
         }
+        if self.goods.pending {
+            return Err(Error::Decision { step: self.tally.t, reason: "decisions are pending: decide() finishes this step first".into() });
+        }
         self.tally.t += 1;
         self.events.clear();
         self.progress = false;
@@ -207,15 +225,15 @@ impl Paper {
             self.orders();
             self.progress = !self.events.is_empty();
         }
-        if let Err(e) = self.hand_out() {
-            self.failure = Some(e.to_string());
-            return Err(e);
-        }
+        Ok(true)
+    }
+
+    /// Phases 2 to 8, after phase 1.
+    pub(crate) fn finish_step(&mut self) {
         self.intend();
         self.block_and_move();
         self.transitions();
         self.end();
-        Ok(())
     }
 
     pub(crate) fn event(&mut self, kind: EventKind, robot: usize, cell: u32) {
@@ -549,7 +567,7 @@ mod tests {
             fn name(&self) -> &'static str {
                 "never"
             }
-            fn allocate(&mut self, _: &crate::AllocView<'_>, _: &mut Vec<crate::Assignment>) -> Result<()> {
+            fn allocate(&mut self, _: &crate::AllocView<'_>, _: &mut crate::alloc::Decisions) -> Result<()> {
                 Ok(())
             }
         }

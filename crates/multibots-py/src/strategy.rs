@@ -11,7 +11,7 @@
 
 use multibots_core::alloc::{self, AllocView, EnergyModel, Goods, TaskModel};
 use multibots_core::robot::Robots;
-use multibots_core::{Allocator, Assignment, CellId, Error, GoodsId, NodeId, RobotId, Scenario, Simulation, World};
+use multibots_core::{Allocator, Assignment, CellId, Decisions, Error, GoodsId, NodeId, RobotId, Scenario, Simulation, World};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -37,6 +37,9 @@ pub(crate) fn with_cause(py: Python<'_>, err: PyErr) -> PyErr {
     }
     err
 }
+
+/// The goods an answer gives a robot to send it to charge now (`multibots.CHARGE`).
+const CHARGE: &str = "charge";
 
 /// An allocator, and the world a Python allocator was built on (the run shares it, so the
 /// routing tables are built once).
@@ -152,24 +155,34 @@ impl PyAllocator {
         Error::Allocator { strategy: self.name.clone(), reason: reason.into() }
     }
 
-    /// Converts `None`, a dict `{robot: goods}` or an iterable of `(robot, goods)` pairs.
-    fn convert(&self, py: Python<'_>, answer: &Bound<'_, PyAny>, out: &mut Vec<Assignment>) -> Result<(), Error> {
+    /// Converts `None`, a dict `{robot: goods}` or an iterable of `(robot, goods)` pairs,
+    /// where goods may be the string `"charge"` (send the robot to charge now).
+    fn convert(&self, py: Python<'_>, answer: &Bound<'_, PyAny>, out: &mut Decisions) -> Result<(), Error> {
         let shape = || self.fail(format!("allocate() must return a dict {{robot: goods}} or a list of (robot, goods) pairs, got {}", type_name(answer)));
         if answer.is_none() {
             return Ok(());
         }
-        let pair = |k: usize, r: &Bound<'_, PyAny>, g: &Bound<'_, PyAny>| -> Result<Assignment, Error> {
+        let mut pair = |k: usize, r: &Bound<'_, PyAny>, g: &Bound<'_, PyAny>| -> Result<(), Error> {
             let id = |v: &Bound<'_, PyAny>, what: &str| -> Result<u32, Error> {
                 if v.is_instance_of::<pyo3::types::PyBool>() {
                     return Err(self.fail(format!("assignment {k}: {what} id must be an integer, got bool")));
                 }
                 v.extract::<u32>().map_err(|_| self.fail(format!("assignment {k}: {what} id must be an integer 0 or more, got {}", repr(v))))
             };
-            Ok(Assignment { robot: RobotId(id(r, "robot")?), goods: GoodsId(id(g, "goods")?) })
+            let robot = RobotId(id(r, "robot")?);
+            if let Ok(s) = g.downcast::<PyString>() {
+                if s.to_cow().map_err(|_| shape())? != CHARGE {
+                    return Err(self.fail(format!("assignment {k}: goods must be a goods id or \"{CHARGE}\", got {}", repr(g))));
+                }
+                out.charge.push(robot);
+            } else {
+                out.assign.push(Assignment { robot, goods: GoodsId(id(g, "goods")?) });
+            }
+            Ok(())
         };
         if let Ok(d) = answer.downcast::<PyDict>() {
             for (k, (r, g)) in d.iter().enumerate() {
-                out.push(pair(k, &r, &g)?);
+                pair(k, &r, &g)?;
             }
             return Ok(());
         }
@@ -182,7 +195,7 @@ impl PyAllocator {
             let t = item
                 .extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>)>()
                 .map_err(|_| self.fail(format!("assignment {k}: expected a (robot, goods) pair, got {}", repr(&item))))?;
-            out.push(pair(k, &t.0, &t.1)?);
+            pair(k, &t.0, &t.1)?;
         }
         Ok(())
     }
@@ -206,7 +219,7 @@ impl Allocator for PyAllocator {
         &self.name
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<(), Error> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<(), Error> {
         Python::with_gil(|py| {
             let snap =
                 PyAllocView::snapshot(py, view, &self.world, &self.model).map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
@@ -428,5 +441,6 @@ impl PyAllocView {
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyAllocView>()?;
     m.add("BUILT_INS", PyTuple::new(m.py(), alloc::BUILT_INS)?)?;
+    m.add("CHARGE", CHARGE)?;
     Ok(())
 }
