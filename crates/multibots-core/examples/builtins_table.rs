@@ -10,7 +10,10 @@ fn main() {
     for name in BUILT_INS {
         for policy in [ChargingPolicy::Threshold, ChargingPolicy::Opportunistic] {
             for n in 1..=6 {
-                let lists = PAPER_TASKS.iter().map(|g| Tasks::Cells(g.iter().map(|&c| i64::from(c)).collect())).chain((1..=10).map(|seed| Tasks::Random { random: 10, seed }));
+                let lists = PAPER_TASKS
+                    .iter()
+                    .map(|g| Tasks::Cells(g.iter().map(|&c| i64::from(c)).collect()))
+                    .chain((1..=10).map(|seed| Tasks::Random { random: 10, seed }));
                 for (k, tasks) in lists.enumerate() {
                     let mut s = Scenario::paper(n, &[]);
                     s.tasks = tasks;

@@ -68,10 +68,20 @@ impl Paper {
     pub fn paused(&self) -> bool {
         self.goods.pending
     }
+
+    /// An allocator's view of a run that is not paused (no idle robot listed), such as one
+    /// that has ended: for a last observation.
+    pub(crate) fn final_view(&mut self) -> AllocView<'_> {
+        if !self.goods.pending {
+            self.goods.idle.clear();
+            self.goods.queue.make_contiguous();
+        }
+        self.pending_view_unchecked()
+    }
 }
 
 /// Only the original rules have no decision points.
-fn no_decisions() -> Error {
+pub(crate) fn no_decisions() -> Error {
     Error::scenario(
         "rules",
         "\"original\"",

@@ -23,6 +23,7 @@ pub mod graph;
 pub mod ids;
 pub mod layout;
 pub mod layout_file;
+pub mod learning;
 pub mod lifelong;
 pub mod limits;
 pub mod metrics;

@@ -295,7 +295,7 @@ impl AllocView<'_> {
     }
 
     /// The highway nodes robot `j` is expected to occupy before it next becomes idle.
-    fn footprint(&self, j: usize, out: &mut Vec<u32>) {
+    pub(crate) fn footprint(&self, j: usize, out: &mut Vec<u32>) {
         let rb = self.robots;
         match rb.state[j] {
             State::Charging | State::Parked | State::Stranded | State::WaitCharger => return,
