@@ -320,13 +320,22 @@ mod tests {
     }
 
     #[test]
-    fn every_mask_allows_wait_and_the_terminal_observation_allows_only_wait() {
+    fn observations_stay_in_bounds_every_mask_allows_wait_and_the_last_allows_only_wait() {
         let s = Scenario::paper(4, &PAPER_TASKS[1]);
         let mut d = Dispatcher::new(&s, Settings::of(&s)).unwrap();
         let mut obs = Observation::zeros(4, 10);
         let mut k = 0u64;
+        let within = |v: &[f32], table: &[crate::learning::observation::Feature]| {
+            for (k, x) in v.iter().enumerate() {
+                let f = table[k % table.len()];
+                assert!((f.low..=f.high).contains(x), "{} = {x}", f.name);
+            }
+        };
         while !d.ended() {
             d.observe(obs.as_mut());
+            within(&obs.robot, &crate::learning::observation::ROBOT);
+            within(&obs.fleet, &crate::learning::observation::FLEET);
+            within(&obs.queue, &crate::learning::observation::GOODS);
             assert_eq!(obs.mask[11], 1);
             // A crude deterministic choice among the allowed actions.
             let allowed: Vec<i64> = (0..12).filter(|&a| obs.mask[a as usize] == 1).collect();

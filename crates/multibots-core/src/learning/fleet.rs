@@ -211,6 +211,31 @@ impl Fleet {
         }
     }
 
+    /// Writes every robot's observation, robot `i` in the `i`-th row of each array.
+    pub fn observe_all(&mut self, out: ObsMut<'_>) {
+        let ObsMut { robot, fleet, queue, mask } = out;
+        let n = self.robots();
+        let (r, f, q, m) = (robot.len() / n, fleet.len() / n, queue.len() / n, mask.len() / n);
+        for i in 0..n {
+            self.observe(
+                i,
+                ObsMut {
+                    robot: &mut robot[i * r..(i + 1) * r],
+                    fleet: &mut fleet[i * f..(i + 1) * f],
+                    queue: &mut queue[i * q..(i + 1) * q],
+                    mask: &mut mask[i * m..(i + 1) * m],
+                },
+            );
+        }
+    }
+
+    /// Writes which robots decide at the current point.
+    pub fn deciders(&self, out: &mut [bool]) {
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.deciding(i);
+        }
+    }
+
     /// Writes the global state.
     pub fn state(&self, out: &mut [f32]) {
         self.enc.state(&self.paper, out);

@@ -16,50 +16,94 @@ use crate::scenario::Scenario;
 use crate::sim::Paper;
 use crate::world::World;
 
+/// One feature: its name (as `docs/learning.md` lists it) and its range.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Feature {
+    pub name: &'static str,
+    pub low: f32,
+    pub high: f32,
+}
+
+const fn f(name: &'static str, low: f32, high: f32) -> Feature {
+    Feature { name, low, high }
+}
+
+/// The deciding robot's features.
+pub const ROBOT: [Feature; 8] = [
+    f("energy", 0.0, 1.0),
+    f("energy_above_threshold", -1.0, 1.0),
+    f("x", 0.0, 1.0),
+    f("y", 0.0, 1.0),
+    f("route_to_charger", 0.0, 4.0),
+    f("on_charger", 0.0, 1.0),
+    f("open_goods", 0.0, 4.0),
+    f("deciding_robots", 0.0, 1.0),
+];
+
+/// Each robot's features in the fleet table (rows in robot id order).
+pub const FLEET: [Feature; 19] = [
+    f("state_idle", 0.0, 1.0),
+    f("state_to_pickup", 0.0, 1.0),
+    f("state_loading", 0.0, 1.0),
+    f("state_to_drop", 0.0, 1.0),
+    f("state_unloading", 0.0, 1.0),
+    f("state_to_charger", 0.0, 1.0),
+    f("state_charging", 0.0, 1.0),
+    f("state_to_home", 0.0, 1.0),
+    f("state_parked", 0.0, 1.0),
+    f("state_stranded", 0.0, 1.0),
+    f("state_wait_charger", 0.0, 1.0),
+    f("energy", 0.0, 1.0),
+    f("x", 0.0, 1.0),
+    f("y", 0.0, 1.0),
+    f("route_left", 0.0, 4.0),
+    f("carrying", 0.0, 1.0),
+    f("decides_later", 0.0, 1.0),
+    f("decided_earlier", 0.0, 1.0),
+    f("is_self", 0.0, 1.0),
+];
+
+/// Each queue slot's features, as the deciding robot sees them (slots in queue order).
+pub const GOODS: [Feature; 10] = [
+    f("open", 0.0, 1.0),
+    f("route_to_goods", 0.0, 4.0),
+    f("goods_to_unload", 0.0, 4.0),
+    f("task_steps", 0.0, 8.0),
+    f("energy_after", -1.0, 1.0),
+    f("ends_below_threshold", 0.0, 1.0),
+    f("traffic", 0.0, 8.0),
+    f("x", 0.0, 1.0),
+    f("y", 0.0, 1.0),
+    f("slot", 0.0, 1.0),
+];
+
+/// Global state: each robot's features (the fleet table's first 16).
+pub const STATE_ROBOT: [Feature; 16] = {
+    let mut out = [f("", 0.0, 0.0); 16];
+    let mut k = 0;
+    while k < 16 {
+        out[k] = FLEET[k];
+        k += 1;
+    }
+    out
+};
+
+/// Global state: each queue slot's features.
+pub const STATE_GOODS: [Feature; 5] = [f("open", 0.0, 1.0), f("goods_to_unload", 0.0, 4.0), f("x", 0.0, 1.0), f("y", 0.0, 1.0), f("slot", 0.0, 1.0)];
+
+/// Global state: the run's features.
+pub const STATE_RUN: [Feature; 4] = [f("time", 0.0, 1.0), f("delivered", 0.0, 1.0), f("open_goods", 0.0, 4.0), f("idle_robots", 0.0, 1.0)];
+
 /// Features of the deciding robot.
-pub const ROBOT_FEATURES: usize = 8;
+pub const ROBOT_FEATURES: usize = ROBOT.len();
 /// Features of each robot in the fleet table.
-pub const FLEET_FEATURES: usize = 19;
+pub const FLEET_FEATURES: usize = FLEET.len();
 /// Features of each queue slot.
-pub const GOODS_FEATURES: usize = 10;
+pub const GOODS_FEATURES: usize = GOODS.len();
 /// Global state: features of each robot, of each queue slot, and of the run.
-pub const STATE_ROBOT_FEATURES: usize = 16;
-pub const STATE_GOODS_FEATURES: usize = 5;
-pub const STATE_RUN_FEATURES: usize = 4;
-
-/// Lower and upper bounds of the deciding robot's features, in order: energy, energy above
-/// the threshold, x, y, route to its home charger, on a charger, open goods / slots, robots
-/// deciding at this point / N.
-pub const ROBOT_BOUNDS: [(f32, f32); ROBOT_FEATURES] = [(0.0, 1.0), (-1.0, 1.0), (0.0, 1.0), (0.0, 1.0), (0.0, 4.0), (0.0, 1.0), (0.0, 4.0), (0.0, 1.0)];
-/// Bounds of a queue slot's features: open, route to it, its way to the unloading zone,
-/// task steps, energy after the task, ends below the threshold, traffic, x, y, slot index.
-pub const GOODS_BOUNDS: [(f32, f32); GOODS_FEATURES] =
-    [(0.0, 1.0), (0.0, 4.0), (0.0, 4.0), (0.0, 8.0), (-1.0, 1.0), (0.0, 1.0), (0.0, 8.0), (0.0, 1.0), (0.0, 1.0), (0.0, 1.0)];
-
-/// Bounds of the fleet table's features: the state's one-hot code (11), energy, x, y, route
-/// left, carrying, decides later at this point, decided earlier at this point, is the
-/// decider.
-#[must_use]
-pub fn fleet_bounds() -> [(f32, f32); FLEET_FEATURES] {
-    let mut b = [(0.0, 1.0); FLEET_FEATURES];
-    b[14] = (0.0, 4.0);
-    b
-}
-
-/// Bounds of a robot's features in the global state: the one-hot state (11), energy, x, y,
-/// route left, carrying.
-#[must_use]
-pub fn state_robot_bounds() -> [(f32, f32); STATE_ROBOT_FEATURES] {
-    let mut b = [(0.0, 1.0); STATE_ROBOT_FEATURES];
-    b[14] = (0.0, 4.0);
-    b
-}
-
-/// Bounds of a slot in the global state: open, way to the unloading zone, x, y, slot index.
-pub const STATE_GOODS_BOUNDS: [(f32, f32); STATE_GOODS_FEATURES] = [(0.0, 1.0), (0.0, 4.0), (0.0, 1.0), (0.0, 1.0), (0.0, 1.0)];
-/// Bounds of the run's features: step / limit, delivered / goods, open goods / slots, idle
-/// robots / N.
-pub const STATE_RUN_BOUNDS: [(f32, f32); STATE_RUN_FEATURES] = [(0.0, 1.0), (0.0, 1.0), (0.0, 4.0), (0.0, 1.0)];
+pub const STATE_ROBOT_FEATURES: usize = STATE_ROBOT.len();
+pub const STATE_GOODS_FEATURES: usize = STATE_GOODS.len();
+pub const STATE_RUN_FEATURES: usize = STATE_RUN.len();
 
 /// Where one observation goes: row-major arrays of `ROBOT_FEATURES`, `N × FLEET_FEATURES`,
 /// `max_queue × GOODS_FEATURES` and `max_queue + 2` (the mask, 1 = allowed).
@@ -171,6 +215,10 @@ fn clip(v: f64, (lo, hi): (f32, f32)) -> f32 {
     (v as f32).clamp(lo, hi)
 }
 
+fn within(v: f64, f: Feature) -> f32 {
+    clip(v, (f.low, f.high))
+}
+
 impl Encoder {
     /// The scales of a scenario on its world.
     #[must_use]
@@ -241,7 +289,7 @@ impl Encoder {
             marks.deciding as f64 / n as f64,
         ];
         for (k, (v, o)) in robot.iter().zip(robot_out.iter_mut()).enumerate() {
-            *o = clip(*v, ROBOT_BOUNDS[k]);
+            *o = within(*v, ROBOT[k]);
         }
         robot_out[2] = self.x(rb.x[i]);
         robot_out[3] = self.y(rb.y[i]);
@@ -306,7 +354,7 @@ impl Encoder {
                 k as f64 / self.max_queue as f64,
             ];
             for (f, (x, o)) in v.iter().zip(row.iter_mut()).enumerate() {
-                *o = clip(*x, GOODS_BOUNDS[f]);
+                *o = within(*x, GOODS[f]);
             }
             row[7] = self.x(sx);
             row[8] = self.y(sy);
@@ -356,7 +404,7 @@ impl Encoder {
             idle as f64 / n as f64,
         ];
         for (k, (x, o)) in v.iter().zip(run.iter_mut()).enumerate() {
-            *o = clip(*x, STATE_RUN_BOUNDS[k]);
+            *o = within(*x, STATE_RUN[k]);
         }
     }
 
