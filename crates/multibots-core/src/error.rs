@@ -40,7 +40,8 @@ pub enum Error {
 impl Error {
     /// A scenario field's value refused for `reason`; the value is shortened and made inert
     /// ([`crate::limits::shown`]).
-    pub(crate) fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
+    #[must_use]
+    pub fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
         Error::Scenario { field: crate::limits::shown(&field.into()), value: crate::limits::shown(&value.to_string()), reason: reason.into() }
     }
 

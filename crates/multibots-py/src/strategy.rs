@@ -120,6 +120,9 @@ struct PyAllocator {
     call: PyObject,
     world: Arc<World>,
     model: TaskModel,
+    /// Energy when full, the charging threshold and the speed: the scales of a policy's
+    /// observations ([`PyAllocView::decide`]).
+    scales: (f64, f64, f64),
 }
 
 impl PyAllocator {
@@ -148,7 +151,8 @@ impl PyAllocator {
         };
         let s = scenario.clone();
         let world = py.allow_threads(move || s.check_values().and_then(|()| World::of(&s))).map_err(crate::to_py)?;
-        Ok((Box::new(PyAllocator { name, call: call.unbind(), world: world.clone(), model: TaskModel::of(scenario) }), Some(world)))
+        let scales = (scenario.robot.energy_full, scenario.robot.threshold, scenario.robot.speed);
+        Ok((Box::new(PyAllocator { name, call: call.unbind(), world: world.clone(), model: TaskModel::of(scenario), scales }), Some(world)))
     }
 
     fn fail(&self, reason: impl Into<String>) -> Error {
@@ -221,8 +225,8 @@ impl Allocator for PyAllocator {
 
     fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<(), Error> {
         Python::with_gil(|py| {
-            let snap =
-                PyAllocView::snapshot(py, view, &self.world, &self.model).map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
+            let snap = PyAllocView::snapshot(py, view, &self.world, &self.model, self.scales)
+                .map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
             let pv = Bound::new(py, snap).map_err(|e| self.fail(one_line(py, &e)))?;
             let answer = self.call.bind(py).call1((pv.clone(),));
             // The view is only valid during the call: later queries would answer from a stale
@@ -252,6 +256,7 @@ pub(crate) struct PyAllocView {
     unload_node: NodeId,
     energy_model: EnergyModel,
     model: TaskModel,
+    scales: (f64, f64, f64),
     #[pyo3(get)]
     step: u64,
     #[pyo3(get)]
@@ -278,7 +283,7 @@ fn frozen<T: numpy::Element, D: numpy::ndarray::Dimension>(a: Bound<'_, numpy::P
 }
 
 impl PyAllocView {
-    fn snapshot(py: Python<'_>, view: &AllocView<'_>, world: &Arc<World>, model: &TaskModel) -> PyResult<PyAllocView> {
+    fn snapshot(py: Python<'_>, view: &AllocView<'_>, world: &Arc<World>, model: &TaskModel, scales: (f64, f64, f64)) -> PyResult<PyAllocView> {
         let r = view.robots();
         let n = r.len();
         let flat: Vec<f64> = r.positions_flat();
@@ -291,6 +296,7 @@ impl PyAllocView {
             unload_node: view.unload(),
             energy_model: view.energy_params(),
             model: model.clone(),
+            scales,
             step: view.step,
             idle: frozen(PyArray1::from_iter(py, view.idle.iter().map(|i| i.0))),
             goods: frozen(PyArray1::from_iter(py, view.goods.iter().map(|g| g.id.0))),
@@ -430,6 +436,58 @@ impl PyAllocView {
     fn energy_after(&self, robot: i64, cell: i64) -> PyResult<f64> {
         let (r, c) = (self.robot(robot)?, self.cell(cell)?);
         self.with_view(|v| self.model.energy_after(v, r, c))
+    }
+
+    /// A learning environment's policy as this event's answer: asks `policy(robot, (robot,
+    /// fleet, queue, mask))` for each idle robot's action code, in the order and with the
+    /// observations the dispatcher environment (`multibots/Dispatch-v0`) shows, and returns
+    /// the `(robot, goods or "charge")` pairs. A masked-out action is refused, or taken as
+    /// "wait" with `invalid="wait"`.
+    #[pyo3(signature = (policy, max_queue=10, invalid="refuse"))]
+    fn decide(&self, py: Python<'_>, policy: &Bound<'_, PyAny>, max_queue: usize, invalid: &str) -> PyResult<Vec<(u32, PyObject)>> {
+        use multibots_core::learning::{decide_each, Encoder, InvalidAction};
+        let invalid = match invalid {
+            "refuse" => InvalidAction::Refuse,
+            "wait" => InvalidAction::Wait,
+            other => return Err(PyValueError::new_err(format!("invalid = {other:?}: must be \"refuse\" or \"wait\""))),
+        };
+        if max_queue == 0 || max_queue > multibots_core::learning::MAX_QUEUE_LIMIT {
+            return Err(PyValueError::new_err(format!("max_queue = {max_queue}: must be 1 to {}", multibots_core::learning::MAX_QUEUE_LIMIT)));
+        }
+        let (full, threshold, speed) = self.scales;
+        let enc = Encoder::with_model(&self.world, full, threshold, speed, self.model.clone(), max_queue);
+        let n = self.robots.len();
+        let mut raised: Option<PyErr> = None;
+        let out = self.with_view(|v| {
+            decide_each(v, &enc, invalid, |r, obs| {
+                let arrays = (|| -> PyResult<i64> {
+                    let robot = PyArray1::from_slice(py, &obs.robot);
+                    let fleet = PyArray1::from_slice(py, &obs.fleet).reshape([n, obs.fleet.len() / n.max(1)])?;
+                    let queue = PyArray1::from_slice(py, &obs.queue).reshape([max_queue, obs.queue.len() / max_queue])?;
+                    let mask = PyArray1::from_iter(py, obs.mask.iter().map(|&m| m as i8));
+                    policy.call1((r.0, (robot, fleet, queue, mask)))?.extract::<i64>()
+                })();
+                arrays.map_err(|e| {
+                    let reason = format!("policy raised {}", one_line(py, &e));
+                    raised = Some(e);
+                    Error::Decision { step: v.step, reason }
+                })
+            })
+        })?;
+        let d = match out {
+            Ok(d) => d,
+            Err(e) => return Err(raised.take().unwrap_or_else(|| crate::to_py(e))),
+        };
+        let mut pairs: Vec<(u32, PyObject)> = d
+            .assign
+            .iter()
+            .map(|a| (a.robot.0, a.goods.0.into_pyobject(py).map(|g| g.into_any().unbind())))
+            .map(|(r, g)| (r, g.expect("an int converts")))
+            .collect();
+        for r in &d.charge {
+            pairs.push((r.0, PyString::new(py, CHARGE).into_any().unbind()));
+        }
+        Ok(pairs)
     }
 
     fn __repr__(&self) -> String {
