@@ -73,7 +73,7 @@ impl Obs {
     }
 
     /// `(robot, fleet, queue, mask)`, each row-major with `rows` leading rows (none if `None`).
-    fn into_py<'py>(self, py: Python<'py>, rows: Option<usize>, robots: usize, q: usize) -> PyResult<Bound<'py, PyTuple>> {
+    fn into_py(self, py: Python<'_>, rows: Option<usize>, robots: usize, q: usize) -> PyResult<Bound<'_, PyTuple>> {
         let lead: Vec<usize> = rows.into_iter().collect();
         let shape = |rest: &[usize]| -> Vec<usize> { lead.iter().chain(rest).copied().collect() };
         let robot = PyArray1::from_vec(py, self.robot).reshape(shape(&[ROBOT.len()]))?;
@@ -210,6 +210,7 @@ impl PyFleet {
         engine(py, move || env.reset(s.as_ref()))
     }
 
+    #[allow(clippy::needless_pass_by_value)] // pyo3 extracts arguments by value
     /// Takes one action per robot (-1: none): `(rewards, invalid, conflict, terminated,
     /// truncated)`.
     #[allow(clippy::type_complexity)]
@@ -350,6 +351,7 @@ impl Rows {
 
 #[pymethods]
 impl PyVectorDispatch {
+    #[allow(clippy::needless_pass_by_value)] // pyo3 extracts arguments by value
     #[new]
     #[pyo3(signature = (scenarios, max_queue=10, reward=None, invalid="refuse", workers=1))]
     fn new(
@@ -376,6 +378,7 @@ impl PyVectorDispatch {
         rows.into_py(py, self.robots, self.max_queue)
     }
 
+    #[allow(clippy::needless_pass_by_value)] // pyo3 extracts arguments by value
     /// One action per environment: a dict of arrays (observation parts, `reward`,
     /// `terminated`, `truncated`, `invalid`, `robot_id`, `t`).
     fn step<'py>(&mut self, py: Python<'py>, actions: PyReadonlyArray1<'py, i64>) -> PyResult<Bound<'py, PyDict>> {
