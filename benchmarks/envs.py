@@ -20,6 +20,7 @@ from __future__ import annotations
 import argparse
 import statistics
 import time
+from typing import Any
 
 import numpy as np
 
@@ -56,27 +57,59 @@ def single_rate(seconds: float) -> float:
     return n / (time.perf_counter() - t0)
 
 
+def measure(seconds: float = 3.0, num_envs: int = 64, with_peers: bool = True) -> dict[str, Any]:
+    """Every figure of this benchmark, for benchmarks/run_all.py too."""
+    d: dict[str, Any] = {
+        "seconds": seconds,
+        "envs": num_envs,
+        "vector_1": vector_rate(num_envs, 1, seconds),
+        "vector_2": vector_rate(num_envs, 2, seconds),
+        "single": single_rate(seconds),
+        "peers": [],
+    }
+    if with_peers:
+        import peers
+
+        d["peers"] = peers.measure_peers(agent_counts=(3,), repetitions=3)
+    return d
+
+
+def markdown(d: dict[str, Any]) -> list[str]:
+    """The section of docs/benchmarks.md."""
+    lines = [
+        "## Learning environments",
+        "",
+        "`benchmarks/envs.py`: random allowed actions on the paper scenario (3 robots, TABLE III group 1), "
+        f"median of 3 × {d['seconds']:g} s. Target: ≥ 50,000 decisions/s, vector form, one core.",
+        "",
+        "| environment | per second |",
+        "|---|---:|",
+        f"| MultiBots dispatcher, vector form ({d['envs']} envs), 1 worker (one core) | {d['vector_1']:,.0f} decisions |",
+        f"| MultiBots dispatcher, vector form ({d['envs']} envs), 2 workers | {d['vector_2']:,.0f} decisions |",
+        f"| MultiBots dispatcher, `gymnasium.Env` (a Python call per decision) | {d['single']:,.0f} decisions |",
+    ]
+    for r in d["peers"]:
+        if r["status"] == "ok":
+            lines.append(f"| {r['peer']} {r['version']}, 3 agents, random actions | {r['agent_steps_per_s'] / 3:,.0f} env steps |")
+        else:
+            lines.append(f"| {r['peer']} | n/a: {r['reason']} |")
+    lines += [
+        "",
+        "A dispatcher decision covers about 200 simulation steps of the paper model (600 robot-steps, collision "
+        "waiting, energy); a peer's env step moves each agent one grid cell. The target is not met: the engine's "
+        "own step is the cost (a profile of `cargo run --release --example decisions_speed` puts over 90% in "
+        "collisions and motion, under 10% in decisions and observations).",
+    ]
+    return lines
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=3.0)
     ap.add_argument("--envs", type=int, default=64)
     ap.add_argument("--no-peers", action="store_true", help="skip rware and pogema")
     a = ap.parse_args()
-    one = vector_rate(a.envs, 1, a.seconds)
-    two = vector_rate(a.envs, 2, a.seconds)
-    single = single_rate(a.seconds)
-    print(f"dispatcher, vector form ({a.envs} envs), 1 worker: {one:,.0f} decisions/s (target 50,000)")
-    print(f"dispatcher, vector form ({a.envs} envs), 2 workers: {two:,.0f} decisions/s")
-    print(f"dispatcher, gymnasium.Env (one call per decision): {single:,.0f} decisions/s")
-    if a.no_peers:
-        return
-    import peers
-
-    for rec in peers.measure_peers(agent_counts=(3,), repetitions=3):
-        if rec["status"] == "ok":
-            print(f"{rec['peer']} {rec['version']}, 3 agents: {rec['agent_steps_per_s'] / 3:,.0f} env steps/s")
-        else:
-            print(f"{rec['peer']}: n/a ({rec['reason']})")
+    print("\n".join(markdown(measure(a.seconds, a.envs, not a.no_peers))))
 
 
 if __name__ == "__main__":
