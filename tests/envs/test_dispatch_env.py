@@ -143,3 +143,15 @@ def test_a_policy_plugs_in_as_a_strategy():
     got = multibots.simulate(s, allocator=multibots.envs.PolicyAllocator(front))
     want = multibots.simulate(s)
     assert (got.T, got.S, got.C) == (want.T, want.S, want.C)
+
+
+def test_a_missing_extra_names_it():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; sys.modules['gymnasium'] = None\n"
+        "try:\n import multibots.envs\nexcept ImportError as e:\n print(e)"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert "pip install 'multibots[rl]'" in p.stdout, p.stdout + p.stderr
