@@ -155,3 +155,14 @@ def test_a_missing_extra_names_it():
     )
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert "pip install 'multibots[rl]'" in p.stdout, p.stdout + p.stderr
+
+
+def test_another_scenario_at_reset_and_a_refused_one_changes_nothing():
+    env = DispatchEnv()
+    env.reset()
+    with pytest.raises(multibots.ScenarioError, match=r"^robots = 4: the environment's spaces are for 3 robots$"):
+        env.reset(options={"scenario": multibots.Scenario.paper(robots=4)})
+    assert env.scenario == multibots.Scenario.paper()
+    other = multibots.Scenario.paper(goods=multibots.PAPER_TASKS[3])
+    env.reset(options={"scenario": other})
+    assert env.scenario == other and env.unwrapped.result()["goods_total"] == len(multibots.PAPER_TASKS[3])

@@ -75,15 +75,16 @@ class DispatchEnv(gymnasium.Env):
         draws its tasks and orders from the environment's generator; ``options={"scenario": s}``
         runs another scenario with as many robots."""
         super().reset(seed=seed)
-        s = self.scenario
+        base, seeded = self.scenario, self._seeded
         if options and options.get("scenario") is not None:
-            s = resolve_scenario(options["scenario"])
-            self.scenario, self._seeded = s, is_seeded(s)
-        if self._seeded:
-            s = episode_scenario(s, next_seed(self.np_random))
-        # A new engine already stands at its scenario's first decision point.
-        if not (self._fresh and s is self.scenario and not options):
+            base = resolve_scenario(options["scenario"])
+            seeded = is_seeded(base)
+        s = episode_scenario(base, next_seed(self.np_random)) if seeded else base
+        # A new engine already stands at its scenario's first decision point. The engine
+        # checks a new scenario (as many robots, the paper rules) before anything changes.
+        if not (self._fresh and s is self.scenario):
             self._core.reset(s._core)
+        self.scenario, self._seeded = base, seeded
         self._fresh = False
         return self._observe(False)
 

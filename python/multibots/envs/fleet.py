@@ -78,14 +78,16 @@ class FleetEnv(ParallelEnv):
         """Starts an episode (seeds and ``options={"scenario": s}`` as the dispatcher's)."""
         if seed is not None:
             self._rng = np.random.default_rng(seed)
-        s = self.scenario
+        base, seeded = self.scenario, self._seeded
         if options and options.get("scenario") is not None:
-            s = resolve_scenario(options["scenario"])
-            self.scenario, self._seeded = s, is_seeded(s)
-        if self._seeded:
-            s = episode_scenario(s, next_seed(self._rng))
-        if not (self._fresh and s is self.scenario and not options):
+            base = resolve_scenario(options["scenario"])
+            seeded = is_seeded(base)
+        s = episode_scenario(base, next_seed(self._rng)) if seeded else base
+        # A new engine already stands at its scenario's first decision point. The engine
+        # checks a new scenario (as many robots, the paper rules) before anything changes.
+        if not (self._fresh and s is self.scenario):
             self._core.reset(s._core)
+        self.scenario, self._seeded = base, seeded
         self._fresh = False
         self.agents = list(self.possible_agents)
         obs, infos = self._observe(None, None)
