@@ -7,6 +7,7 @@ cargo build -q --release -p multibots-core --examples
 bin=target/release/examples
 echo "paper_table margin 0: $($bin/paper_table | md5sum | cut -d' ' -f1)"
 echo "paper_table margin 8: $($bin/paper_table 8 | md5sum | cut -d' ' -f1)"
+echo "builtins_table: $($bin/builtins_table | md5sum | cut -d' ' -f1)"
 fp() { # scenario steps warmup
   $bin/scale "$1" "$2" "$3" | python3 -c 'import json,sys; d=json.load(sys.stdin); print(d["fingerprint"], d["delivered"], d["s"], d["c"])'
 }

@@ -12,7 +12,9 @@ target/criterion. What it measures:
 3. the engine time of the paper's 30-run experiment on one thread;
 4. the paper scenario against the plain pure-Python model (benchmarks/pure_python.py);
 5. the peers rware 2.0.0 and pogema 1.4.0 with random actions, in their own virtual
-   environment .venv-peers (benchmarks/peers.py), at the same agent counts, in the same run.
+   environment .venv-peers (benchmarks/peers.py), at the same agent counts, in the same run;
+6. the learning environments' decisions per second beside the peers' env steps per second
+   (benchmarks/envs.py).
 
 The machine is shared and noisy: every speed is the median of repetitions, and the load
 average is recorded next to the figures.
@@ -35,6 +37,7 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 sys.path.insert(0, str(HERE))
 
+import envs  # noqa: E402
 import peers  # noqa: E402
 import pure_python  # noqa: E402
 import scale  # noqa: E402
@@ -200,6 +203,8 @@ def build_markdown(d: dict[str, Any]) -> str:
             lines += ["", "n/a: " + "; ".join(f"{r['peer']} at {r['agents']}: {r.get('reason')}" for r in na)]
     else:
         lines.append("Not measured in this run (`--no-peers`).")
+    if d.get("envs"):
+        lines += ["", *envs.markdown(d["envs"])]
     lines += [
         "",
         "## How to reproduce",
@@ -210,6 +215,7 @@ def build_markdown(d: dict[str, Any]) -> str:
         ".venv/bin/python benchmarks/scale.py         # sizes and memory",
         ".venv/bin/python benchmarks/pure_python.py   # ratio to the pure-Python model",
         ".venv/bin/python benchmarks/peers.py         # rware and pogema alone",
+        ".venv/bin/python benchmarks/envs.py          # the learning environments",
         "```",
         "",
     ]
@@ -247,6 +253,8 @@ def main(argv: list[str] | None = None) -> int:
     if not a.no_peers:
         print("peers (rware, pogema) in .venv-peers ...", file=sys.stderr, flush=True)
         d["peers"] = peers.measure_peers(AGENT_COUNTS, repetitions=a.peer_repetitions)
+    print("learning environments ...", file=sys.stderr, flush=True)
+    d["envs"] = envs.measure(with_peers=not a.no_peers)
     d["load"] = [load0, loadavg()]
     d["total_seconds"] = time.perf_counter() - started
     md = build_markdown(d)

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).parent.parent
-MODULES = ["multibots", "multibots.scenario", "multibots.simulation", "multibots.layouts"]
+MODULES = ["multibots", "multibots.scenario", "multibots.simulation", "multibots.layouts", "multibots.envs"]
 
 
 @pytest.mark.parametrize("name", MODULES)

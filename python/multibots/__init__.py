@@ -68,6 +68,7 @@ __version__ = "0.1.0"
 #: Submodules reachable as attributes of the package, imported on first use.
 SUBMODULES: tuple[str, ...] = (
     "cli",
+    "envs",
     "exceptions",
     "experiments",
     "layouts",

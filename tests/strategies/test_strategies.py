@@ -209,7 +209,7 @@ def test_invalid_assignments_are_rejected_naming_the_strategy():
         (lambda v: [(0, 0), (1, 0)], r"goods 0 handed out twice"),
         (lambda v: [(9, 0)], r"unknown robot id 9"),
         (lambda v: [(0, 77)], r"unknown or taken goods id 77"),
-        (lambda v: [(0, 0), (0, 1)], r"robot 0 is given goods twice"),
+        (lambda v: [(0, 0), (0, 1)], r"robot 0 is given two decisions"),
         (lambda v: "0,1", r"must return a dict \{robot: goods\} or a list of \(robot, goods\) pairs, got str"),
         (lambda v: [(0,)], r"assignment 0: expected a \(robot, goods\) pair, got \(0,\)"),
         (lambda v: {-1: 0}, r"assignment 0: robot id must be an integer 0 or more, got -1"),

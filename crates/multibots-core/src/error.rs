@@ -27,6 +27,11 @@ pub enum Error {
     #[error("allocator '{strategy}': {reason}")]
     Allocator { strategy: String, reason: String },
 
+    /// Decisions from outside the engine (a learning environment, `Simulation::decide`) that
+    /// it cannot carry out, or a call out of turn. The run is unchanged and can go on.
+    #[error("decision at step {step}: {reason}")]
+    Decision { step: u64, reason: String },
+
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io { path: String, message: String },
@@ -35,7 +40,8 @@ pub enum Error {
 impl Error {
     /// A scenario field's value refused for `reason`; the value is shortened and made inert
     /// ([`crate::limits::shown`]).
-    pub(crate) fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
+    #[must_use]
+    pub fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
         Error::Scenario { field: crate::limits::shown(&field.into()), value: crate::limits::shown(&value.to_string()), reason: reason.into() }
     }
 

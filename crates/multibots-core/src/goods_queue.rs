@@ -2,20 +2,27 @@
 //!
 //! Goods wait in a queue, front first. At an allocation event (robots became idle, or goods
 //! joined the queue) the allocator sees the idle robots and the queue and answers with
-//! assignments; the engine checks every assignment before it carries any out, so a strategy
-//! can never corrupt the run. Idle robots left without goods go home to park when the queue
-//! is empty (in lifelong runs, parked robots wake when orders are open).
+//! [`Decisions`]: assignments, and robots to send to charge now. The engine checks every
+//! decision before it carries any out, so a strategy can never corrupt the run. Idle robots
+//! left without goods go home to park when the queue is empty (in lifelong runs, parked robots
+//! wake when orders are open).
+//!
+//! Phase 1 comes in two halves, [`Paper::begin_hand_out`] (who is idle, and whether decisions
+//! are needed) and [`Paper::finish_hand_out`] (check and carry out); the allocator answers in
+//! between, or, paused at a decision point, a caller outside the engine does
+//! (`decision_point.rs`).
 //!
 //! Goods put back by the threshold rule return to the front of the queue.
 
-use crate::alloc::{service_target, AllocView, Assignment, Goods};
+use crate::alloc::{service_target, AllocView, Assignment, Decisions, Goods};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventKind};
-use crate::ids::{CellId, GoodsId, RobotId, NONE};
+use crate::ids::{CellId, GoodsId, NodeId, RobotId, NONE};
 use crate::lifelong::{Lifelong, StockEvent};
 use crate::robot::{Robots, State, Target};
 use crate::scenario::Orders;
-use crate::sim::Paper;
+use crate::sim::{Paper, Params};
+use crate::world::World;
 use std::collections::VecDeque;
 
 /// Goods not yet taken, and which cells hold goods.
@@ -34,8 +41,11 @@ pub(crate) struct GoodsQueue {
     cells: Vec<CellId>,
     /// Reused by every allocation event.
     pub(crate) idle: Vec<RobotId>,
-    pub(crate) assignments: Vec<Assignment>,
+    pub(crate) decisions: Decisions,
     taken: Vec<bool>,
+    /// Paused at a decision point: phase 1 of the current step waits for decisions from
+    /// outside the engine.
+    pub(crate) pending: bool,
 }
 
 impl GoodsQueue {
@@ -76,8 +86,9 @@ impl GoodsQueue {
             handed,
             cells,
             idle: Vec::with_capacity(robots),
-            assignments: Vec::with_capacity(robots),
+            decisions: Decisions { assign: Vec::with_capacity(robots), charge: Vec::new() },
             taken: Vec::new(),
+            pending: false,
         };
         (gq, lifelong)
     }
@@ -125,12 +136,12 @@ impl GoodsQueue {
         self.cells[goods.index()]
     }
 
-    /// Checks the assignments in order and marks their goods `handed`; the first problem
-    /// comes back as the reason, with every mark undone.
-    fn check(&mut self, robots: &Robots) -> std::result::Result<(), String> {
-        let r = self.check_each(robots);
+    /// Checks the decisions in order (assignments, then robots sent to charge) and marks the
+    /// goods `handed`; the first problem comes back as the reason, with every mark undone.
+    fn check(&mut self, robots: &Robots, energy_full: f64) -> std::result::Result<(), String> {
+        let r = self.check_each(robots, energy_full);
         if r.is_err() {
-            for a in &self.assignments {
+            for a in &self.decisions.assign {
                 if let Some(h) = self.handed.get_mut(a.goods.index()) {
                     *h = false;
                 }
@@ -139,22 +150,26 @@ impl GoodsQueue {
         r
     }
 
-    fn check_each(&mut self, robots: &Robots) -> std::result::Result<(), String> {
+    fn check_each(&mut self, robots: &Robots, energy_full: f64) -> std::result::Result<(), String> {
         let n = robots.len();
         self.taken.clear();
         self.taken.resize(n, false);
-        for (k, a) in self.assignments.iter().enumerate() {
-            let i = a.robot.index();
+        let idle_robot = |taken: &mut [bool], what: &str, robot: RobotId| -> std::result::Result<(), String> {
+            let i = robot.index();
             if i >= n {
-                return Err(format!("assignment {k}: unknown robot id {}", a.robot));
+                return Err(format!("{what}: unknown robot id {robot}"));
             }
             if robots.state[i] != State::Idle {
-                return Err(format!("assignment {k}: robot {} is not idle (it is {})", a.robot, robots.state[i].name()));
+                return Err(format!("{what}: robot {robot} is not idle (it is {})", robots.state[i].name()));
             }
-            if self.taken[i] {
-                return Err(format!("assignment {k}: robot {} is given goods twice", a.robot));
+            if taken[i] {
+                return Err(format!("{what}: robot {robot} is given two decisions"));
             }
-            self.taken[i] = true;
+            taken[i] = true;
+            Ok(())
+        };
+        for (k, a) in self.decisions.assign.iter().enumerate() {
+            idle_robot(&mut self.taken, &format!("assignment {k}"), a.robot)?;
             let gi = a.goods.index();
             if !self.in_queue.get(gi).copied().unwrap_or(false) {
                 return Err(format!("assignment {k}: unknown or taken goods id {}", a.goods));
@@ -163,6 +178,13 @@ impl GoodsQueue {
                 return Err(format!("assignment {k}: goods {} handed out twice", a.goods));
             }
             self.handed[gi] = true;
+        }
+        for (k, &robot) in self.decisions.charge.iter().enumerate() {
+            idle_robot(&mut self.taken, &format!("charge {k}"), robot)?;
+            let e = robots.energy[robot.index()];
+            if crate::energy::is_full(e, energy_full) {
+                return Err(format!("charge {k}: robot {robot} is full (energy {e})"));
+            }
         }
         Ok(())
     }
@@ -180,13 +202,29 @@ impl GoodsQueue {
 }
 
 impl Paper {
-    /// Phase 1: idle robots get goods from the allocator, or go home when none are open.
+    /// Phase 1 with the allocator: idle robots get goods or go to charge, or go home when no
+    /// goods are open.
     pub(crate) fn hand_out(&mut self) -> Result<()> {
+        if self.begin_hand_out() {
+            let mut decisions = std::mem::take(&mut self.goods.decisions);
+            let view = view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t);
+            let asked = self.allocator.allocate(&view, &mut decisions);
+            self.goods.decisions = decisions;
+            asked?;
+        }
+        self.finish_hand_out().map_err(|reason| Error::Allocator { strategy: self.allocator.name().to_string(), reason })
+    }
+
+    /// Phase 1, first half: at an allocation event, parked robots wake (lifelong runs, when
+    /// orders are open) and the idle robots are listed. Returns whether the event needs
+    /// decisions: idle robots and open goods. The decisions start empty.
+    pub(crate) fn begin_hand_out(&mut self) -> bool {
         if !self.alloc_due {
-            return Ok(());
+            return false;
         }
         let gq = &mut self.goods;
         gq.idle.clear();
+        gq.decisions.clear();
         // Lifelong: robots parked for want of orders go back to work when orders are open.
         let wake = self.lifelong.is_some() && !gq.queue.is_empty();
         for (i, s) in self.robots.state.iter_mut().enumerate() {
@@ -199,31 +237,33 @@ impl Paper {
         }
         if gq.idle.is_empty() {
             self.alloc_due = false;
+            return false;
+        }
+        gq.queue.make_contiguous();
+        !gq.queue.is_empty()
+    }
+
+    /// What deciders see between the two halves of phase 1 (the queue is contiguous then).
+    pub(crate) fn pending_view_unchecked(&self) -> AllocView<'_> {
+        view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t)
+    }
+
+    /// Phase 1, second half: checks the decisions, then carries them out (assignments, then
+    /// robots sent to charge, in the order given); idle robots left go home when no goods
+    /// are open. A refused answer changes nothing and comes back as the reason.
+    pub(crate) fn finish_hand_out(&mut self) -> std::result::Result<(), String> {
+        if !self.alloc_due {
             return Ok(());
         }
-        gq.assignments.clear();
-        if !gq.queue.is_empty() {
-            let view = AllocView {
-                step: self.tally.t,
-                idle: &gq.idle,
-                goods: gq.queue.make_contiguous(),
-                robots: &self.robots,
-                layout: &self.world.layout,
-                graph: &self.world.graph,
-                unload: self.homes.unload,
-                energy_full: self.p.energy_full,
-                threshold: self.p.threshold,
-                consumption: self.p.consumption,
-                speed: self.p.speed,
-            };
-            self.allocator.allocate(&view, &mut gq.assignments)?;
-            gq.check(&self.robots).map_err(|reason| Error::Allocator { strategy: self.allocator.name().to_string(), reason })?;
+        let gq = &mut self.goods;
+        if !gq.decisions.is_empty() {
+            gq.check(&self.robots, self.p.energy_full)?;
         }
-        if !gq.assignments.is_empty() {
+        if !gq.decisions.assign.is_empty() {
             gq.remove_handed();
         }
-        for k in 0..self.goods.assignments.len() {
-            let Assignment { robot, goods } = self.goods.assignments[k];
+        for k in 0..self.goods.decisions.assign.len() {
+            let Assignment { robot, goods } = self.goods.decisions.assign[k];
             self.goods.handed[goods.index()] = false;
             let cell = self.goods.cell_of(goods);
             let i = robot.index();
@@ -238,6 +278,10 @@ impl Paper {
             self.route(i, target);
             self.event(EventKind::Assign, i, cell.0);
         }
+        for k in 0..self.goods.decisions.charge.len() {
+            let i = self.goods.decisions.charge[k].index();
+            self.send_to_charge(i);
+        }
         if self.goods.queue.is_empty() {
             for k in 0..self.goods.idle.len() {
                 let i = self.goods.idle[k].index();
@@ -250,5 +294,23 @@ impl Paper {
         }
         self.alloc_due = false;
         Ok(())
+    }
+}
+
+/// The allocator's view of phase 1, from the fields it reads (so that the allocator itself
+/// can be borrowed beside it).
+fn view_of<'a>(gq: &'a GoodsQueue, robots: &'a Robots, world: &'a World, unload: NodeId, p: &Params, t: u64) -> AllocView<'a> {
+    AllocView {
+        step: t,
+        idle: &gq.idle,
+        goods: gq.queue.as_slices().0,
+        robots,
+        layout: &world.layout,
+        graph: &world.graph,
+        unload,
+        energy_full: p.energy_full,
+        threshold: p.threshold,
+        consumption: p.consumption,
+        speed: p.speed,
     }
 }

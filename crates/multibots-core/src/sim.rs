@@ -198,8 +198,23 @@ impl Paper {
 
     /// Runs one step (all eight phases). Does nothing once the run has ended.
     pub fn step(&mut self) -> Result<()> {
-        if self.outcome.is_some() {
+        if !self.begin_step()? {
             return Ok(());
+        }
+        if let Err(e) = self.hand_out() {
+            self.failure = Some(e.to_string());
+            return Err(e);
+        }
+        self.finish_step();
+        Ok(())
+    }
+
+    /// A new step up to phase 1: the step count, then phase 0. Returns `false` once the run
+    /// has ended. Phase 1 comes next: [`Paper::hand_out`] with the allocator, or decisions
+    /// from outside (`decision_point.rs`).
+    pub(crate) fn begin_step(&mut self) -> Result<bool> {
+        if self.outcome.is_some() {
+            return Ok(false);
         }
         if let Some(failure) = &self.failure {
             // Phases after the allocator's error never ran: carrying on would skip them.
@@ -208,6 +223,9 @@ impl Paper {
                 reason: format!("the run stopped at step {}: {failure}", self.tally.t),
             });
         }
+        if self.goods.pending {
+            return Err(Error::Decision { step: self.tally.t, reason: "decisions are pending: decide() finishes this step first".into() });
+        }
         self.tally.t += 1;
         self.events.clear();
         self.progress = false;
@@ -215,10 +233,11 @@ impl Paper {
             self.orders();
             self.progress = !self.events.is_empty();
         }
-        if let Err(e) = self.hand_out() {
-            self.failure = Some(e.to_string());
-            return Err(e);
-        }
+        Ok(true)
+    }
+
+    /// Phases 2 to 8, after phase 1.
+    pub(crate) fn finish_step(&mut self) {
         self.intend();
         if let Some(people) = self.people.as_mut() {
             people.guard(&self.robots, &self.wants);
@@ -229,7 +248,6 @@ impl Paper {
         }
         self.transitions();
         self.end();
-        Ok(())
     }
 
     pub(crate) fn event(&mut self, kind: EventKind, robot: usize, cell: u32) {
@@ -571,7 +589,7 @@ mod tests {
             fn name(&self) -> &'static str {
                 "never"
             }
-            fn allocate(&mut self, _: &crate::AllocView<'_>, _: &mut Vec<crate::Assignment>) -> Result<()> {
+            fn allocate(&mut self, _: &crate::AllocView<'_>, _: &mut crate::alloc::Decisions) -> Result<()> {
                 Ok(())
             }
         }

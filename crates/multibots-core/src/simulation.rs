@@ -121,6 +121,14 @@ impl Simulation {
         }
     }
 
+    /// The paper rules' engine, mutable, when they run (decision points, `decision_point.rs`).
+    pub(crate) fn paper_mut(&mut self) -> Option<&mut Paper> {
+        match &mut self.rules {
+            RuleSet::Paper(p) => Some(p),
+            RuleSet::Original(_) => None,
+        }
+    }
+
     /// The original rules' engine, when they run.
     #[must_use]
     pub fn original(&self) -> Option<&Original> {

@@ -4,7 +4,7 @@
 use multibots_core::alloc::{self, AllocView, Auction, EnergyAware, EnergyModel, Goods, Hungarian, InTurn, MinCost, Nearest, TaskModel};
 use multibots_core::robot::{Robots, State};
 use multibots_core::scenario::{ChargingPolicy, CostWeights, Tasks};
-use multibots_core::{Allocator, Assignment, CellId, Error, GoodsId, HighwayGraph, Layout, NodeId, RobotId, Scenario, Simulation};
+use multibots_core::{Allocator, Assignment, CellId, Decisions, Error, GoodsId, HighwayGraph, Layout, NodeId, RobotId, Scenario, Simulation};
 
 /// A hand-made fleet on the paper layout: robots standing on named nodes, idle.
 struct Fixture {
@@ -33,9 +33,10 @@ impl Fixture {
         let m = self.layout.node_named("M").unwrap();
         let energy = EnergyModel { energy_full: 10.0, threshold: 3.5, consumption: 0.005, speed: 4.0 };
         let view = AllocView::new(1, &idle, &goods, &self.robots, &self.layout, &self.graph, m, energy);
-        let mut out = Vec::new();
+        let mut out = Decisions::new();
         a.allocate(&view, &mut out).unwrap();
-        out.iter().map(|x| (x.robot.0, x.goods.0)).collect()
+        assert!(out.charge.is_empty(), "built-ins send no robot to charge");
+        out.assign.iter().map(|x| (x.robot.0, x.goods.0)).collect()
     }
 
     fn view_len(&self, robot: u32, cell: u32) -> f64 {
@@ -190,9 +191,9 @@ fn traffic_counts_where_other_robots_paths_meet_the_route() {
     assert!(t[busy as usize] > t[quiet as usize], "{t:?}");
     let goods = [Goods { id: GoodsId(0), cell: CellId(busy) }, Goods { id: GoodsId(1), cell: CellId(quiet) }];
     let v = AllocView::new(1, &idle, &goods, &robots, &layout, &graph, m, energy);
-    let mut out = Vec::new();
+    let mut out = Decisions::new();
     MinCost::new(TaskModel::of(&s)).allocate(&v, &mut out).unwrap();
-    assert_eq!(out, vec![Assignment { robot: RobotId(0), goods: GoodsId(1) }]);
+    assert_eq!(out.assign, vec![Assignment { robot: RobotId(0), goods: GoodsId(1) }]);
 }
 
 #[test]
@@ -209,22 +210,39 @@ fn min_cost_on_distance_alone_is_optimal_on_task_length() {
     assert_eq!(got.len(), 3);
 }
 
-/// A strategy that answers with whatever it is told to, for the validation tests.
-struct Fixed(Vec<(u32, u32)>);
+/// A strategy that answers with whatever it is told to, for the validation tests:
+/// assignments, and robots to send to charge.
+struct Fixed(Vec<(u32, u32)>, Vec<u32>);
 
 impl Allocator for Fixed {
     fn name(&self) -> &'static str {
         "fixed-test"
     }
-    fn allocate(&mut self, _view: &AllocView<'_>, out: &mut Vec<Assignment>) -> multibots_core::Result<()> {
-        out.extend(self.0.iter().map(|&(r, g)| Assignment { robot: RobotId(r), goods: GoodsId(g) }));
+    fn allocate(&mut self, _view: &AllocView<'_>, out: &mut Decisions) -> multibots_core::Result<()> {
+        out.assign.extend(self.0.iter().map(|&(r, g)| Assignment { robot: RobotId(r), goods: GoodsId(g) }));
+        out.charge.extend(self.1.iter().map(|&r| RobotId(r)));
         Ok(())
     }
 }
 
 fn run_fixed(answer: Vec<(u32, u32)>) -> Error {
+    run_fixed_charging(answer, vec![])
+}
+
+fn run_fixed_charging(answer: Vec<(u32, u32)>, charge: Vec<u32>) -> Error {
     let s = Scenario::paper(2, &[11, 8, 39]);
-    Simulation::with_allocator(&s, Box::new(Fixed(answer))).unwrap().run().unwrap_err()
+    Simulation::with_allocator(&s, Box::new(Fixed(answer, charge))).unwrap().run().unwrap_err()
+}
+
+#[test]
+fn invalid_charge_decisions_are_rejected_naming_the_strategy() {
+    // At the first event both robots are full: charging one is refused.
+    let e = run_fixed_charging(vec![], vec![1]).to_string();
+    assert_eq!(e, "allocator 'fixed-test': charge 0: robot 1 is full (energy 10)");
+    let e = run_fixed_charging(vec![(0, 0)], vec![0]).to_string();
+    assert_eq!(e, "allocator 'fixed-test': charge 0: robot 0 is given two decisions");
+    let e = run_fixed_charging(vec![], vec![7]).to_string();
+    assert_eq!(e, "allocator 'fixed-test': charge 0: unknown robot id 7");
 }
 
 #[test]
@@ -248,12 +266,12 @@ fn a_robot_that_is_not_idle_is_rejected() {
         fn name(&self) -> &'static str {
             "busy-test"
         }
-        fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> multibots_core::Result<()> {
+        fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> multibots_core::Result<()> {
             if view.idle.len() == view.robot_count() {
                 InTurn.allocate(view, out)
             } else {
                 let busy = (0..view.robot_count() as u32).map(RobotId).find(|r| !view.idle.contains(r)).unwrap();
-                out.push(Assignment { robot: busy, goods: view.goods[0].id });
+                out.assign.push(Assignment { robot: busy, goods: view.goods[0].id });
                 Ok(())
             }
         }

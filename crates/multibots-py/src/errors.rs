@@ -12,6 +12,12 @@ create_exception!(multibots._core, ScenarioError, MultibotsError, "A scenario fi
 create_exception!(multibots._core, LayoutError, MultibotsError, "A layout robots cannot use, or a layout file that cannot be read.");
 create_exception!(multibots._core, AllocatorError, MultibotsError, "A strategy returned assignments the engine cannot carry out.");
 create_exception!(multibots._core, EngineError, MultibotsError, "An internal error of the engine (a bug: please report it).");
+create_exception!(
+    multibots._core,
+    DecisionError,
+    MultibotsError,
+    "Decisions taken from outside the engine (a learning environment's action) that it cannot carry out."
+);
 
 /// Steps between two checks for Ctrl-C in long runs.
 pub(crate) const SIGNAL_EVERY: u64 = 1 << 14;
@@ -24,6 +30,7 @@ pub(crate) fn to_py(e: Error) -> PyErr {
         Error::Scenario { .. } | Error::Parse { .. } => ScenarioError::new_err(msg),
         Error::Layout { .. } | Error::LayoutFile { .. } => LayoutError::new_err(msg),
         Error::Allocator { .. } => Python::with_gil(|py| crate::strategy::with_cause(py, AllocatorError::new_err(msg))),
+        Error::Decision { .. } => DecisionError::new_err(msg),
         Error::Io { .. } => MultibotsError::new_err(msg),
     }
 }
@@ -48,5 +55,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("LayoutError", py.get_type::<LayoutError>())?;
     m.add("AllocatorError", py.get_type::<AllocatorError>())?;
     m.add("EngineError", py.get_type::<EngineError>())?;
+    m.add("DecisionError", py.get_type::<DecisionError>())?;
     Ok(())
 }

@@ -10,11 +10,13 @@
 //! | `results` | a run's result as a dictionary |
 //! | `layouts` | layout files and layout JSON |
 //! | `codec` | state and event names, the paper's task lists, replay chunks |
+//! | `envs` | the learning environments' engines: `Dispatcher`, `Fleet`, `VectorDispatch` |
 //! | `strategy` | allocators: built-ins by name, Python objects, `module:Class` names |
 
 use pyo3::prelude::*;
 
 mod codec;
+mod envs;
 mod errors;
 mod layouts;
 mod results;
@@ -50,5 +52,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     codec::register(m)?;
     strategy::register(m)?;
+    envs::register(m)?;
     Ok(())
 }

@@ -11,7 +11,7 @@
 
 use multibots_core::alloc::{self, AllocView, EnergyModel, Goods, TaskModel};
 use multibots_core::robot::Robots;
-use multibots_core::{Allocator, Assignment, CellId, Error, GoodsId, NodeId, RobotId, Scenario, Simulation, World};
+use multibots_core::{Allocator, Assignment, CellId, Decisions, Error, GoodsId, NodeId, RobotId, Scenario, Simulation, World};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -37,6 +37,9 @@ pub(crate) fn with_cause(py: Python<'_>, err: PyErr) -> PyErr {
     }
     err
 }
+
+/// The goods an answer gives a robot to send it to charge now (`multibots.CHARGE`).
+const CHARGE: &str = "charge";
 
 /// An allocator, and the world a Python allocator was built on (the run shares it, so the
 /// routing tables are built once).
@@ -117,6 +120,9 @@ struct PyAllocator {
     call: PyObject,
     world: Arc<World>,
     model: TaskModel,
+    /// Energy when full, the charging threshold and the speed: the scales of a policy's
+    /// observations ([`PyAllocView::decide`]).
+    scales: (f64, f64, f64),
 }
 
 impl PyAllocator {
@@ -145,31 +151,42 @@ impl PyAllocator {
         };
         let s = scenario.clone();
         let world = py.allow_threads(move || s.check_values().and_then(|()| World::of(&s))).map_err(crate::to_py)?;
-        Ok((Box::new(PyAllocator { name, call: call.unbind(), world: world.clone(), model: TaskModel::of(scenario) }), Some(world)))
+        let scales = (scenario.robot.energy_full, scenario.robot.threshold, scenario.robot.speed);
+        Ok((Box::new(PyAllocator { name, call: call.unbind(), world: world.clone(), model: TaskModel::of(scenario), scales }), Some(world)))
     }
 
     fn fail(&self, reason: impl Into<String>) -> Error {
         Error::Allocator { strategy: self.name.clone(), reason: reason.into() }
     }
 
-    /// Converts `None`, a dict `{robot: goods}` or an iterable of `(robot, goods)` pairs.
-    fn convert(&self, py: Python<'_>, answer: &Bound<'_, PyAny>, out: &mut Vec<Assignment>) -> Result<(), Error> {
+    /// Converts `None`, a dict `{robot: goods}` or an iterable of `(robot, goods)` pairs,
+    /// where goods may be the string `"charge"` (send the robot to charge now).
+    fn convert(&self, py: Python<'_>, answer: &Bound<'_, PyAny>, out: &mut Decisions) -> Result<(), Error> {
         let shape = || self.fail(format!("allocate() must return a dict {{robot: goods}} or a list of (robot, goods) pairs, got {}", type_name(answer)));
         if answer.is_none() {
             return Ok(());
         }
-        let pair = |k: usize, r: &Bound<'_, PyAny>, g: &Bound<'_, PyAny>| -> Result<Assignment, Error> {
+        let mut pair = |k: usize, r: &Bound<'_, PyAny>, g: &Bound<'_, PyAny>| -> Result<(), Error> {
             let id = |v: &Bound<'_, PyAny>, what: &str| -> Result<u32, Error> {
                 if v.is_instance_of::<pyo3::types::PyBool>() {
                     return Err(self.fail(format!("assignment {k}: {what} id must be an integer, got bool")));
                 }
                 v.extract::<u32>().map_err(|_| self.fail(format!("assignment {k}: {what} id must be an integer 0 or more, got {}", repr(v))))
             };
-            Ok(Assignment { robot: RobotId(id(r, "robot")?), goods: GoodsId(id(g, "goods")?) })
+            let robot = RobotId(id(r, "robot")?);
+            if let Ok(s) = g.downcast::<PyString>() {
+                if s.to_cow().map_err(|_| shape())? != CHARGE {
+                    return Err(self.fail(format!("assignment {k}: goods must be a goods id or \"{CHARGE}\", got {}", repr(g))));
+                }
+                out.charge.push(robot);
+            } else {
+                out.assign.push(Assignment { robot, goods: GoodsId(id(g, "goods")?) });
+            }
+            Ok(())
         };
         if let Ok(d) = answer.downcast::<PyDict>() {
             for (k, (r, g)) in d.iter().enumerate() {
-                out.push(pair(k, &r, &g)?);
+                pair(k, &r, &g)?;
             }
             return Ok(());
         }
@@ -182,7 +199,7 @@ impl PyAllocator {
             let t = item
                 .extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>)>()
                 .map_err(|_| self.fail(format!("assignment {k}: expected a (robot, goods) pair, got {}", repr(&item))))?;
-            out.push(pair(k, &t.0, &t.1)?);
+            pair(k, &t.0, &t.1)?;
         }
         Ok(())
     }
@@ -206,10 +223,10 @@ impl Allocator for PyAllocator {
         &self.name
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<(), Error> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<(), Error> {
         Python::with_gil(|py| {
-            let snap =
-                PyAllocView::snapshot(py, view, &self.world, &self.model).map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
+            let snap = PyAllocView::snapshot(py, view, &self.world, &self.model, self.scales)
+                .map_err(|e| self.fail(format!("building the view failed: {}", one_line(py, &e))))?;
             let pv = Bound::new(py, snap).map_err(|e| self.fail(one_line(py, &e)))?;
             let answer = self.call.bind(py).call1((pv.clone(),));
             // The view is only valid during the call: later queries would answer from a stale
@@ -239,6 +256,7 @@ pub(crate) struct PyAllocView {
     unload_node: NodeId,
     energy_model: EnergyModel,
     model: TaskModel,
+    scales: (f64, f64, f64),
     #[pyo3(get)]
     step: u64,
     #[pyo3(get)]
@@ -265,7 +283,7 @@ fn frozen<T: numpy::Element, D: numpy::ndarray::Dimension>(a: Bound<'_, numpy::P
 }
 
 impl PyAllocView {
-    fn snapshot(py: Python<'_>, view: &AllocView<'_>, world: &Arc<World>, model: &TaskModel) -> PyResult<PyAllocView> {
+    fn snapshot(py: Python<'_>, view: &AllocView<'_>, world: &Arc<World>, model: &TaskModel, scales: (f64, f64, f64)) -> PyResult<PyAllocView> {
         let r = view.robots();
         let n = r.len();
         let flat: Vec<f64> = r.positions_flat();
@@ -278,6 +296,7 @@ impl PyAllocView {
             unload_node: view.unload(),
             energy_model: view.energy_params(),
             model: model.clone(),
+            scales,
             step: view.step,
             idle: frozen(PyArray1::from_iter(py, view.idle.iter().map(|i| i.0))),
             goods: frozen(PyArray1::from_iter(py, view.goods.iter().map(|g| g.id.0))),
@@ -419,6 +438,58 @@ impl PyAllocView {
         self.with_view(|v| self.model.energy_after(v, r, c))
     }
 
+    /// A learning environment's policy as this event's answer: asks `policy(robot, (robot,
+    /// fleet, queue, mask))` for each idle robot's action code, in the order and with the
+    /// observations the dispatcher environment (`multibots/Dispatch-v0`) shows, and returns
+    /// the `(robot, goods or "charge")` pairs. A masked-out action is refused, or taken as
+    /// "wait" with `invalid="wait"`.
+    #[pyo3(signature = (policy, max_queue=10, invalid="refuse"))]
+    fn decide(&self, py: Python<'_>, policy: &Bound<'_, PyAny>, max_queue: usize, invalid: &str) -> PyResult<Vec<(u32, PyObject)>> {
+        use multibots_core::learning::{decide_each, Encoder, InvalidAction};
+        let invalid = match invalid {
+            "refuse" => InvalidAction::Refuse,
+            "wait" => InvalidAction::Wait,
+            other => return Err(PyValueError::new_err(format!("invalid = {other:?}: must be \"refuse\" or \"wait\""))),
+        };
+        if max_queue == 0 || max_queue > multibots_core::learning::MAX_QUEUE_LIMIT {
+            return Err(PyValueError::new_err(format!("max_queue = {max_queue}: must be 1 to {}", multibots_core::learning::MAX_QUEUE_LIMIT)));
+        }
+        let (full, threshold, speed) = self.scales;
+        let enc = Encoder::with_model(&self.world, full, threshold, speed, self.model.clone(), max_queue);
+        let n = self.robots.len();
+        let mut raised: Option<PyErr> = None;
+        let out = self.with_view(|v| {
+            decide_each(v, &enc, invalid, |r, obs| {
+                let arrays = (|| -> PyResult<i64> {
+                    let robot = PyArray1::from_slice(py, &obs.robot);
+                    let fleet = PyArray1::from_slice(py, &obs.fleet).reshape([n, obs.fleet.len() / n.max(1)])?;
+                    let queue = PyArray1::from_slice(py, &obs.queue).reshape([max_queue, obs.queue.len() / max_queue])?;
+                    let mask = PyArray1::from_iter(py, obs.mask.iter().map(|&m| m as i8));
+                    policy.call1((r.0, (robot, fleet, queue, mask)))?.extract::<i64>()
+                })();
+                arrays.map_err(|e| {
+                    let reason = format!("policy raised {}", one_line(py, &e));
+                    raised = Some(e);
+                    Error::Decision { step: v.step, reason }
+                })
+            })
+        })?;
+        let d = match out {
+            Ok(d) => d,
+            Err(e) => return Err(raised.take().unwrap_or_else(|| crate::to_py(e))),
+        };
+        let mut pairs: Vec<(u32, PyObject)> = d
+            .assign
+            .iter()
+            .map(|a| (a.robot.0, a.goods.0.into_pyobject(py).map(|g| g.into_any().unbind())))
+            .map(|(r, g)| (r, g.expect("an int converts")))
+            .collect();
+        for r in &d.charge {
+            pairs.push((r.0, PyString::new(py, CHARGE).into_any().unbind()));
+        }
+        Ok(pairs)
+    }
+
     fn __repr__(&self) -> String {
         format!("AllocView(step={}, idle={:?}, goods={})", self.step, self.idle_ids.iter().map(|r| r.0).collect::<Vec<_>>(), self.open.len())
     }
@@ -428,5 +499,6 @@ impl PyAllocView {
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyAllocView>()?;
     m.add("BUILT_INS", PyTuple::new(m.py(), alloc::BUILT_INS)?)?;
+    m.add("CHARGE", CHARGE)?;
     Ok(())
 }

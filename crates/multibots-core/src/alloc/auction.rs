@@ -27,7 +27,7 @@
 //! allocator = "auction"
 //! ```
 
-use super::{AllocView, Allocator, Assignment, TaskModel};
+use super::{AllocView, Allocator, Assignment, Decisions, TaskModel};
 use crate::error::Result;
 
 /// Sequential single-item auction; bids are estimated completion times.
@@ -55,7 +55,7 @@ impl Allocator for Auction {
         "auction"
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()> {
         let (n, m) = (view.idle.len(), view.goods.len());
         let mut bids = Vec::with_capacity(n * m);
         for &r in view.idle {
@@ -84,7 +84,7 @@ impl Allocator for Auction {
             let (_, i, j) = best.expect("a robot and a goods are left");
             robot_sold[i] = true;
             goods_sold[j] = true;
-            out.push(Assignment { robot: view.idle[i], goods: view.goods[j].id });
+            out.assign.push(Assignment { robot: view.idle[i], goods: view.goods[j].id });
         }
         Ok(())
     }

@@ -33,7 +33,7 @@
 //! level = 7.0
 //! ```
 
-use super::{AllocView, Allocator, Assignment, TaskModel};
+use super::{AllocView, Allocator, Assignment, Decisions, TaskModel};
 use crate::error::Result;
 
 /// Energy-aware allocation.
@@ -63,7 +63,7 @@ impl Allocator for EnergyAware {
         "energy-aware"
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()> {
         let mut free: Vec<_> = view.idle.to_vec();
         for g in view.goods {
             if free.is_empty() {
@@ -82,7 +82,7 @@ impl Allocator for EnergyAware {
                 }
             }
             if let Some((k, _, _)) = best {
-                out.push(Assignment { robot: free.remove(k), goods: g.id });
+                out.assign.push(Assignment { robot: free.remove(k), goods: g.id });
             }
         }
         Ok(())

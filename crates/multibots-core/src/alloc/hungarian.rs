@@ -31,7 +31,7 @@
 //! would change ties. The shortest-augmenting-path Hungarian method below is ~50 lines and
 //! tested against brute force.
 
-use super::{AllocView, Allocator, Assignment};
+use super::{AllocView, Allocator, Assignment, Decisions};
 use crate::error::Result;
 
 /// The optimal batch assignment by route length.
@@ -43,7 +43,7 @@ impl Allocator for Hungarian {
         "hungarian"
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()> {
         let (n, m) = (view.idle.len(), view.goods.len());
         let mut cost = Vec::with_capacity(n * m);
         for &r in view.idle {
@@ -55,11 +55,11 @@ impl Allocator for Hungarian {
 }
 
 /// Solves the idle × goods matrix `cost` (row-major) and appends the pairs to `out`.
-pub(crate) fn push_solution(view: &AllocView<'_>, cost: &[f64], out: &mut Vec<Assignment>) {
+pub(crate) fn push_solution(view: &AllocView<'_>, cost: &[f64], out: &mut Decisions) {
     let m = view.goods.len();
     for (i, col) in solve(cost, view.idle.len(), m).into_iter().enumerate() {
         if let Some(j) = col {
-            out.push(Assignment { robot: view.idle[i], goods: view.goods[j].id });
+            out.assign.push(Assignment { robot: view.idle[i], goods: view.goods[j].id });
         }
     }
 }

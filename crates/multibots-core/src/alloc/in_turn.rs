@@ -19,7 +19,7 @@
 //! allocator = "in-turn"
 //! ```
 
-use super::{AllocView, Allocator, Assignment};
+use super::{AllocView, Allocator, Assignment, Decisions};
 use crate::error::Result;
 
 /// The paper's allocation rule, and the default.
@@ -31,8 +31,8 @@ impl Allocator for InTurn {
         "in-turn"
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()> {
-        out.extend(view.idle.iter().zip(view.goods).map(|(&robot, g)| Assignment { robot, goods: g.id }));
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()> {
+        out.assign.extend(view.idle.iter().zip(view.goods).map(|(&robot, g)| Assignment { robot, goods: g.id }));
         Ok(())
     }
 }

@@ -42,7 +42,7 @@
 //! ```
 
 use super::hungarian::push_solution;
-use super::{AllocView, Allocator, Assignment, TaskModel};
+use super::{AllocView, Allocator, Decisions, TaskModel};
 use crate::error::Result;
 use crate::ids::{CellId, RobotId};
 
@@ -84,7 +84,7 @@ impl Allocator for MinCost {
         "min-cost"
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()> {
         let mut cost = Vec::with_capacity(view.idle.len() * view.goods.len());
         for &r in view.idle {
             cost.extend(view.goods.iter().map(|g| self.cost(view, r, g.cell)));

@@ -1,8 +1,9 @@
 //! Task allocation: the [`Allocator`] trait and the built-in strategies.
 //!
 //! The engine calls an allocator at allocation events only: when robots became idle or goods
-//! joined the queue. It sees a read-only [`AllocView`] and answers with assignments; a robot
-//! it leaves out stays idle (or, when no goods are open, goes home to park).
+//! joined the queue, and goods are open. It sees a read-only [`AllocView`] and answers with
+//! [`Decisions`]: goods for some idle robots, and idle robots to send to charge now. A robot it
+//! leaves out stays idle (or, when no goods are open, goes home to park).
 //!
 //! The built-ins, by the kebab-case names used in TOML, on the command line and in Python:
 //!
@@ -49,6 +50,40 @@ pub struct Goods {
 pub struct Assignment {
     pub robot: RobotId,
     pub goods: GoodsId,
+}
+
+/// What an allocator answers at an allocation event. The engine checks the whole answer
+/// before it carries any of it out (`goods_queue.rs`): every robot must be idle and appear at
+/// most once (in `assign` or in `charge`), every goods must be open and appear at most once,
+/// and a robot sent to charge must not be full. Robots in neither list stay idle until the
+/// next allocation event (or go home when no goods are left).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Decisions {
+    /// Goods for idle robots.
+    pub assign: Vec<Assignment>,
+    /// Idle robots sent to charge now, through the charging rule (`charging.rs`): to their
+    /// home charger, or with shared chargers to the nearest free one (or its queue).
+    pub charge: Vec<RobotId>,
+}
+
+impl Decisions {
+    /// No decision: every idle robot waits.
+    #[must_use]
+    pub fn new() -> Decisions {
+        Decisions::default()
+    }
+
+    /// Empties both lists, keeping their memory.
+    pub fn clear(&mut self) {
+        self.assign.clear();
+        self.charge.clear();
+    }
+
+    /// Whether nothing was decided.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.assign.is_empty() && self.charge.is_empty()
+    }
 }
 
 /// What an allocator may look at. Everything is read-only.
@@ -260,7 +295,7 @@ impl AllocView<'_> {
     }
 
     /// The highway nodes robot `j` is expected to occupy before it next becomes idle.
-    fn footprint(&self, j: usize, out: &mut Vec<u32>) {
+    pub(crate) fn footprint(&self, j: usize, out: &mut Vec<u32>) {
         let rb = self.robots;
         match rb.state[j] {
             State::Charging | State::Parked | State::Stranded | State::WaitCharger => return,
@@ -331,9 +366,10 @@ pub trait Allocator: Send + Sync {
     /// The strategy's kebab-case name, as in TOML, the command line and Python.
     fn name(&self) -> &str;
 
-    /// Appends assignments to `out` (which the engine has cleared). Each idle robot and each
-    /// goods item may appear at most once.
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()>;
+    /// Fills `out` (which the engine has cleared) with this event's decisions: assignments,
+    /// and robots to send to charge. Each idle robot and each goods item may appear at most
+    /// once.
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()>;
 }
 
 /// What the built-ins take from the scenario beyond the view: dwell times, the charge rate

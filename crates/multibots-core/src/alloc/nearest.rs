@@ -22,7 +22,7 @@
 //! allocator = "nearest"
 //! ```
 
-use super::{AllocView, Allocator, Assignment};
+use super::{AllocView, Allocator, Assignment, Decisions};
 use crate::error::Result;
 
 /// Greedy: the nearest idle robot by route length takes the front goods.
@@ -34,7 +34,7 @@ impl Allocator for Nearest {
         "nearest"
     }
 
-    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Vec<Assignment>) -> Result<()> {
+    fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> Result<()> {
         let mut free: Vec<_> = view.idle.to_vec();
         for g in view.goods {
             if free.is_empty() {
@@ -43,7 +43,7 @@ impl Allocator for Nearest {
             // min_by keeps the first of equal elements: robots are in id order.
             let (k, _) =
                 free.iter().enumerate().map(|(k, &r)| (k, view.route_length(r, g.cell))).min_by(|a, b| a.1.total_cmp(&b.1)).expect("free is not empty");
-            out.push(Assignment { robot: free.remove(k), goods: g.id });
+            out.assign.push(Assignment { robot: free.remove(k), goods: g.id });
         }
         Ok(())
     }
