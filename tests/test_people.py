@@ -8,6 +8,7 @@ import json
 import numpy as np
 
 import multibots
+from multibots.strategies import AllocView
 
 from conftest import ROOT
 
@@ -65,3 +66,27 @@ def test_bad_people_values_are_one_line_errors(cli, tmp_path) -> None:
     original = 'layout = "paper"\nrobots = 2\ntasks = [11]\nrules = "original"\n[humans]\ncount = 2\n'
     (tmp_path / "o.toml").write_text(original)
     cli.assert_one_line_error(cli("run", tmp_path / "o.toml"), "humans.count", "paper rules")
+
+
+def test_strategies_see_the_people() -> None:
+    """An allocator reads the people from its view, in the same frame as the robots."""
+    seen: list[np.ndarray] = []
+
+    def in_turn(view: AllocView) -> dict[int, int]:
+        seen.append(view.human_positions.copy())
+        return dict(zip(view.idle.tolist(), view.goods.tolist()))
+
+    sim = multibots.Simulation(multibots.Scenario.from_toml(PEOPLE), allocator=in_turn)
+    for _ in range(400):
+        sim.step()
+        if len(seen) >= 2 and not np.array_equal(seen[0], seen[-1]):
+            break
+    assert seen and all(h.shape == (10, 2) for h in seen)
+    assert not np.array_equal(seen[0], seen[-1]), "the view follows people as they walk"
+    # What the strategy saw on its last call is where the people were then: within one
+    # step's walk of where they are now.
+    assert np.all(np.isfinite(seen[-1])) and np.abs(seen[-1] - sim.human_positions).max() < 50
+    plain = multibots.Simulation(multibots.Scenario.paper(robots=1, goods=[42]), allocator=in_turn)
+    seen.clear()
+    plain.step()
+    assert seen[-1].shape == (0, 2)

@@ -207,7 +207,7 @@ impl Paper {
     pub(crate) fn hand_out(&mut self) -> Result<()> {
         if self.begin_hand_out() {
             let mut decisions = std::mem::take(&mut self.goods.decisions);
-            let view = view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t);
+            let view = view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t).with_people(self.people.as_deref());
             let asked = self.allocator.allocate(&view, &mut decisions);
             self.goods.decisions = decisions;
             asked?;
@@ -245,7 +245,7 @@ impl Paper {
 
     /// What deciders see between the two halves of phase 1 (the queue is contiguous then).
     pub(crate) fn pending_view_unchecked(&self) -> AllocView<'_> {
-        view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t)
+        view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t).with_people(self.people.as_deref())
     }
 
     /// Phase 1, second half: checks the decisions, then carries them out (assignments, then
@@ -312,5 +312,7 @@ fn view_of<'a>(gq: &'a GoodsQueue, robots: &'a Robots, world: &'a World, unload:
         threshold: p.threshold,
         consumption: p.consumption,
         speed: p.speed,
+        people_x: &[],
+        people_y: &[],
     }
 }

@@ -268,6 +268,8 @@ pub(crate) struct PyAllocView {
     #[pyo3(get)]
     positions: Py<PyArray2<f64>>,
     #[pyo3(get)]
+    human_positions: Py<PyArray2<f64>>,
+    #[pyo3(get)]
     energy: Py<PyArray1<f64>>,
     #[pyo3(get)]
     states: Py<PyArray1<u8>>,
@@ -302,6 +304,9 @@ impl PyAllocView {
             goods: frozen(PyArray1::from_iter(py, view.goods.iter().map(|g| g.id.0))),
             goods_cells: frozen(PyArray1::from_iter(py, view.goods.iter().map(|g| g.cell.0))),
             positions: frozen(PyArray1::from_vec(py, flat).reshape([n, 2])?),
+            human_positions: frozen(
+                PyArray1::from_vec(py, view.people_x.iter().zip(view.people_y).flat_map(|(&x, &y)| [x, y]).collect()).reshape([view.people_x.len(), 2])?,
+            ),
             energy: frozen(PyArray1::from_slice(py, &r.energy)),
             states: frozen(PyArray1::from_vec(py, r.state_codes())),
             homes: frozen(PyArray1::from_vec(py, r.home_ids())),

@@ -102,6 +102,9 @@ pub struct AllocView<'a> {
     pub(crate) threshold: f64,
     pub(crate) consumption: f64,
     pub(crate) speed: f64,
+    /// People on the floor (docs/people.md): their x and y, px; empty without people.
+    pub people_x: &'a [f64],
+    pub people_y: &'a [f64],
 }
 
 /// The energy model a view reports: full, threshold, consumption per step, speed.
@@ -140,7 +143,20 @@ impl<'a> AllocView<'a> {
             threshold: energy.threshold,
             consumption: energy.consumption,
             speed: energy.speed,
+            people_x: &[],
+            people_y: &[],
         }
+    }
+
+    /// The same view with the people on the floor, so a strategy can steer robots away from
+    /// busy aisles.
+    #[must_use]
+    pub fn with_people(mut self, people: Option<&'a crate::people::People>) -> AllocView<'a> {
+        if let Some(p) = people {
+            self.people_x = &p.x;
+            self.people_y = &p.y;
+        }
+        self
     }
 }
 
