@@ -9,7 +9,8 @@ from typing_extensions import Self
 
 __all__ = [
     "MultibotsError", "ScenarioError", "LayoutError", "AllocatorError", "EngineError", "Scenario", "Simulation",
-    "simulate", "simulate_many", "layout_json", "generate_layout_toml", "layout_file_json", "routing_table_bytes",
+    "simulate", "simulate_many", "check_many", "layout_json", "generate_layout_toml", "layout_file_json",
+    "routing_table_bytes",
     "_panic_for_tests", "AllocView", "BUILT_INS", "BYTES_PER_ROBOT_STEP", "REPLAY_VERSION", "STATE_NAMES",
     "EVENT_NAMES", "MOVING_STATES", "PAPER_TASKS", "decode_chunk", "inflate_chunk",
     "DecisionError", "CHARGE", "Dispatcher", "Fleet", "VectorDispatch", "observation_features", "no_action",
@@ -46,6 +47,7 @@ class Scenario:
 def simulate(
     scenario: Scenario, record: str | PathLike[str] | None = None, allocator: Any = None
 ) -> dict[str, Any]: ...
+def check_many(scenarios: list[Scenario], workers: int = 0) -> tuple[int, BaseException] | None: ...
 def simulate_many(scenarios: list[Scenario], workers: int = 0) -> list[dict[str, Any]]: ...
 def layout_json(name: str) -> str: ...
 def generate_layout_toml(params_json: str, name: str = "generated") -> str: ...

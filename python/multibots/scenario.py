@@ -32,6 +32,14 @@ def _merge(base: dict[str, Any], changes: Mapping[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _parsed(data: Mapping[str, Any]) -> _core.Scenario:
+    try:
+        text = json.dumps(data, allow_nan=False)
+    except (TypeError, ValueError) as e:
+        raise ScenarioError(f"scenario: {e}") from None
+    return _core.Scenario.from_json(text)
+
+
 class Scenario:
     """A validated scenario: layout, fleet, task list and model parameters.
 
@@ -66,11 +74,15 @@ class Scenario:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Scenario:
         """Builds a scenario from a dictionary shaped like the TOML file."""
-        try:
-            text = json.dumps(data, allow_nan=False)
-        except (TypeError, ValueError) as e:
-            raise ScenarioError(f"scenario: {e}") from None
-        return cls(_core.Scenario.from_json(text))
+        return cls(_parsed(data))
+
+    @classmethod
+    def _parsed_only(cls, data: Mapping[str, Any]) -> Scenario:
+        """Parsed but not yet validated: for callers that validate many at once
+        (``_core.check_many``, which builds each layout once) before using any."""
+        out = cls.__new__(cls)
+        out._core = _parsed(data)
+        return out
 
     @classmethod
     def paper(

@@ -94,13 +94,18 @@ def test_bad_specs_are_one_line_errors(cli, tmp_path: Path) -> None:
     for text, frag in [(paper + "[axes]\nrobots = []\n", "axes.robots"),
                        ('base = "nope.toml"\n[axes]\nrobots=[1]\n', "nope.toml"),
                        (paper + 'product = "cube"\n[axes]\nrobots = [1]\n', "product"),
-                       (paper + "[axes]\nrobots = [1, 0]\n", "robots"),
+                       (paper + "[axes]\nrobots = [1, 0]\n", "at robots = 0: robots = 0: must be at least 1"),
                        (paper + "repeats = 3\n[axes]\nrobots = [1]\n", "repeats"),
                        ('base = { layout = "paper", tasks = [1], allocator = "os:abort" }\n[axes]\nrobots = [1]\n',
                         "--allow-code")]:
         (tmp_path / "s.toml").write_text(text)
         cli.assert_one_line_error(cli("sweep", tmp_path / "s.toml", "--out", tmp_path / "o", "--quiet"), frag)
     assert not (tmp_path / "o" / "runs").exists()
+    # A strategy named only on an axis is not loaded (its code not run) before --allow-code.
+    (tmp_path / "evil.py").write_text(f"open({str(tmp_path / 'ran')!r}, 'w').close()\nclass X:\n    pass\n")
+    (tmp_path / "s.toml").write_text(paper + f'[axes]\nallocator = ["in-turn", "{tmp_path / "evil.py"}:X"]\n')
+    cli.assert_one_line_error(cli("sweep", tmp_path / "s.toml", "--out", tmp_path / "o", "--quiet"), "--allow-code")
+    assert not (tmp_path / "ran").exists()
     with pytest.raises(multibots.InputError, match="zip"):
         parse_spec({**spec(robots=[1, 2], seed=[1]), "product": "zip"}).points()
 

@@ -32,9 +32,9 @@ fn layout_key(s: &Scenario) -> String {
     }
 }
 
-struct Progress {
+struct Progress<T> {
     finished: usize,
-    slots: Vec<Option<Result<RunResult>>>,
+    slots: Vec<Option<Result<T>>>,
 }
 
 /// Runs every scenario with its built-in allocator on `workers` threads (0: one per core).
@@ -42,7 +42,35 @@ struct Progress {
 /// `watch` runs on the calling thread each time a run finishes, and at least every `poll`;
 /// it gets the number of finished runs and returns `false` to cancel the batch. Returns the
 /// results in the order given, or `None` when cancelled.
-pub fn run_many(scenarios: &[Scenario], workers: usize, poll: Duration, mut watch: impl FnMut(usize) -> bool) -> Option<Vec<Result<RunResult>>> {
+pub fn run_many(scenarios: &[Scenario], workers: usize, poll: Duration, watch: impl FnMut(usize) -> bool) -> Option<Vec<Result<RunResult>>> {
+    each(scenarios, workers, poll, watch, |s, world, cancel| {
+        let mut sim = Simulation::with_world(world, s, crate::alloc::built_in(s)?)?;
+        while !sim.done() && !cancel.load(Ordering::Relaxed) {
+            sim.step()?;
+        }
+        Ok(sim.result())
+    })
+}
+
+/// Checks every scenario as [`Simulation::new`] would (its values, its layout, its task list,
+/// its built-in allocator), on `workers` threads, building each layout once: how a sweep
+/// checks thousands of planned runs before it starts any. Returns each scenario's verdict,
+/// in the order given.
+#[must_use]
+pub fn check_many(scenarios: &[Scenario], workers: usize) -> Vec<Result<()>> {
+    each(scenarios, workers, Duration::from_secs(3600), |_| true, |s, world, _| Simulation::with_world(world, s, crate::alloc::built_in(s)?).map(drop))
+        .expect("never cancelled")
+}
+
+/// The pool both share: `job` gets a scenario whose values are checked, its shared world and
+/// the cancel flag.
+fn each<T: Send>(
+    scenarios: &[Scenario],
+    workers: usize,
+    poll: Duration,
+    mut watch: impl FnMut(usize) -> bool,
+    job: impl Fn(&Scenario, Arc<World>, &AtomicBool) -> Result<T> + Sync,
+) -> Option<Vec<Result<T>>> {
     let n = scenarios.len();
     let keys: Vec<String> = scenarios.iter().map(layout_key).collect();
     let mut distinct: Vec<&String> = keys.iter().collect();
@@ -65,13 +93,7 @@ pub fn run_many(scenarios: &[Scenario], workers: usize, poll: Duration, mut watc
                     break;
                 }
                 let s = &scenarios[k];
-                let r = s.check_values().and_then(|()| {
-                    let mut sim = Simulation::with_world(world_of(k)?, s, crate::alloc::built_in(s)?)?;
-                    while !sim.done() && !cancel.load(Ordering::Relaxed) {
-                        sim.step()?;
-                    }
-                    Ok(sim.result())
-                });
+                let r = s.check_values().and_then(|()| job(s, world_of(k)?, &cancel));
                 let mut p = progress.lock().expect("no worker panics while holding the lock");
                 p.slots[k] = Some(r);
                 p.finished += 1;
@@ -127,5 +149,33 @@ mod tests {
         assert_eq!(r[1].as_ref().unwrap_err().to_string(), "robot.speed = -1: must be greater than 0");
         let long: Vec<Scenario> = (0..50).map(|_| Scenario::paper(1, &PAPER_TASKS[0])).collect();
         assert!(run_many(&long, 1, Duration::from_millis(1), |_| false).is_none());
+    }
+
+    #[test]
+    fn check_many_gives_the_verdicts_of_single_constructions() {
+        let mut bad_speed = Scenario::paper(3, &[1, 2]);
+        bad_speed.robot.speed = -1.0;
+        let mut bad_unload = Scenario::paper(2, &[5]);
+        bad_unload.unload = crate::scenario::Unload::Node("nowhere".into());
+        let mut bad_allocator = Scenario::paper(2, &[5]);
+        bad_allocator.allocator = "fastest".into();
+        let list = vec![
+            Scenario::paper(1, &[5]),
+            bad_speed,
+            Scenario::paper(6, &PAPER_TASKS[2]),
+            bad_unload,
+            bad_allocator,
+            Scenario::paper(2, &[80]),
+            Scenario::paper(2, &[79]),
+        ];
+        for workers in [1, 2] {
+            let verdicts = check_many(&list, workers);
+            assert_eq!(verdicts.len(), list.len());
+            for (s, v) in list.iter().zip(&verdicts) {
+                let alone = Simulation::new(s).map(drop);
+                assert_eq!(v.as_ref().map_err(ToString::to_string), alone.as_ref().map_err(ToString::to_string));
+            }
+            assert_eq!(verdicts.iter().filter(|v| v.is_err()).count(), 4, "bad speed, unload, allocator and cell 80");
+        }
     }
 }

@@ -6,7 +6,7 @@
 //! | `errors` | the exception tree, and the helper that runs engine code without the GIL |
 //! | `scenario` | `Scenario` |
 //! | `simulation` | `Simulation`: stepping a run and reading its state |
-//! | `run` | `simulate`, `simulate_many` |
+//! | `run` | `simulate`, `simulate_many`, `check_many` |
 //! | `results` | a run's result as a dictionary |
 //! | `layouts` | layout files and layout JSON |
 //! | `codec` | state and event names, the paper's task lists, replay chunks |
@@ -45,6 +45,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<simulation::PySimulation>()?;
     m.add_function(wrap_pyfunction!(run::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(run::simulate_many, m)?)?;
+    m.add_function(wrap_pyfunction!(run::check_many, m)?)?;
     m.add_function(wrap_pyfunction!(layouts::layout_json, m)?)?;
     m.add_function(wrap_pyfunction!(layouts::generate_layout_toml, m)?)?;
     m.add_function(wrap_pyfunction!(layouts::layout_file_json, m)?)?;

@@ -62,3 +62,41 @@ pub(crate) fn simulate_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers:
     let results = results.expect("only an interrupt cancels the batch");
     results.into_iter().map(|r| r.map_err(crate::errors::to_py).and_then(|r| result_dict(py, &r))).collect()
 }
+
+/// Checks many scenarios as `Scenario.validate` would, on `workers` threads (0: one per core),
+/// building each layout once; returns the first failure in the order given (its index and
+/// the error `validate` would raise), or `None`. Python strategies are loaded once per name.
+#[pyfunction]
+#[pyo3(signature = (scenarios, workers=0))]
+pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: usize) -> Option<(usize, PyObject)> {
+    let mut loaded: Vec<(String, Option<PyErr>)> = Vec::new();
+    let mut list = Vec::with_capacity(scenarios.len());
+    let mut first_python_error: Option<(usize, PyErr)> = None;
+    for (k, s) in scenarios.into_iter().enumerate() {
+        let mut s = s.inner;
+        if s.allocator.contains(':') {
+            // The engine checks everything else with a stand-in; the strategy is loaded here.
+            let verdict = if let Some((_, e)) = loaded.iter().find(|(name, _)| *name == s.allocator) {
+                e.as_ref().map(|e| e.clone_ref(py))
+            } else {
+                let e = crate::strategy::for_validation(py, &s).err();
+                loaded.push((s.allocator.clone(), e.as_ref().map(|e| e.clone_ref(py))));
+                e
+            };
+            if let (Some(e), None) = (verdict, &first_python_error) {
+                first_python_error = Some((k, e));
+            }
+            s.allocator = "in-turn".into();
+        }
+        list.push(s);
+    }
+    let verdicts = py.allow_threads(|| batch::check_many(&list, workers));
+    let engine_error = verdicts.into_iter().enumerate().find_map(|(k, v)| v.err().map(|e| (k, e)));
+    let first = match (engine_error, first_python_error) {
+        (Some((k, e)), Some((j, _))) if k < j => Some((k, crate::errors::to_py(e))),
+        (_, Some((j, e))) => Some((j, e)),
+        (Some((k, e)), None) => Some((k, crate::errors::to_py(e))),
+        (None, None) => None,
+    };
+    first.map(|(k, e)| (k, e.into_value(py).into_any()))
+}

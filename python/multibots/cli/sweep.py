@@ -43,8 +43,7 @@ def sweep(
     run it again to resume (finished runs are reused, never repeated)."""
     from multibots.experiments.summary import progress_bar
     from multibots.strategies import is_python_allocator
-    from multibots.sweeps import load_spec, write_outputs
-    from multibots.sweeps import sweep as run_sweep
+    from multibots.sweeps import load_spec, run_planned, write_outputs
     from multibots.sweeps.store import polars
 
     polars()  # the extra, before any work
@@ -54,17 +53,18 @@ def sweep(
         raise InputError(f"--backend = {backend!r}: expected local or ray")
     check_folder(out)
     sp = load_spec(spec)
-    points = sp.points()
-    named = {p.allocator for p in points}
+    # Before planning: checking a planned run loads its strategy, which runs its code.
+    named = {str(sp.base.to_dict().get("allocator", "in-turn"))} | {str(v) for v in sp.axes.get("allocator", [])}
     code = sorted(n for n in named if is_python_allocator(n))
     if code and not allow_code and os.environ.get("MULTIBOTS_ALLOW_CODE") != "1":
         raise InputError(f"{spec}: names Python code ({', '.join(code)}), which would run; add --allow-code if you "
                          "trust the spec")
+    points = sp.points(workers)
     reuse: list[int] = []
     start = time.perf_counter()
     with progress_bar(len(points), enabled=not quiet) as bar:
-        df = run_sweep(sp, out, workers=workers, backend=backend, ray_address=ray_address, progress=bar.advance,
-                       reused=lambda k, n: reuse.append(k))
+        df = run_planned(points, out, workers=workers, backend=backend, ray_address=ray_address, progress=bar.advance,
+                         reused=lambda k, n: reuse.append(k))
     seconds = time.perf_counter() - start
     print(f"{len(points)} runs ({', '.join(f'{n}: {len(v)}' for n, v in sp.axes.items())}"
           f"{f', repeats: {sp.repeats}' if sp.repeats > 1 else ''}) in {seconds:.1f} s, backend {backend}")

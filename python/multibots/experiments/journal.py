@@ -48,7 +48,9 @@ def strategy_id(name: str) -> str:
 def run_key(scenario: Scenario, strategy: str, engine: str) -> str:
     """The journal key of a run: ``strategy`` and ``engine`` are :func:`strategy_id` and
     :func:`engine_id` (computed once per study, not per run)."""
-    blob = json.dumps({"scenario": scenario.to_toml(), "strategy": strategy, "engine": engine}, sort_keys=True)
+    # The engine's JSON of the scenario (every field, defaults filled in, in a fixed order)
+    # is as exact as its TOML and 15 times quicker to make: sweeps key millions of runs.
+    blob = f"{strategy}\n{engine}\n{scenario._core.to_json()}"
     return hashlib.sha256(blob.encode()).hexdigest()
 
 

@@ -16,7 +16,7 @@ from typing import Any, Callable, Optional, Union
 from multibots.sweeps.spec import Point, Spec, load_spec, parse_spec
 from multibots.sweeps.store import Store, polars
 
-__all__ = ["Point", "Spec", "Store", "load_spec", "parse_spec", "sweep"]
+__all__ = ["Point", "Spec", "Store", "load_spec", "parse_spec", "run_planned", "sweep"]
 
 
 def sweep(spec: Union[str, os.PathLike[str], Mapping[str, Any], Spec], out: Union[str, os.PathLike[str]],
@@ -31,16 +31,24 @@ def sweep(spec: Union[str, os.PathLike[str], Mapping[str, Any], Spec], out: Unio
     Why polars: one package (no pandas and pyarrow pair) that reads and writes Parquet itself,
     keeps column types strict, and loads a study of millions of runs quickly.
     """
-    from multibots.sweeps.runner import run_points
-
-    pl = polars()
+    polars()  # the extra, before any work
     if isinstance(spec, Spec):
         sp = spec
     elif isinstance(spec, Mapping):
         sp = parse_spec(spec)
     else:
         sp = load_spec(spec)
-    points = sp.points()
+    return run_planned(sp.points(workers), out, workers=workers, backend=backend, ray_address=ray_address,
+                       progress=progress, reused=reused)
+
+
+def run_planned(points: list[Point], out: Union[str, os.PathLike[str]], workers: int = 0, backend: str = "local",
+                ray_address: Optional[str] = None, progress: Optional[Callable[[int], None]] = None,
+                reused: Optional[Callable[[int, int], None]] = None) -> Any:
+    """:func:`sweep` of points already planned (``Spec.points``)."""
+    from multibots.sweeps.runner import run_points
+
+    pl = polars()
     store = Store(out)
     keys = run_points(points, store, workers=workers, backend=backend, ray_address=ray_address, progress=progress,
                       reused=reused)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import as_completed
+from concurrent.futures import Future, ThreadPoolExecutor, as_completed
 from typing import Any, Optional
 
 from multibots import _core
@@ -27,6 +27,8 @@ FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost"
 #: is repeated after a kill), and Ray tasks hold at least this many robot-steps.
 FLUSH_SECONDS = 1.0
 RAY_BATCH_COST = 2_000_000
+#: Seconds of runs in one call of the engine's pool (local backend).
+CALL_SECONDS = 0.25
 
 
 def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
@@ -93,9 +95,9 @@ def keys_of(points: Sequence[Point]) -> list[str]:
 def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], store: Store, workers: int,
                tick: Callable[[int], None]) -> None:
     pending: list[tuple[int, dict[str, Any]]] = []
-    last = time.monotonic()
     # MULTIBOTS_SWEEP_FLUSH: seconds between batches (tests write often to kill in between).
     flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", FLUSH_SECONDS))
+    last = time.monotonic()
 
     def finished(entries: list[tuple[int, dict[str, Any]]], force: bool = False) -> None:
         nonlocal last
@@ -109,15 +111,8 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
 
     engine_jobs = [k for k in todo if not is_python_allocator(points[k].allocator)]
     python_jobs = [k for k in todo if is_python_allocator(points[k].allocator)]
-    # Calls of a few runs per thread: the progress bar moves and a batch is written about
-    # every FLUSH_SECONDS; the engine's pool has no polling floor, so small calls cost what
-    # their runs cost.
-    chunk = max(8 * workers, 16)
     try:
-        for start in range(0, len(engine_jobs), chunk):
-            ks = engine_jobs[start:start + chunk]
-            raws = _core.simulate_many([points[k].scenario._core for k in ks], workers)
-            finished([(k, figures_of(raw)) for k, raw in zip(ks, raws)])
+        _run_engine(points, engine_jobs, workers, finished)
         if python_jobs:
             with process_pool(min(workers, len(python_jobs))) as pool:
                 futures = {pool.submit(_run_python, points[k].scenario.to_toml()): k for k in python_jobs}
@@ -127,6 +122,31 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
         # Whatever finished is kept, also when the study stops on an error or Ctrl-C.
         if pending:
             finished([], force=True)
+
+
+def _run_engine(points: Sequence[Point], jobs: Sequence[int], workers: int,
+                finished: Callable[[list[tuple[int, dict[str, Any]]]], None]) -> None:
+    """Built-in strategies on the engine's threads, in calls of about CALL_SECONDS each, so the
+    progress bar moves and batches are written as runs finish. A helper thread stores one
+    call's results while the next call runs (the engine releases the GIL), so the engine's
+    threads are not idle between calls; the calls stay on this thread, where Ctrl-C stops
+    them at once."""
+    size = 2 * workers  # the first call measures how long a run takes
+    start = 0
+    with ThreadPoolExecutor(1, thread_name_prefix="multibots-sweep-store") as pool:
+        storing: Optional[Future[None]] = None
+        while start < len(jobs):
+            ks = jobs[start:start + size]
+            start += len(ks)
+            t0 = time.monotonic()
+            raws = _core.simulate_many([points[k].scenario._core for k in ks], workers)
+            per_run = max(time.monotonic() - t0, 1e-6) / len(ks)
+            size = max(2 * workers, min(4 * size, int(CALL_SECONDS / per_run)))
+            if storing is not None:
+                storing.result()  # a failed write stops the sweep here
+            storing = pool.submit(lambda ks=ks, raws=raws: finished([(k, figures_of(r)) for k, r in zip(ks, raws)]))
+        if storing is not None:
+            storing.result()
 
 
 # ---------------------------------------------------------------- Ray
@@ -140,21 +160,18 @@ def _ray() -> Any:
     return ray
 
 
-def _ray_batch(tomls: list[str]) -> list[dict[str, Any]]:
-    """A Ray task: runs a batch of scenarios one after another on its worker."""
+def _ray_batch(runs: list[tuple[str, str]]) -> list[dict[str, Any]]:
+    """A Ray task: a batch of runs (each scenario as JSON, and its strategy) on its worker."""
     marker = os.environ.get("MULTIBOTS_TEST_KILL_ONCE")
     if marker and not os.path.exists(marker):
         # Tests: the first task to get here dies as a killed worker would.
         open(marker, "w").close()
         os._exit(1)
-    scenarios = [Scenario.from_toml_str(t, "<sweep>") for t in tomls]
-    out = []
-    for s in scenarios:
-        if is_python_allocator(s.to_dict()["allocator"]):
-            out.append(figures_of(_core.simulate(s._core)))
-        else:
-            out.append(figures_of(_core.simulate_many([s._core], 1)[0]))
-    return out
+    scenarios = [_core.Scenario.from_json(t) for t, _ in runs]
+    python = [is_python_allocator(a) for _, a in runs]
+    # Built-in strategies in one engine call (one world per layout), Python ones one by one.
+    engine = iter(_core.simulate_many([s for s, py in zip(scenarios, python) if not py], 1))
+    return [figures_of(_core.simulate(s) if py else next(engine)) for s, py in zip(scenarios, python)]
 
 
 def _batches(points: Sequence[Point], todo: Sequence[int], workers: int) -> list[list[int]]:
@@ -192,7 +209,8 @@ def _run_ray(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], 
         # Retried when a worker dies (not when a run raises: that is an answer).
         task = ray.remote(max_retries=3, num_cpus=1)(_ray_batch)
         batches = _batches(points, todo, workers)
-        pending = {task.remote([points[k].scenario.to_toml() for k in b]): b for b in batches}
+        pending = {task.remote([(points[k].scenario._core.to_json(), points[k].allocator) for k in b]): b
+                   for b in batches}
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:

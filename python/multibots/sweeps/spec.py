@@ -22,6 +22,7 @@ draws with (``tasks.seed`` of random task lists, ``orders.seed``, ``humans.seed`
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import os
 import sys
@@ -30,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Optional
 
+from multibots import _core
 from multibots._io import read_input
 from multibots._text import shown
 from multibots.exceptions import InputError, ScenarioError
@@ -68,9 +70,10 @@ class Spec:
     source: str = "<spec>"
     names: list[str] = field(default_factory=list)
 
-    def points(self) -> list[Point]:
+    def points(self, workers: int = 0) -> list[Point]:
         """Every run, in plan order (deterministic): the grid (or zip) of the axes, each
-        point repeated with seeds 1..repeats when there is no seed axis."""
+        point repeated with seeds 1..repeats when there is no seed axis. Every scenario is
+        validated before this returns, on ``workers`` engine threads (0: one per core)."""
         names = list(self.axes)
         if self.product == "zip":
             combos: Sequence[tuple[Any, ...]] = list(zip(*(self.axes[n] for n in names)))
@@ -80,13 +83,22 @@ class Spec:
         total = len(combos) * len(reps)
         if total > MAX_POINTS:
             raise InputError(f"{self.source}: the sweep plans {total:,} runs: at most {MAX_POINTS:,}")
-        base = self.base.to_dict()
+        # Copies of the base by way of JSON text: several times faster than a deep copy.
+        base = json.dumps(self.base.to_dict())
         out = []
         for combo in combos:
             for rep in reps:
                 values = list(zip(names, combo)) + ([("seed", rep)] if rep is not None else [])
-                scenario, allocator = _apply(base, values, self.source)
+                scenario, allocator = _apply(json.loads(base), values, self.source)
                 out.append(Point(len(out), tuple(values), scenario, allocator))
+        # All at once: each layout is built once, not once per run (it is most of a check).
+        failed = _core.check_many([p.scenario._core for p in out], workers)
+        if failed is not None:
+            k, e = failed
+            if not isinstance(e, ScenarioError):
+                raise e
+            where = ", ".join(f"{n} = {shown(v)}" for n, v in out[k].values)
+            raise ScenarioError(f"{self.source}: at {where}: {e}") from None
         return out
 
     @property
@@ -94,26 +106,19 @@ class Spec:
         return list(self.axes) + (["seed"] if self.repeats > 1 and "seed" not in self.axes else [])
 
 
-def _apply(base: dict[str, Any], values: Sequence[tuple[str, Any]], source: str) -> tuple[Scenario, str]:
-    d = _deep_copy(base)
+def _apply(d: dict[str, Any], values: Sequence[tuple[str, Any]], source: str) -> tuple[Scenario, str]:
+    """The point's scenario (parsed, validated later with the others): ``d``, a copy of the
+    base, with the axis values set."""
     for name, value in values:
         if name == "seed":
             _set_seed(d, value, source)
         else:
             _set(d, name.split("."), value)
-    where = ", ".join(f"{n} = {shown(v)}" for n, v in values)
     try:
-        return Scenario.from_dict(d), str(d.get("allocator", "in-turn"))
+        return Scenario._parsed_only(d), str(d.get("allocator", "in-turn"))
     except ScenarioError as e:
+        where = ", ".join(f"{n} = {shown(v)}" for n, v in values)
         raise ScenarioError(f"{source}: at {where}: {e}") from None
-
-
-def _deep_copy(d: Any) -> Any:
-    if isinstance(d, dict):
-        return {k: _deep_copy(v) for k, v in d.items()}
-    if isinstance(d, list):
-        return [_deep_copy(v) for v in d]
-    return d
 
 
 def _set(d: dict[str, Any], path: list[str], value: Any) -> None:
@@ -194,5 +199,5 @@ def parse_spec(data: Mapping[str, Any], source: str = "<spec>", folder: Optional
         raise InputError(f"{source}: repeats = {shown(repeats)}: expected an integer from 1 to 100000")
     spec = Spec(base=base, axes=axes, product=product, repeats=repeats, source=source)
     if repeats > 1 and "seed" not in axes:
-        _set_seed(_deep_copy(base.to_dict()), 1, f"{source}: repeats = {repeats}")
+        _set_seed(base.to_dict(), 1, f"{source}: repeats = {repeats}")
     return spec
