@@ -80,7 +80,8 @@ def compare(
         raise InputError(f"--seeds = {seeds}: must be 1 or more")
     base = Scenario.from_toml(scenario) if scenario is not None else None
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
-    total = len(study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets, crowds))
+    runs = study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets, crowds, workers)
+    total = len(runs)
     journal = out / "runs.jsonl"
     had_journal = journal.exists()
     reuse: list[int] = []
@@ -88,7 +89,7 @@ def compare(
     with study.progress_bar(total, enabled=not quiet) as bar:
         rows = study.run_study(
             names, ns, spec, seeds, workers, base, progress=bar.advance, journal=journal,
-            reused=lambda k, n: reuse.append(k), traffic=traffics, rules=rule_sets, humans=crowds,
+            reused=lambda k, n: reuse.append(k), traffic=traffics, rules=rule_sets, humans=crowds, runs=runs,
         )
     seconds = time.perf_counter() - start
     summary = study.summarize(rows)

@@ -2,10 +2,11 @@
 journal (the statistics and the files are in :mod:`multibots.experiments.summary`).
 
 Every strategy runs on every (N, task list) pair, so the comparison is *paired*: each
-strategy sees exactly the same task lists. Built-in strategies run on the engine's threads
-(``_core.simulate_many``); Python strategies (``module:Class``, ``file.py:Class``) run in
-worker processes. Finished runs go to a journal (``runs.jsonl``, :mod:`.journal`) keyed by
-everything that changes a result, so a study resumes after a kill and reuses what it can.
+strategy sees exactly the same task lists. A comparison is a sweep (docs/sweeps.md) with its
+own axes and outputs: its runs go through the sweep's runner (built-in strategies on the
+engine's threads, Python strategies in worker processes), and the runner's store is a
+journal (``runs.jsonl``, :mod:`.journal`) keyed by everything that changes a result, so a
+study resumes after a kill and reuses what it can, without the study extra.
 The study writes
 
 - ``results.csv``: one row per run (strategy, N, tasks, list, T, S, C, distance, cost, ...);
@@ -27,13 +28,12 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Callable, Sequence
-from concurrent.futures import as_completed
 from dataclasses import dataclass
 from typing import Any, Optional
 
+from multibots import _core
 from multibots.exceptions import InputError, ScenarioError
-from multibots.experiments.journal import Journal, engine_id, run_key, strategy_id
-from multibots.experiments.processes import process_pool
+from multibots.experiments.journal import Journal
 from multibots.experiments.summary import (
     BASELINE,
     METRICS,
@@ -165,6 +165,8 @@ class Run:
     rules: str = "paper"
     #: People on the floor (``[humans] count``); None: as the scenario says.
     humans: Optional[int] = None
+    #: The strategy's name as the scenario gives it (``allocator``).
+    allocator: str = "in-turn"
 
 
 def parse_humans(text: str) -> list[Optional[int]]:
@@ -198,9 +200,10 @@ def parse_choices(text: str, flag: str, known: Sequence[str]) -> list[str]:
 def plan_runs(
     strategies: Sequence[str], robots: Sequence[int], spec: TaskSpec, seeds: int, base: Optional[Scenario] = None,
     traffic: Sequence[str] = ("wait",), rules: Sequence[str] = ("paper",), humans: Sequence[Optional[int]] = (None,),
+    workers: int = 0,
 ) -> list[Run]:
     """Every (strategy, traffic policy, rule set, N, task list) combination, in that order;
-    scenarios validated here. With one traffic policy and one rule set the arms are the
+    scenarios validated here (on ``workers`` engine threads). With one traffic policy and one rule set the arms are the
     strategies; else each arm names its policy and rule set too."""
     if spec.kind == "scenario" and base is None:
         raise InputError("--tasks scenario: give the scenario with --scenario FILE")
@@ -229,25 +232,31 @@ def plan_runs(
                     # The scenario's own tasks; its order stream drawn anew per seed.
                     fields["orders"] = {**fields["orders"], "seed": list_id}
                 try:
-                    scenario = Scenario.from_dict(fields)
+                    scenario = Scenario._parsed_only(fields)
                 except ScenarioError as e:
                     raise ScenarioError(f"{arm}, N = {n}: {e}") from None
-                runs.append(Run(arm, n, list_id, scenario, tr, ru, hu))
+                runs.append(Run(arm, n, list_id, scenario, tr, ru, hu, s))
+    # All at once: each layout is built once, not once per run.
+    failed = _core.check_many([r.scenario._core for r in runs], workers)
+    if failed is not None:
+        k, e = failed
+        if not isinstance(e, ScenarioError):
+            raise e
+        raise ScenarioError(f"{runs[k].strategy}, N = {runs[k].N}: {e}") from None
     return runs
 
 
 def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
-    distance = float(raw["distance"])
-    t = raw["T"]
+    """A results.csv row: the run's arm, N and list, and its figures (``sweeps.runner.figures_of``)."""
     return {
         "strategy": run.strategy,
         "N": run.N,
         "tasks": spec.label,
         "list": run.list_id,
-        "T": t,
+        "T": raw["T"],
         "S": raw["S"],
         "C": raw["C"],
-        "distance": distance,
+        "distance": float(raw["distance"]),
         "cost": raw.get("cost"),
         "outcome": raw["outcome"],
         "delivered": raw["delivered"],
@@ -258,29 +267,10 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
         "traffic": run.traffic,
         "rules": run.rules,
         "humans": run.humans,
-        "protective_stops": raw.get("protective_stops"),
-        "min_gap": raw.get("min_gap"),
-        "windows": ";".join(str(w) for w in raw.get("windows", [])),
+        "protective_stops": raw.get("people_protective_stops"),
+        "min_gap": raw.get("people_min_gap"),
+        "windows": raw.get("windows", ""),
     }
-
-
-def _slim_raw(raw: dict[str, Any]) -> dict[str, Any]:
-    """The engine's result dictionary reduced to what a row needs (JSON-ready)."""
-    return {
-        "T": raw["T"], "S": raw["S"], "C": raw["C"], "distance": float(raw["distance"].sum()),
-        "outcome": raw["outcome"], "delivered": raw["delivered"], "goods_total": raw["goods_total"],
-        "cost": raw["cost"], "throughput": raw["throughput"], "contacts": raw["contacts"],
-        "wait_share": raw["wait_share"], "windows": list(raw["windows"]),
-        "protective_stops": (raw.get("people") or {}).get("protective_stops"),
-        "min_gap": (raw.get("people") or {}).get("min_gap"),
-    }
-
-
-def _run_in_process(toml: str) -> dict[str, Any]:
-    """A worker process's job: one run of a scenario with a Python strategy."""
-    from multibots import _core
-
-    return _slim_raw(_core.simulate(Scenario.from_toml_str(toml, "<study>")._core))
 
 
 def run_study(
@@ -296,59 +286,27 @@ def run_study(
     traffic: Sequence[str] = ("wait",),
     rules: Sequence[str] = ("paper",),
     humans: Sequence[Optional[int]] = (None,),
+    runs: Optional[Sequence[Run]] = None,
 ) -> list[dict[str, Any]]:
-    """Runs the study and returns one row per run, in plan order (deterministic).
+    """Runs the study (the runs ``plan_runs`` gives, planned here unless given) and returns
+    one row per run, in plan order (deterministic).
 
     Args:
         progress: called with the number of runs just finished (or taken from the journal).
-        journal: a file (``runs.jsonl``): every finished run is recorded there at once, and
-            runs recorded under the same key (:mod:`multibots.experiments.journal`: scenario,
-            strategy source, engine build) are not run again.
+        journal: a file (``runs.jsonl``): finished runs are recorded there as they finish
+            (within about a second), and runs recorded under the same key
+            (:mod:`multibots.experiments.journal`: scenario, strategy source, engine build)
+            are not run again.
         reused: called once, before any run, with (runs taken from the journal, all runs).
     """
-    from multibots import _core
+    from multibots.sweeps.runner import run_points
+    from multibots.sweeps.spec import Point
 
-    runs = plan_runs(strategies, robots, spec, seeds, base, traffic, rules, humans)
-    workers = workers or os.cpu_count() or 1
-    results: list[Optional[dict[str, Any]]] = [None] * len(runs)
-    tick = progress or (lambda k: None)
-    book = Journal(journal) if journal is not None else None
-    keys: list[str] = []
-    if book is not None:
-        engine = engine_id()
-        code = {name: strategy_id(name) for name in dict.fromkeys(r.strategy for r in runs)}
-        keys = [run_key(r.scenario, code[r.strategy], engine) for r in runs]
-        for k, key in enumerate(keys):
-            results[k] = book.done.get(key)
-        already = sum(r is not None for r in results)
-        if reused is not None:
-            reused(already, len(runs))
-        if already:
-            tick(already)
-
-    def finished(entries: list[tuple[int, dict[str, Any]]]) -> None:
-        for k, raw in entries:
-            results[k] = raw
-        if book is not None:
-            book.record([(keys[k], raw) for k, raw in entries])
-        tick(len(entries))
-
-    engine_jobs = [k for k, r in enumerate(runs) if results[k] is None and not is_python_allocator(r.strategy)]
-    python_jobs = [k for k, r in enumerate(runs) if results[k] is None and is_python_allocator(r.strategy)]
-    # Chunks a few times the thread count: big enough to keep every core busy, small enough
-    # for the progress bar to move.
-    chunk = max(4 * workers, 8)
-    for start in range(0, len(engine_jobs), chunk):
-        ks = engine_jobs[start:start + chunk]
-        raws = _core.simulate_many([runs[k].scenario._core for k in ks], workers)
-        finished([(k, _slim_raw(raw)) for k, raw in zip(ks, raws)])
-    if python_jobs:
-        # On Ctrl-C or a failed run the workers are stopped, not awaited: finished runs are
-        # in the journal already.
-        with process_pool(min(workers, len(python_jobs))) as pool:
-            futures = {pool.submit(_run_in_process, runs[k].scenario.to_toml()): k for k in python_jobs}
-            for f in as_completed(futures):
-                finished([(futures[f], f.result())])
-    return [_row(run, spec, raw) for run, raw in zip(runs, results) if raw is not None]
-
-
+    if runs is None:
+        runs = plan_runs(strategies, robots, spec, seeds, base, traffic, rules, humans, workers)
+    # The sweep's runner (docs/sweeps.md) with the journal as its store: the same keys, the
+    # same engine calls and worker processes, the same reuse.
+    book = Journal(journal)
+    points = [Point(k, (), r.scenario, r.allocator) for k, r in enumerate(runs)]
+    keys = run_points(points, book, workers=workers, progress=progress, reused=reused)
+    return [_row(run, spec, book.done[key]) for run, key in zip(runs, keys)]

@@ -20,7 +20,7 @@ import json
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Optional
 
 from multibots.scenario import Scenario
 from multibots.strategies import is_python_allocator, strategy_source
@@ -62,11 +62,12 @@ class Journal:
     strategy, another engine) stay in the file but are never read back for a new key.
     """
 
-    def __init__(self, path: str | os.PathLike[str]) -> None:
-        self.path = Path(path)
-        self.existed = self.path.exists()
+    def __init__(self, path: Optional[str | os.PathLike[str]] = None) -> None:
+        """``path``: the journal file; None keeps the runs in memory only."""
+        self.path = Path(path) if path is not None else None
+        self.existed = self.path is not None and self.path.exists()
         self.done: dict[str, dict[str, Any]] = {}
-        if self.existed:
+        if self.path is not None and self.existed:
             for line in self.path.read_text(encoding="utf-8").splitlines():
                 try:
                     entry = json.loads(line)
@@ -74,8 +75,19 @@ class Journal:
                 except (ValueError, KeyError, TypeError):
                     continue
 
+    def keys(self) -> set[str]:
+        """The keys of the runs recorded (the store interface of ``sweeps.runner``)."""
+        return set(self.done)
+
+    def write(self, rows: Sequence[dict[str, Any]]) -> None:
+        """Records store rows (each with its ``key``), as the sweep's runner hands them over."""
+        self.record([(row["key"], row) for row in rows])
+
     def record(self, entries: Sequence[tuple[str, dict[str, Any]]]) -> None:
         """Appends (key, result) pairs and flushes them to disk."""
+        if self.path is None:
+            self.done.update(entries)
+            return
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with self.path.open("a+b") as f:
             # A kill may have cut the last line short: start on a line of our own.

@@ -38,6 +38,8 @@ def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
     lifelong = raw.get("lifelong") or {}
     for k in ("latency_p50", "latency_p95", "energy_per_delivery"):
         out[k] = lifelong.get(k)
+    # Deliveries per window (docs/metrics.md), as text: a CSV cell, and a flat Parquet column.
+    out["windows"] = ";".join(str(w) for w in raw.get("windows", []))
     people = raw.get("people") or {}
     for k in ("protective_stops", "min_gap", "warning_steps", "person_wait_steps"):
         out[f"people_{k}"] = people.get(k)
@@ -75,7 +77,8 @@ def run_points(points: Sequence[Point], store: Store, workers: int = 0, backend:
     if reused is not None:
         reused(len(points) - len(todo), len(points))
     tick = progress or (lambda k: None)
-    tick(len(points) - len(todo))
+    if len(todo) < len(points):
+        tick(len(points) - len(todo))
     if backend == "ray":
         _run_ray(points, keys, todo, store, workers, ray_address, tick)
     elif backend == "local":
@@ -99,15 +102,18 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
     flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", FLUSH_SECONDS))
     last = time.monotonic()
 
-    def finished(entries: list[tuple[int, dict[str, Any]]], force: bool = False) -> None:
+    def write() -> None:
         nonlocal last
+        ks = [k for k, _ in pending]
+        store.write(rows_of([points[k] for k in ks], [keys[k] for k in ks], [r for _, r in pending]))
+        pending.clear()
+        last = time.monotonic()
+
+    def finished(entries: list[tuple[int, dict[str, Any]]]) -> None:
         pending.extend(entries)
+        if time.monotonic() - last >= flush:
+            write()
         tick(len(entries))
-        if pending and (force or time.monotonic() - last >= flush):
-            ks = [k for k, _ in pending]
-            store.write(rows_of([points[k] for k in ks], [keys[k] for k in ks], [r for _, r in pending]))
-            pending.clear()
-            last = time.monotonic()
 
     engine_jobs = [k for k in todo if not is_python_allocator(points[k].allocator)]
     python_jobs = [k for k in todo if is_python_allocator(points[k].allocator)]
@@ -121,7 +127,7 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
     finally:
         # Whatever finished is kept, also when the study stops on an error or Ctrl-C.
         if pending:
-            finished([], force=True)
+            write()
 
 
 def _run_engine(points: Sequence[Point], jobs: Sequence[int], workers: int,
