@@ -29,9 +29,8 @@ def test_compare_and_sweep_run_the_same_runs(tmp_path: Path) -> None:
     by_cell = {(r["allocator"], r["robots"], r["seed"]): r for r in df.to_dicts()}
     for row in rows:
         other = by_cell[(row["strategy"], row["N"], row["list"])]
-        assert (row["T"], row["S"], row["C"], row["delivered"]) == (other["T"], other["S"], other["C"], other["delivered"])
-        assert row["distance"] == pytest.approx(other["distance"], rel=0, abs=0)
-        assert row["windows"] == other["windows"]
+        for name in ("T", "S", "C", "delivered", "distance", "windows"):
+            assert row[name] == other[name], name
 
 
 def test_a_python_strategy_under_several_traffic_policies(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
