@@ -76,11 +76,11 @@ def rware_layout(n_agents: int, cells_per_agent: float) -> dict[str, int]:
 
     rware's grid is height (column_height + 1) * shelf_rows + 2 by width
     3 * shelf_columns + 1 (shelf_columns odd, at least 3 here as in rware's "tiny").
-    Column height 8 (rware's registered layouts) unless a lower one (down to 4) comes
-    closer to the target, which only matters for a handful of agents. Near-square grids.
+    Column height 8 (rware's registered layouts) when a layout with it comes within 3% of
+    the target cells, else whichever column height (8 down to 4) comes closest; near-square.
     """
     target = cells_per_agent * n_agents
-    best: tuple[float, dict[str, int]] | None = None
+    best: tuple[tuple[float, bool, float, float], dict[str, int]] | None = None
     for ch in range(RWARE_COLUMN_HEIGHT, 3, -1):
         h_per_row = ch + 1
         # near-square: height ~ h_per_row * r, width ~ 3 * c; cells ~ (h_per_row * r) ** 2
@@ -95,8 +95,9 @@ def rware_layout(n_agents: int, cells_per_agent: float) -> dict[str, int]:
                 cells = height * width
                 if cells < n_agents:
                     continue
-                # closeness to the target first; then prefer ch = 8 and squareness
-                score = (abs(cells - target) / target, ch != RWARE_COLUMN_HEIGHT, abs(math.log(height / width)))
+                # closeness to the target (within 3% counts as equal), then ch = 8, then squareness
+                err = abs(cells - target) / target
+                score = (max(0.0, err - 0.03), ch != RWARE_COLUMN_HEIGHT, err, abs(math.log(height / width)))
                 if best is None or score < best[0]:
                     best = (score, {"shelf_rows": rows, "shelf_columns": cols, "column_height": ch,
                                     "grid_height": height, "grid_width": width})
