@@ -12,7 +12,9 @@ target/criterion. What it measures:
 3. the engine time of the paper's 30-run experiment on one thread;
 4. the paper scenario against the plain pure-Python model (benchmarks/pure_python.py);
 5. the peers rware 2.0.0 and pogema 1.4.0 with random actions, in their own virtual
-   environment .venv-peers (benchmarks/peers.py), at the same agent counts, in the same run;
+   environment .venv-peers, at the same agent counts and our free cells per agent, with and
+   without their observations, in agent-steps and cell moves per second, interleaved with
+   our own runs (benchmarks/peers.py), in the same run;
 6. the learning environments' decisions per second beside the peers' env steps per second
    (benchmarks/envs.py).
 
@@ -172,37 +174,11 @@ def build_markdown(d: dict[str, Any]) -> str:
         f"Paper scenario (N = 6, group 1; both give T = {p['T']}, S = {p['S']}, C = {p['C']}): `tests/oracle/reference_model.py` "
         f"{fmt_rate(p['python_robot_steps_per_s'])} robot-steps/s, the engine {fmt_rate(p['engine_robot_steps_per_s'])}: **{fmt_ratio(p['engine_robot_steps_per_s'], p['python_robot_steps_per_s'])}**.",
         "",
-        "## Side by side with rware and pogema",
-        "",
     ]
     if d.get("peers"):
-        lines += [
-            "Same run, same machine. The peers run in their own virtual environment `.venv-peers` (their pins clash with ours), one (peer, agent count) per subprocess, random actions, ~29.3 traversable cells per agent (the paper warehouse's density). "
-            "Our figure is robot-steps per second of the named size with the same robot count. A peer's agent-step is one grid move; ours is one 4 px step of the paper model (collision waiting, energy, allocation).",
-            "",
-            "| agents | MultiBots robot-steps/s | pogema agent-steps/s | ratio to pogema | rware agent-steps/s | ratio to rware |",
-            "|---:|---:|---:|---:|---:|---:|",
-        ]
-        for n in AGENT_COUNTS:
-            ours = next((r["robot_steps_per_s"] for r in d["scale"] if r["robots"] == n), None)
-            pog = next((r["agent_steps_per_s"] for r in d["peers"] if r["peer"] == "pogema" and r["agents"] == n), None)
-            rw = next((r["agent_steps_per_s"] for r in d["peers"] if r["peer"] == "rware" and r["agents"] == n), None)
-            lines.append(
-                f"| {n:,} | {fmt_rate(ours)} | {fmt_rate(pog)} | {fmt_ratio(ours, pog)} | {fmt_rate(rw)} | {fmt_ratio(ours, rw)} |"
-            )
-        lines += [
-            "",
-            "Target: at least 40× pogema's agent-steps per second at equal agent counts.",
-            "",
-            "Peer details:",
-            "",
-            peers.format_table(d["peers"]),
-        ]
-        na = [r for r in d["peers"] if r["status"] != "ok"]
-        if na:
-            lines += ["", "n/a: " + "; ".join(f"{r['peer']} at {r['agents']}: {r.get('reason')}" for r in na)]
+        lines += peers.markdown(d["peers"])
     else:
-        lines.append("Not measured in this run (`--no-peers`).")
+        lines += ["## Side by side with rware and pogema", "", "Not measured in this run (`--no-peers`)."]
     if d.get("envs"):
         lines += ["", *envs.markdown(d["envs"])]
     lines += [
@@ -252,7 +228,7 @@ def main(argv: list[str] | None = None) -> int:
     d["criterion"] = criterion_medians()
     if not a.no_peers:
         print("peers (rware, pogema) in .venv-peers ...", file=sys.stderr, flush=True)
-        d["peers"] = peers.measure_peers(AGENT_COUNTS, repetitions=a.peer_repetitions)
+        d["peers"] = peers.compare(AGENT_COUNTS, repetitions=a.peer_repetitions)
     print("learning environments ...", file=sys.stderr, flush=True)
     d["envs"] = envs.measure(with_peers=not a.no_peers)
     d["load"] = [load0, loadavg()]
