@@ -235,6 +235,20 @@ pub fn axis_dist(dx: f64, dy: f64) -> f64 {
     }
 }
 
+/// `(dx / d * budget, dy / d * budget)`, `d` being [`axis_dist`]`(dx, dy)`. Along the axes `d`
+/// is `|dx|` (or `|dy|`), so the first is `±budget` and the second, `dy` being a zero, is
+/// `dy * budget`, bit for bit: no division there.
+#[inline]
+fn along(dx: f64, dy: f64, d: f64, budget: f64) -> (f64, f64) {
+    if dy == 0.0 && d == dx.abs() && d > 0.0 {
+        (if dx > 0.0 { budget } else { -budget }, dy * budget)
+    } else if dx == 0.0 && d == dy.abs() && d > 0.0 {
+        (dx * budget, if dy > 0.0 { budget } else { -budget })
+    } else {
+        (dx / d * budget, dy / d * budget)
+    }
+}
+
 /// Moves robot `i` up to `budget` px along its route, through waypoints without losing
 /// distance, stopping exactly at the route's end. Returns the distance travelled.
 #[inline]
@@ -245,8 +259,9 @@ pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, mut budget: f64) -> f
         let d = axis_dist(dx, dy);
         if budget < d {
             // dx / d is exactly ±1 or 0 on axis-parallel aisles, so positions stay exact.
-            r.x[i] += dx / d * budget;
-            r.y[i] += dy / d * budget;
+            let (mx, my) = along(dx, dy, d, budget);
+            r.x[i] += mx;
+            r.y[i] += my;
             r.at_node[i] = NONE;
             moved += budget;
             break;
@@ -295,6 +310,27 @@ pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, mut budget: f64) -> f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn along_the_axes_without_division_agrees_bit_for_bit() {
+        let mut v = 1e-200_f64;
+        while v < 1e200 {
+            for a in [v, -v, v * 1.000_000_1, -v * 0.999_999_9] {
+                for z in [0.0, -0.0] {
+                    for (dx, dy) in [(a, z), (z, a)] {
+                        let d = axis_dist(dx, dy);
+                        for budget in [0.0, -0.0, 4.0, 0.3, 1e-300, d * 0.5, -1.0] {
+                            let (mx, my) = along(dx, dy, d, budget);
+                            assert_eq!((mx.to_bits(), my.to_bits()), ((dx / d * budget).to_bits(), (dy / d * budget).to_bits()), "{dx} {dy} {budget}");
+                        }
+                    }
+                }
+            }
+            v *= 7.3;
+        }
+        let (mx, my) = along(3.0, 4.0, 5.0, 2.0);
+        assert_eq!((mx, my), (3.0 / 5.0 * 2.0, 4.0 / 5.0 * 2.0));
+    }
     use crate::layout::Layout;
 
     fn setup() -> (Layout, HighwayGraph) {

@@ -124,6 +124,9 @@ pub struct Paper {
     /// changed (no progress for long while work remains is a gridlock).
     progress: bool,
     alpha: Vec<f64>,
+    /// The fleet's largest radius and twice its top speed, for counting contacts (robots
+    /// keep both for the whole run).
+    contact_reach: (f64, f64),
     events: Vec<Event>,
     /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
     pub(crate) people: Option<Box<People>>,
@@ -182,6 +185,7 @@ impl Paper {
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
             alpha: vec![0.0; n],
+            contact_reach: (robots.radius.iter().copied().fold(0.0, f64::max), 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
             events: Vec::new(),
             robots,
             world,
@@ -401,8 +405,8 @@ impl Paper {
             return;
         }
         let r = &self.robots;
-        let slack = 2.0 * r.speed.iter().copied().fold(0.0, f64::max);
-        let (count, closest) = self.collisions.contacts(&r.x, &r.y, &r.radius, &self.wants, slack);
+        let (r_max, slack) = self.contact_reach;
+        let (count, closest) = self.collisions.contacts_within(&r.x, &r.y, &r.radius, &self.wants, r_max, slack);
         self.tally.contacts += count;
         self.tally.closest = self.tally.closest.min(closest);
     }

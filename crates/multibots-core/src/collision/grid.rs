@@ -59,6 +59,23 @@ impl Collisions {
         (self.first[c0] as usize, self.first[c1 + 1] as usize)
     }
 
+    /// Tiny fleets: the robots in the grid in id order, with their positions (and radii).
+    pub(super) fn copy_placed(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
+        let n = x.len();
+        let cell_of = &self.cell_of[..n];
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let mut k = 0;
+        for i in 0..n {
+            if cell_of[i] != u32::MAX {
+                (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+                if !uniform {
+                    sr[k] = radius[i];
+                }
+                k += 1;
+            }
+        }
+    }
+
     /// Dense grids: a counting sort by cell into `first`, `by_cell`, `sx`, `sy` (and `sr`).
     pub(super) fn counting_sort(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
         let n = x.len();
