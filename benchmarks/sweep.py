@@ -70,7 +70,7 @@ def main() -> None:
         """What the store adds to running the same runs: their keys, the reuse lookup, the
         part files written in the sweep's batch sizes (figures and rows made), the read back."""
         from multibots.sweeps.runner import figures_of, keys_of
-        from multibots.sweeps.store import Store, rows_of
+        from multibots.sweeps.store import Store
 
         raws = _core.simulate_many(cores, 1)
         out = Path(tempfile.mkdtemp(prefix="mb-store-bench-"))
@@ -82,7 +82,7 @@ def main() -> None:
             batch = 2000  # about FLUSH_SECONDS of runs on one worker
             for b in range(0, len(points), batch):
                 ks = range(b, min(b + batch, len(points)))
-                store.write(rows_of([points[k] for k in ks], [keys[k] for k in ks], [figures_of(raws[k]) for k in ks]))
+                store.write([points[k] for k in ks], [keys[k] for k in ks], [figures_of(raws[k]) for k in ks])
             store.frame()
             return time.perf_counter() - t0
         finally:

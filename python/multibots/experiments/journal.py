@@ -79,9 +79,9 @@ class Journal:
         """The keys of the runs recorded (the store interface of ``sweeps.runner``)."""
         return set(self.done)
 
-    def write(self, rows: Sequence[dict[str, Any]]) -> None:
-        """Records store rows (each with its ``key``), as the sweep's runner hands them over."""
-        self.record([(row["key"], row) for row in rows])
+    def write(self, points: Sequence[Any], keys: Sequence[str], figures: Sequence[dict[str, Any]]) -> None:
+        """Records a batch of runs as the sweep's runner hands them over (its store interface)."""
+        self.record(list(zip(keys, figures)))
 
     def record(self, entries: Sequence[tuple[str, dict[str, Any]]]) -> None:
         """Appends (key, result) pairs and flushes them to disk."""

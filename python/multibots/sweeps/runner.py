@@ -16,7 +16,7 @@ from multibots.experiments.processes import process_pool
 from multibots.scenario import Scenario
 from multibots.strategies import is_python_allocator
 from multibots.sweeps.spec import Point
-from multibots.sweeps.store import Store, rows_of
+from multibots.sweeps.store import Store
 
 __all__ = ["FIGURES", "estimate_cost", "figures_of", "keys_of", "run_points"]
 
@@ -31,17 +31,24 @@ RAY_BATCH_COST = 2_000_000
 CALL_SECONDS = 0.25
 
 
+_SCALARS = tuple(k for k in FIGURES if k != "distance")
+_LIFELONG = ("latency_p50", "latency_p95", "energy_per_delivery")
+_PEOPLE = ("protective_stops", "min_gap", "warning_steps", "person_wait_steps")
+
+
 def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
     """A run's engine result reduced to the stored scalars (JSON- and Parquet-ready)."""
-    out = {k: raw.get(k) for k in FIGURES if k != "distance"}
-    out["distance"] = float(raw["distance"].sum()) if hasattr(raw.get("distance"), "sum") else raw.get("distance")
-    lifelong = raw.get("lifelong") or {}
-    for k in ("latency_p50", "latency_p95", "energy_per_delivery"):
+    get = raw.get
+    out = {k: get(k) for k in _SCALARS}
+    distance = get("distance")
+    out["distance"] = float(distance.sum()) if hasattr(distance, "sum") else distance
+    lifelong = get("lifelong") or {}
+    for k in _LIFELONG:
         out[k] = lifelong.get(k)
     # Deliveries per window (docs/metrics.md), as text: a CSV cell, and a flat Parquet column.
-    out["windows"] = ";".join(str(w) for w in raw.get("windows", []))
-    people = raw.get("people") or {}
-    for k in ("protective_stops", "min_gap", "warning_steps", "person_wait_steps"):
+    out["windows"] = ";".join(map(str, get("windows") or ()))
+    people = get("people") or {}
+    for k in _PEOPLE:
         out[f"people_{k}"] = people.get(k)
     return out
 
@@ -105,7 +112,7 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
     def write() -> None:
         nonlocal last
         ks = [k for k, _ in pending]
-        store.write(rows_of([points[k] for k in ks], [keys[k] for k in ks], [r for _, r in pending]))
+        store.write([points[k] for k in ks], [keys[k] for k in ks], [r for _, r in pending])
         pending.clear()
         last = time.monotonic()
 
@@ -222,7 +229,7 @@ def _run_ray(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], 
             for ref in ready:
                 b = pending.pop(ref)
                 raws = ray.get(ref)
-                store.write(rows_of([points[k] for k in b], [keys[k] for k in b], raws))
+                store.write([points[k] for k in b], [keys[k] for k in b], raws)
                 tick(len(b))
     finally:
         if started:
