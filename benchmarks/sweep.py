@@ -68,7 +68,8 @@ def main() -> None:
 
     def store_alone() -> float:
         """What the store adds to running the same runs: their keys, the reuse lookup, the
-        part files written in the sweep's batch sizes (figures and rows made), the read back."""
+        part files written in the sweep's batch sizes (the figures taken from the results too),
+        the read back."""
         from multibots.sweeps.runner import figures_of, keys_of
         from multibots.sweeps.store import Store
 
@@ -90,11 +91,15 @@ def main() -> None:
 
     store = statistics.median(store_alone() for _ in range(3))
     # Interleaved, so that a busy spell on the shared machine hits both sides alike.
-    ones, twos = [], []
+    ones, twos, bare_ones, bare_twos = [], [], [], []
     for _ in range(a.repeats):
         ones.append(sweep(1))
         twos.append(sweep(2))
+        # The ceiling: the engine alone on one thread and on two.
+        bare_ones.append(timed(lambda: _core.simulate_many(cores, 1)))
+        bare_twos.append(timed(lambda: _core.simulate_many(cores, 2)))
     one, two = statistics.median(ones), statistics.median(twos)
+    bare1, bare2 = statistics.median(bare_ones), statistics.median(bare_twos)
     ray = cold = two_again = None
     try:
         import ray as _ray
@@ -118,6 +123,8 @@ def main() -> None:
         f"| paper's 30 runs: `simulate_many` (1 thread) / one `simulate` each | {many * 1e3:.1f} ms / "
         f"{engine * 1e3:.1f} ms = {many / engine:.2f} | at most 1.2 |",
         f"| {n:,}-run sweep, 1 worker / 2 workers | {one:.2f} s / {two:.2f} s = {one / two:.2f}x | at least 1.8x |",
+        f"| the ceiling: `simulate_many` of the same runs alone, 1 thread / 2 threads | {bare1:.2f} s / {bare2:.2f} s "
+        f"= {bare1 / bare2:.2f}x | – |",
         "| same, Ray on this machine, cluster running (2 CPUs) / local (2 workers) | "
         + (f"{ray:.2f} s / {two_again:.2f} s = {ray / two_again:.2f} |" if ray else "ray not installed |")
         + " at most 1.5 |",

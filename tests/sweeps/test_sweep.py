@@ -136,3 +136,14 @@ def test_ray_gives_the_local_results_even_when_a_worker_dies(tmp_path: Path, mon
     on_ray = multibots.sweep(s, tmp_path / "ray", backend="ray", workers=2)
     assert marker.exists(), "a worker was killed"
     assert on_ray.equals(local)
+
+
+def test_points_share_nothing_they_change() -> None:
+    # Every point's tables are its own: setting one point's values leaves the others (and the
+    # base) as they were.
+    sp = parse_spec({"base": {**BASE, "robot": {"threshold": 3.0}},
+                     "axes": {"robot.threshold": [2.0, 4.0], "robot.speed": [3.0, 5.0], "seed": [7, 8]}})
+    seen = {(p.scenario.to_dict()["robot"]["threshold"], p.scenario.to_dict()["robot"]["speed"],
+             p.scenario.to_dict()["tasks"]["seed"]) for p in sp.points()}
+    assert seen == {(t, v, s) for t in (2.0, 4.0) for v in (3.0, 5.0) for s in (7, 8)}
+    assert sp.base.to_dict()["robot"]["threshold"] == 3.0 and sp.base.to_dict()["tasks"]["seed"] == 1
