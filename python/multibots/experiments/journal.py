@@ -3,7 +3,8 @@ cannot have changed, re-run what can.
 
 A run is keyed by everything that changes its result:
 
-- the scenario, as its TOML text (every field, defaults filled in, the strategy's name too);
+- the scenario, as the engine's JSON of it (every field, defaults filled in, in a fixed order,
+  the strategy's name too);
 - the strategy's code: for a Python strategy the SHA-256 of its module's source file, so an
   edited strategy runs again; a built-in's code is the engine's;
 - the engine: ``multibots.__version__`` and the SHA-256 of the ``_core`` extension file, so a
@@ -61,6 +62,9 @@ class Journal:
     A line cut short by a kill is ignored; lines of runs that no longer match (an edited
     strategy, another engine) stay in the file but are never read back for a new key.
     """
+
+    #: Seconds a finished run may wait to be written (sweeps.runner): none, a line is cheap.
+    flush_seconds = 0.0
 
     def __init__(self, path: Optional[str | os.PathLike[str]] = None) -> None:
         """``path``: the journal file; None keeps the runs in memory only."""

@@ -4,9 +4,11 @@ processes for Python ones) or Ray, with results stored batch by batch (store.py)
 from __future__ import annotations
 
 import os
+import queue
+import threading
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ThreadPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from typing import Any, Optional
 
 from multibots import _core
@@ -23,8 +25,9 @@ __all__ = ["FIGURES", "estimate_cost", "figures_of", "keys_of", "run_points"]
 #: The figures stored for each run (docs/sweeps.md).
 FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost", "distance", "throughput",
            "sustained_throughput", "wait_share", "utilisation", "contacts", "closest")
-#: A local batch is written once it holds this many seconds of runs (at most that much work
-#: is repeated after a kill), and Ray tasks hold at least this many robot-steps.
+#: A finished run waits at most about this many seconds to be written to a Parquet store (at
+#: most that much work is repeated after a kill; fewer, larger part files), and Ray tasks hold
+#: at least this many robot-steps.
 FLUSH_SECONDS = 1.0
 RAY_BATCH_COST = 2_000_000
 #: Seconds of runs in one call of the engine's pool (local backend).
@@ -102,64 +105,103 @@ def keys_of(points: Sequence[Point]) -> list[str]:
     return [run_key(p.scenario, code[p.allocator], engine) for p in points]
 
 
+class _Writer:
+    """The thread that writes finished runs to the store, so the engine's threads never wait
+    for a write. A finished run waits at most ``flush`` seconds (and the time of a write), also
+    while the next call of the engine or a slow run is still going: the thread wakes when the
+    oldest unwritten run falls due. It is not a daemon thread: after a second Ctrl-C the
+    interpreter still waits for it to write what it was handed."""
+
+    def __init__(self, store: Store, points: Sequence[Point], keys: Sequence[str], flush: float) -> None:
+        self.store, self.points, self.keys, self.flush = store, points, keys, flush
+        self.inbox: queue.SimpleQueue[Optional[tuple[Sequence[int], list[Any], bool]]] = queue.SimpleQueue()
+        self.error: Optional[BaseException] = None
+        self.thread = threading.Thread(target=self._loop, name="multibots-sweep-store")
+        self.thread.start()
+
+    def put(self, ks: Sequence[int], results: list[Any], raw: bool) -> None:
+        """Hands over finished runs: engine results (``raw``) or their figures already."""
+        if self.error is not None:
+            raise self.error  # a failed write stops the sweep here
+        self.inbox.put((ks, results, raw))
+
+    def close(self, quiet: bool = False) -> None:
+        """Writes what is left and waits for the thread; raises its error unless ``quiet``."""
+        self.inbox.put(None)
+        self.thread.join()
+        if self.error is not None and not quiet:
+            raise self.error
+
+    def _loop(self) -> None:
+        runs: list[tuple[int, dict[str, Any]]] = []
+        since = 0.0  # when the oldest unwritten run finished
+        try:
+            while True:
+                wait_s = max(0.0, since + self.flush - time.monotonic()) if runs else None
+                try:
+                    item = self.inbox.get(timeout=wait_s)
+                except queue.Empty:
+                    pass  # the oldest unwritten run is due
+                else:
+                    if item is None:
+                        self._write(runs)
+                        return
+                    ks, results, raw = item
+                    if not runs:
+                        since = time.monotonic()
+                    runs.extend((k, figures_of(r) if raw else r) for k, r in zip(ks, results))
+                if runs and time.monotonic() - since >= self.flush:
+                    self._write(runs)
+                    runs = []
+        except BaseException as e:  # handed to the main thread, which raises it
+            self.error = e
+
+    def _write(self, runs: list[tuple[int, dict[str, Any]]]) -> None:
+        if runs:
+            ks = [k for k, _ in runs]
+            self.store.write([self.points[k] for k in ks], [self.keys[k] for k in ks], [r for _, r in runs])
+
+
 def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], store: Store, workers: int,
                tick: Callable[[int], None]) -> None:
-    pending: list[tuple[int, dict[str, Any]]] = []
-    # MULTIBOTS_SWEEP_FLUSH: seconds between batches (tests write often to kill in between).
-    flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", FLUSH_SECONDS))
-    last = time.monotonic()
-
-    def write() -> None:
-        nonlocal last
-        ks = [k for k, _ in pending]
-        store.write([points[k] for k in ks], [keys[k] for k in ks], [r for _, r in pending])
-        pending.clear()
-        last = time.monotonic()
-
-    def finished(entries: list[tuple[int, dict[str, Any]]]) -> None:
-        pending.extend(entries)
-        if time.monotonic() - last >= flush:
-            write()
-        tick(len(entries))
-
+    # MULTIBOTS_SWEEP_FLUSH: seconds a finished run may wait to be written (tests write often to
+    # kill in between). The journal of `compare` writes each call's runs at once (its flush is 0).
+    flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", getattr(store, "flush_seconds", FLUSH_SECONDS)))
+    writer = _Writer(store, points, keys, flush)
     engine_jobs = [k for k in todo if not is_python_allocator(points[k].allocator)]
     python_jobs = [k for k in todo if is_python_allocator(points[k].allocator)]
     try:
-        _run_engine(points, engine_jobs, workers, finished)
+        _run_engine(points, engine_jobs, workers, writer, tick)
         if python_jobs:
             with process_pool(min(workers, len(python_jobs))) as pool:
                 futures = {pool.submit(_run_python, points[k].scenario.to_toml()): k for k in python_jobs}
                 for f in as_completed(futures):
-                    finished([(futures[f], f.result())])
-    finally:
+                    writer.put([futures[f]], [f.result()], raw=False)
+                    tick(1)
+    except BaseException:
         # Whatever finished is kept, also when the study stops on an error or Ctrl-C.
-        if pending:
-            write()
+        writer.close(quiet=True)
+        raise
+    writer.close()
 
 
-def _run_engine(points: Sequence[Point], jobs: Sequence[int], workers: int,
-                finished: Callable[[list[tuple[int, dict[str, Any]]]], None]) -> None:
+def _run_engine(points: Sequence[Point], jobs: Sequence[int], workers: int, writer: _Writer,
+                tick: Callable[[int], None]) -> None:
     """Built-in strategies on the engine's threads, in calls of about CALL_SECONDS each, so the
-    progress bar moves and batches are written as runs finish. A helper thread stores one
-    call's results while the next call runs (the engine releases the GIL), so the engine's
-    threads are not idle between calls; the calls stay on this thread, where Ctrl-C stops
-    them at once."""
+    progress bar moves and runs are written as they finish. The calls, and the progress
+    callback, run on this thread, where Ctrl-C stops them at once; each call's results go to
+    the writer thread before anything else, so an interrupt loses none of them."""
     size = 2 * workers  # the first call measures how long a run takes
     start = 0
-    with ThreadPoolExecutor(1, thread_name_prefix="multibots-sweep-store") as pool:
-        storing: Optional[Future[None]] = None
-        while start < len(jobs):
-            ks = jobs[start:start + size]
-            start += len(ks)
-            t0 = time.monotonic()
-            raws = _core.simulate_many([points[k].scenario._core for k in ks], workers)
-            per_run = max(time.monotonic() - t0, 1e-6) / len(ks)
-            size = max(2 * workers, min(4 * size, int(CALL_SECONDS / per_run)))
-            if storing is not None:
-                storing.result()  # a failed write stops the sweep here
-            storing = pool.submit(lambda ks=ks, raws=raws: finished([(k, figures_of(r)) for k, r in zip(ks, raws)]))
-        if storing is not None:
-            storing.result()
+    while start < len(jobs):
+        ks = jobs[start:start + size]
+        start += len(ks)
+        t0 = time.monotonic()
+        raws = _core.simulate_many([points[k].scenario._core for k in ks], workers)
+        writer.put(ks, raws, raw=True)
+        per_run = max(time.monotonic() - t0, 1e-6) / len(ks)
+        size = max(2 * workers, min(4 * size, int(CALL_SECONDS / per_run)))
+        tick(len(ks))
 
 
 # ---------------------------------------------------------------- Ray

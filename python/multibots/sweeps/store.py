@@ -3,10 +3,10 @@ each written whole (temporary file, fsync, rename) before it counts. A study kil
 moment, ``kill -9`` included, keeps every batch that was written; run it again and the runs
 whose key is in a part file are reused, not run again.
 
-A run's key is a hash of everything that determines its result: the scenario (as TOML), the
-strategy's code (a built-in's name, or the hash of a Python strategy's source) and the
-engine build (multibots.experiments.journal). An edited strategy or a rebuilt engine gives
-new keys, so stale results are never reused.
+A run's key is a hash of everything that determines its result: the scenario (the engine's
+JSON of it, every field with defaults filled in), the strategy's code (a built-in's name, or
+the hash of a Python strategy's source) and the engine build (multibots.experiments.journal).
+An edited strategy or a rebuilt engine gives new keys, so stale results are never reused.
 """
 
 from __future__ import annotations
@@ -35,6 +35,10 @@ def polars() -> Any:
 
 class Store:
     """The part files of one study folder."""
+
+    #: Seconds a finished run may wait to be written (sweeps.runner): each write is a part
+    #: file, so a study writes about one a second rather than one per engine call.
+    flush_seconds = 1.0
 
     def __init__(self, out: str | os.PathLike[str]) -> None:
         self.folder = Path(out) / "runs"
