@@ -138,6 +138,23 @@ def test_code_in_a_scenario_file_needs_allow_code(tmp_path: Path) -> None:
     assert p.returncode == 0, p.stderr
 
 
+def test_refused_code_is_never_imported(tmp_path: Path) -> None:
+    # Checking a scenario loads its strategy: the refusal must come before anything is loaded.
+    (tmp_path / "evil.py").write_text("open('RAN', 'w').close()\n\nclass S:\n    def allocate(self, view):\n"
+                                      "        return {}\n")
+    (tmp_path / "s.toml").write_text(SMALL + 'allocator = "evil.py:S"\n')
+    (tmp_path / "inline.toml").write_text('base = { layout = "paper", tasks = [1, 2], allocator = "evil.py:S" }\n'
+                                          "[axes]\nrobots = [1, 2]\n")
+    (tmp_path / "file.toml").write_text('base = "s.toml"\n[axes]\nrobots = [1, 2]\n')
+    (tmp_path / "axis.toml").write_text('base = { layout = "paper", tasks = [1, 2] }\n'
+                                        '[axes]\nallocator = ["nearest", "evil.py:S"]\n')
+    for args in (["run", "s.toml"], ["view", "--live", "s.toml", "--no-browser"],
+                 ["sweep", "inline.toml", "--out", "o"], ["sweep", "file.toml", "--out", "o"],
+                 ["sweep", "axis.toml", "--out", "o"]):
+        one_line(limited(*args, cwd=tmp_path), "evil.py:S", "--allow-code")
+        assert not (tmp_path / "RAN").exists(), args
+
+
 def test_a_raising_strategy_in_a_worker_is_named(tmp_path: Path) -> None:
     (tmp_path / "bad.py").write_text("class Raises:\n    def allocate(self, view):\n"
                                      "        raise KeyError('boom \\x1b[31m')\n")

@@ -9,8 +9,10 @@ import sys
 from pathlib import Path
 from typing import Any, NoReturn, Optional
 
+import tomllib
 import typer
 
+from multibots._io import read_input
 from multibots._text import inert, shown
 from multibots.exceptions import EngineError, InputError, MissingExtraError, MultibotsError, RenderError
 from multibots.scenario import Scenario
@@ -26,6 +28,7 @@ __all__ = [
     "EXIT_OK",
     "EXIT_CODES_HELP",
     "check_code",
+    "named_allocator",
     "parse_cells",
     "parse_names",
     "parse_number",
@@ -95,21 +98,34 @@ def parse_number(value: Optional[str], flag: str, kind: type, most: Optional[flo
     return number
 
 
-def check_code(scenario: Scenario, path: Optional[Path], allow: bool, overridden: bool = False) -> None:
-    """Refuses a scenario file that names Python code unless the user allowed it.
+def named_allocator(path: Path) -> Optional[str]:
+    """The ``allocator`` a scenario file names, read as plain TOML before anything validates
+    the file (validating imports the strategy, which runs its code); None if it names none or
+    cannot be read (the file's own checks report that, after this one)."""
+    try:
+        data = tomllib.loads(read_input(path, InputError, "scenario file"))
+    except (InputError, tomllib.TOMLDecodeError):
+        return None
+    name = data.get("allocator")
+    return name if isinstance(name, str) else None
+
+
+def check_code(path: Optional[Path], allow: bool, overridden: bool = False) -> None:
+    """Refuses a scenario file that names Python code unless the user allowed it; call it
+    before the file is loaded.
 
     ``allocator = "module:Class"`` imports and runs that code (``"os:abort"`` would abort), so
     a file from elsewhere must not run code by being opened: the command line asks for
     ``--allow-code`` (or ``MULTIBOTS_ALLOW_CODE=1``). The Python API does not ask: code that
-    calls it already runs with the user's trust. ``overridden``: ``--allocator`` replaced the
+    calls it already runs with the user's trust. ``overridden``: ``--allocator`` replaces the
     file's choice.
     """
     if path is None or allow or overridden or os.environ.get("MULTIBOTS_ALLOW_CODE") == "1":
         return
     from multibots.strategies import is_python_allocator
 
-    name = scenario.to_dict().get("allocator")
-    if isinstance(name, str) and is_python_allocator(name):
+    name = named_allocator(path)
+    if name is not None and is_python_allocator(name):
         raise InputError(
             f"allocator = {shown(name)!r} in {shown(path)}: this scenario file names Python code, which "
             "would run; add --allow-code if you trust the file"

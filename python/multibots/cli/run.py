@@ -64,8 +64,8 @@ def run(
     from multibots.result import Result
     from multibots.simulation import simulate
 
+    check_code(scenario, allow_code, overridden=allocator is not None)
     s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit, rules, traffic)
-    check_code(s, scenario, allow_code, overridden=allocator is not None)
     if allocator is not None:
         s = s.replace(allocator=allocator)
     lifelong = s.to_dict().get("orders") is not None

@@ -7,10 +7,11 @@ import time
 from pathlib import Path
 from typing import List, Optional
 
+import tomllib
 import typer
 
-from multibots._io import check_folder
-from multibots.cli._common import ALLOW_CODE
+from multibots._io import check_folder, read_input
+from multibots.cli._common import ALLOW_CODE, named_allocator
 from multibots.exceptions import InputError
 
 __all__ = ["sweep"]
@@ -52,13 +53,13 @@ def sweep(
     if backend not in ("local", "ray"):
         raise InputError(f"--backend = {backend!r}: expected local or ray")
     check_folder(out)
-    sp = load_spec(spec)
-    # Before planning: checking a planned run loads its strategy, which runs its code.
-    named = {str(sp.base.to_dict().get("allocator", "in-turn"))} | {str(v) for v in sp.axes.get("allocator", [])}
-    code = sorted(n for n in named if is_python_allocator(n))
+    # Before the spec is loaded: checking its base, or a planned run, loads the strategy,
+    # which runs its code.
+    code = sorted(n for n in _named_allocators(spec) if is_python_allocator(n))
     if code and not allow_code and os.environ.get("MULTIBOTS_ALLOW_CODE") != "1":
         raise InputError(f"{spec}: names Python code ({', '.join(code)}), which would run; add --allow-code if you "
                          "trust the spec")
+    sp = load_spec(spec)
     points = sp.points(workers)
     reuse: list[int] = []
     start = time.perf_counter()
@@ -74,3 +75,24 @@ def sweep(
         print(f"{incomplete} runs did not complete (see the outcome column)")
     for p in write_outputs(df, sp, out, baseline=baseline, plots=tuple(plot)):
         print(f"wrote {p}")
+
+
+def _named_allocators(spec: Path) -> set[str]:
+    """The strategies a spec file names (its base's and the allocator axis), read as plain
+    TOML; what cannot be read is left to load_spec, which reports it."""
+    try:
+        data = tomllib.loads(read_input(spec, InputError, "sweep spec"))
+    except (InputError, tomllib.TOMLDecodeError):
+        return set()
+    base = data.get("base")
+    if isinstance(base, str):
+        path = Path(base)
+        if not path.is_absolute() and not path.exists():
+            path = spec.parent / path  # as load_spec resolves it
+        name = named_allocator(path)
+    else:
+        name = base.get("allocator") if isinstance(base, dict) else None
+    axes = data.get("axes")
+    values = axes.get("allocator") if isinstance(axes, dict) else None
+    named = {name} | set(values if isinstance(values, list) else [])
+    return {n for n in named if isinstance(n, str)}

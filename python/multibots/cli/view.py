@@ -120,8 +120,8 @@ def _live_simulation(
     """The Simulation to stream, built by the rules of ``multibots run``, and its name."""
     from multibots.simulation import Simulation
 
+    check_code(path, allow_code)
     scenario = quick_scenario(path, robots, goods, starts, unload, margin, step_limit, rules, traffic)
-    check_code(scenario, path, allow_code)
     if path is not None:
         name = f"live: {path.name}"
     else:
