@@ -153,6 +153,10 @@ def test_refused_code_is_never_imported(tmp_path: Path) -> None:
                  ["sweep", "axis.toml", "--out", "o"]):
         one_line(limited(*args, cwd=tmp_path), "evil.py:S", "--allow-code")
         assert not (tmp_path / "RAN").exists(), args
+    # compare's --strategies replaces the file's allocator, which is then never loaded.
+    p = limited("compare", "--scenario", "s.toml", "--strategies", "in-turn", "--robots", "1", "--out", "c",
+                "--quiet", "--no-plots", cwd=tmp_path)
+    assert p.returncode == 0 and not (tmp_path / "RAN").exists(), p.stderr
 
 
 def test_a_raising_strategy_in_a_worker_is_named(tmp_path: Path) -> None:

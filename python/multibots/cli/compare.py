@@ -9,9 +9,11 @@ import time
 from pathlib import Path
 from typing import Optional
 
+import tomllib
 import typer
 
-from multibots._io import check_folder
+from multibots._io import check_folder, read_input
+from multibots.cli._common import named_allocator
 from multibots.exceptions import InputError
 
 __all__ = ["DEFAULT_STRATEGIES", "compare"]
@@ -66,6 +68,7 @@ def compare(
     """
     from multibots.experiments import compare as study
     from multibots.scenario import Scenario
+    from multibots.strategies import is_python_allocator
 
     check_folder(out)
     names = study.parse_strategies(strategies)
@@ -78,7 +81,17 @@ def compare(
         raise InputError(f"--workers = {workers}: must be 0 or more")
     if spec.kind == "random" and seeds < 1:
         raise InputError(f"--seeds = {seeds}: must be 1 or more")
-    base = Scenario.from_toml(scenario) if scenario is not None else None
+    base = None
+    if scenario is not None:
+        named = named_allocator(scenario)
+        if named is not None and is_python_allocator(named):
+            # --strategies replaces the file's allocator: loading the file as it is would
+            # import the Python strategy it names, running code the user did not choose.
+            data = tomllib.loads(read_input(scenario, InputError, "scenario file"))
+            del data["allocator"]
+            base = Scenario.from_dict(data)
+        else:
+            base = Scenario.from_toml(scenario)
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
     runs = study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets, crowds, workers)
     total = len(runs)
