@@ -74,3 +74,30 @@ def test_paper_takes_goods_or_tasks_but_not_both():
     with pytest.raises(ScenarioError, match=r"^Scenario.paper\(\): goods and tasks are the same field") as e:
         Scenario.paper(goods=[11, 8], tasks=[1, 2])
     assert "\n" not in str(e.value)
+
+
+def test_check_many_names_the_fault_validate_names() -> None:
+    """A sweep checks its planned runs in one engine call; where a scenario has several faults
+    the call names the one `Scenario.validate` names (allocator, then values, then layout)."""
+    import multibots
+    from multibots import _core
+
+    base = {"layout": "paper", "robots": 2, "tasks": [5]}
+    faults = {"allocator": {"allocator": "fastest"}, "speed": {"robot": {"speed": -1.0}},
+              "unload": {"unload": "nowhere"}, "cell": {"tasks": [81]}}
+    cases = []
+    for a in faults:
+        for b in faults:
+            if a < b:
+                d = dict(base)
+                d.update(faults[a])
+                d.update(faults[b])
+                cases.append(d)
+    cases.append({**base, "allocator": "nope_module:Missing", "robot": {"speed": -1.0}})
+    for d in cases:
+        core = multibots.Scenario._parsed_only(d)._core
+        with pytest.raises(multibots.MultibotsError) as alone:
+            core.validate()
+        failed = _core.check_many([multibots.Scenario.from_dict(base)._core, core], 1)
+        assert failed is not None and failed[0] == 1, d
+        assert type(failed[1]) is type(alone.value) and str(failed[1]) == str(alone.value), (d, failed[1], alone.value)

@@ -52,14 +52,29 @@ pub fn run_many(scenarios: &[Scenario], workers: usize, poll: Duration, watch: i
     })
 }
 
-/// Checks every scenario as [`Simulation::new`] would (its values, its layout, its task list,
-/// its built-in allocator), on `workers` threads, building each layout once: how a sweep
+/// Checks every scenario as [`Simulation::new`] would (its built-in allocator, its values, its
+/// layout, its task list), on `workers` threads, building each layout once: how a sweep
 /// checks thousands of planned runs before it starts any. Returns each scenario's verdict,
-/// in the order given.
+/// in the order given: where a scenario has several faults, the one `new` names first.
 #[must_use]
 pub fn check_many(scenarios: &[Scenario], workers: usize) -> Vec<Result<()>> {
-    each(scenarios, workers, Duration::from_secs(3600), |_| true, |s, world, _| Simulation::with_world(world, s, crate::alloc::built_in(s)?).map(drop))
-        .expect("never cancelled")
+    check_many_until(scenarios, workers, Duration::from_secs(3600), |_| true).expect("never cancelled")
+}
+
+/// [`check_many`] that can be cancelled as [`run_many`] can: `watch` is called with the number
+/// of scenarios checked at least every `poll`; returning false cancels the rest (`None`).
+pub fn check_many_until(scenarios: &[Scenario], workers: usize, poll: Duration, watch: impl FnMut(usize) -> bool) -> Option<Vec<Result<()>>> {
+    let mut verdicts = each(scenarios, workers, poll, watch, |s, world, _| Simulation::with_world(world, s, crate::alloc::built_in(s)?).map(drop))?;
+    // The pool checks values and the layout before the job names the allocator; `new` names
+    // the allocator first.
+    for (v, s) in verdicts.iter_mut().zip(scenarios) {
+        if v.is_err() {
+            if let Err(e) = crate::alloc::built_in(s) {
+                *v = Err(e);
+            }
+        }
+    }
+    Some(verdicts)
 }
 
 /// The pool both share: `job` gets a scenario whose values are checked, its shared world and
@@ -159,6 +174,13 @@ mod tests {
         bad_unload.unload = crate::scenario::Unload::Node("nowhere".into());
         let mut bad_allocator = Scenario::paper(2, &[5]);
         bad_allocator.allocator = "fastest".into();
+        // Several faults at once: each check names the same one first.
+        let mut allocator_and_speed = bad_allocator.clone();
+        allocator_and_speed.robot.speed = -1.0;
+        let mut allocator_and_unload = bad_unload.clone();
+        allocator_and_unload.allocator = "fastest".into();
+        let mut speed_and_unload = bad_unload.clone();
+        speed_and_unload.robot.speed = -1.0;
         let list = vec![
             Scenario::paper(1, &[5]),
             bad_speed,
@@ -167,6 +189,9 @@ mod tests {
             bad_allocator,
             Scenario::paper(2, &[80]),
             Scenario::paper(2, &[79]),
+            allocator_and_speed,
+            allocator_and_unload,
+            speed_and_unload,
         ];
         for workers in [1, 2] {
             let verdicts = check_many(&list, workers);
@@ -175,7 +200,7 @@ mod tests {
                 let alone = Simulation::new(s).map(drop);
                 assert_eq!(v.as_ref().map_err(ToString::to_string), alone.as_ref().map_err(ToString::to_string));
             }
-            assert_eq!(verdicts.iter().filter(|v| v.is_err()).count(), 4, "bad speed, unload, allocator and cell 80");
+            assert_eq!(verdicts.iter().filter(|v| v.is_err()).count(), 7, "bad speed, unload, allocator, cell 80 and the three pairs");
         }
     }
 }

@@ -41,8 +41,9 @@ struct OriginalRun {
 impl Simulation {
     /// A run of `scenario` with its named built-in allocator.
     pub fn new(scenario: &Scenario) -> Result<Simulation> {
-        scenario.check_values()?;
+        // The allocator first, as the Python `Scenario.validate` names it first.
         let allocator = alloc::built_in(scenario)?;
+        scenario.check_values()?;
         Simulation::with_world(World::of(scenario)?, scenario, allocator)
     }
 

@@ -66,9 +66,10 @@ pub(crate) fn simulate_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers:
 /// Checks many scenarios as `Scenario.validate` would, on `workers` threads (0: one per core),
 /// building each layout once; returns the first failure in the order given (its index and
 /// the error `validate` would raise), or `None`. Python strategies are loaded once per name.
+/// Ctrl-C stops it, as it stops `simulate_many`.
 #[pyfunction]
 #[pyo3(signature = (scenarios, workers=0))]
-pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: usize) -> Option<(usize, PyObject)> {
+pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Option<(usize, PyObject)>> {
     let mut loaded: Vec<(String, Option<PyErr>)> = Vec::new();
     let mut list = Vec::with_capacity(scenarios.len());
     let mut first_python_error: Option<(usize, PyErr)> = None;
@@ -90,7 +91,19 @@ pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: us
         }
         list.push(s);
     }
-    let verdicts = py.allow_threads(|| batch::check_many(&list, workers));
+    let mut interrupted = None;
+    let verdicts = engine(py, || {
+        Ok(batch::check_many_until(&list, workers, SIGNAL_POLL, |_| {
+            #[allow(clippy::redundant_closure_for_method_calls)] // the method's lifetime is not general enough
+            let signals = Python::with_gil(|py| py.check_signals());
+            interrupted = signals.err();
+            interrupted.is_none()
+        }))
+    });
+    let verdicts = match (verdicts, interrupted) {
+        (_, Some(e)) | (Err(e), None) => return Err(e),
+        (Ok(v), None) => v.expect("only an interrupt cancels the checks"),
+    };
     let engine_error = verdicts.into_iter().enumerate().find_map(|(k, v)| v.err().map(|e| (k, e)));
     let first = match (engine_error, first_python_error) {
         (Some((k, e)), Some((j, _))) if k < j => Some((k, crate::errors::to_py(e))),
@@ -98,5 +111,5 @@ pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: us
         (Some((k, e)), None) => Some((k, crate::errors::to_py(e))),
         (None, None) => None,
     };
-    first.map(|(k, e)| (k, e.into_value(py).into_any()))
+    Ok(first.map(|(k, e)| (k, e.into_value(py).into_any())))
 }
