@@ -40,6 +40,30 @@ def test_a_sweep_over_three_axes(tmp_path: Path) -> None:
     assert z.height == 3 and list(zip(z["robots"], z["seed"])) == [(1, 4), (2, 5), (3, 6)]
 
 
+def test_the_seed_axis_holds_whatever_order_the_axes_come_in() -> None:
+    sp = parse_spec({"base": BASE, "axes": {"seed": [1, 2], "tasks": [{"random": 5}, {"random": 7}]}})
+    seeds = [(p.scenario.to_dict()["tasks"]["seed"], len(p.scenario.cells)) for p in sp.points(1)]
+    assert seeds == [(1, 5), (1, 7), (2, 5), (2, 7)]
+
+
+def test_an_edited_layout_file_is_run_again(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # The key holds what the named file holds, not only its path.
+    monkeypatch.chdir(tmp_path)
+    from multibots.cli import main
+
+    for aisle, name in ((50, "wide.toml"), (60, "other.toml")):
+        main(["layout", "generate", "--out", name, "--aisle", str(aisle)])
+    s = {"base": {**BASE, "layout": "w.toml"}, "axes": {"robots": [1, 2]}}
+    Path("w.toml").write_bytes(Path("wide.toml").read_bytes())
+    seen = []
+    first = multibots.sweep(s, "o", reused=lambda k, n: seen.append(k))
+    multibots.sweep(s, "o", reused=lambda k, n: seen.append(k))
+    Path("w.toml").write_bytes(Path("other.toml").read_bytes())
+    edited = multibots.sweep(s, "o", reused=lambda k, n: seen.append(k))
+    assert seen == [0, 2, 0]
+    assert first["T"].to_list() != edited["T"].to_list(), "wider aisles, other task times"
+
+
 def test_rerun_reuses_everything(tmp_path: Path) -> None:
     multibots.sweep(spec(), tmp_path)
     seen = []

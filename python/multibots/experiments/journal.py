@@ -7,6 +7,7 @@ A run is keyed by everything that changes its result:
   the strategy's name too);
 - the strategy's code: for a Python strategy the SHA-256 of its module's source file, so an
   edited strategy runs again; a built-in's code is the engine's;
+- the files it names (a layout file, an order or people CSV): the SHA-256 of their bytes;
 - the engine: ``multibots.__version__`` and the SHA-256 of the ``_core`` extension file, so a
   rebuilt engine runs everything again.
 
@@ -19,6 +20,7 @@ import functools
 import hashlib
 import json
 import os
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Optional
@@ -46,12 +48,45 @@ def strategy_id(name: str) -> str:
     return "python:" + hashlib.sha256(strategy_source(name)).hexdigest()
 
 
+#: The scenario's fields that name a file the run reads: a layout file, an order or people CSV.
+_FILES = re.compile(r'"(layout|csv)":"((?:[^"\\]|\\.)*)"')
+
+
+def files_id(scenario_json: str) -> str:
+    """What the files a scenario names hold: the hash of each one's bytes, so an edited
+    layout or CSV runs again though the scenario names the same path."""
+    out = []
+    for field_name, raw in _FILES.findall(scenario_json):
+        if field_name == "layout" and not raw.lower().endswith(".toml"):
+            continue  # a built-in layout (paper)
+        out.append(_file_hash(json.loads(f'"{raw}"')))
+    return ",".join(out)
+
+
+def _file_hash(path: str) -> str:
+    try:
+        st = os.stat(path)
+    except OSError:
+        return "missing"
+    return _hash_of(os.path.abspath(path), st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=256)
+def _hash_of(path: str, mtime_ns: int, size: int) -> str:
+    # Keyed by modification time and size too: an edited file is read again.
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:32]
+    except OSError:
+        return "unreadable"
+
+
 def run_key(scenario: Scenario, strategy: str, engine: str) -> str:
     """The journal key of a run: ``strategy`` and ``engine`` are :func:`strategy_id` and
     :func:`engine_id` (computed once per study, not per run)."""
     # The engine's JSON of the scenario (every field, defaults filled in, in a fixed order)
     # is as exact as its TOML and 15 times quicker to make: sweeps key millions of runs.
-    blob = f"{strategy}\n{engine}\n{scenario._core.to_json()}"
+    text = scenario._core.to_json()
+    blob = f"{strategy}\n{engine}\n{text}\n{files_id(text)}"
     return hashlib.sha256(blob.encode()).hexdigest()
 
 

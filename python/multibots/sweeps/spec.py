@@ -109,10 +109,12 @@ def _apply(d: dict[str, Any], values: Sequence[tuple[str, Any]], source: str) ->
     of the base, with the axis values set. Tables are copied on the way down to a value, never
     changed in place: the base's tables are shared by every point."""
     for name, value in values:
+        if name != "seed":
+            _set(d, name.split("."), value)
+    # The seed last: an axis that sets a whole table (tasks = {random = 5}) must not undo it.
+    for name, value in values:
         if name == "seed":
             _set_seed(d, value, source)
-        else:
-            _set(d, name.split("."), value)
     try:
         return Scenario._parsed_only(d), str(d.get("allocator", "in-turn"))
     except ScenarioError as e:
