@@ -159,6 +159,16 @@ def test_refused_code_is_never_imported(tmp_path: Path) -> None:
     assert p.returncode == 0 and not (tmp_path / "RAN").exists(), p.stderr
 
 
+def test_a_strategy_that_exits_on_import_or_cannot_run_is_a_one_line_error(tmp_path: Path) -> None:
+    (tmp_path / "bye.py").write_text("import sys\nsys.exit(5)\n")
+    (tmp_path / "ok.py").write_text("class S:\n    def allocate(self, view):\n        return {}\n")
+    (tmp_path / "bye.toml").write_text(SMALL + 'allocator = "bye.py:S"\n')
+    one_line(limited("run", "bye.toml", "--allow-code", cwd=tmp_path), "bye.py", "SystemExit: 5")
+    # The original rules dispatch in turn only: said when the file is checked, before any run.
+    (tmp_path / "orig.toml").write_text(SMALL + 'rules = "original"\nallocator = "ok.py:S"\n')
+    one_line(limited("run", "orig.toml", "--allow-code", cwd=tmp_path), 'allocator = "ok.py:S"', "in turn only")
+
+
 def test_a_raising_strategy_in_a_worker_is_named(tmp_path: Path) -> None:
     (tmp_path / "bad.py").write_text("class Raises:\n    def allocate(self, view):\n"
                                      "        raise KeyError('boom \\x1b[31m')\n")

@@ -76,6 +76,11 @@ pub(crate) fn for_validation(py: Python<'_>, scenario: &Scenario) -> PyResult<Bo
     let name = scenario.allocator.as_str();
     if name.contains(':') {
         resolve(py, name)?;
+        if scenario.rules == multibots_core::Rules::Original {
+            // The stand-in below is in-turn, which the original rules accept: say it now, not
+            // when the run starts.
+            return Err(crate::to_py(Error::scenario("allocator", format!("\"{name}\""), "the original rules dispatch in turn only (in-turn)")));
+        }
         return Ok(Box::new(alloc::InTurn));
     }
     alloc::built_in(scenario).map_err(crate::to_py)

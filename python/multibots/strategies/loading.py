@@ -81,8 +81,10 @@ def _load_file(name: str, module: str) -> ModuleType:
             spec.loader.exec_module(mod)
         except BaseException as e:
             sys.modules.pop(mod_name, None)
-            if isinstance(e, (KeyboardInterrupt, SystemExit)):
+            if isinstance(e, KeyboardInterrupt):
                 raise
+            # SystemExit too: a module that exits while being imported is a broken strategy,
+            # not the user's wish to leave with its code.
             raise ScenarioError(f'allocator = "{name}": cannot import {module}: {_one_line(e)}') from None
         _FILES[key] = (st.st_mtime_ns, st.st_size, mod)
         return mod
@@ -117,9 +119,9 @@ def _load_module(name: str, module: str) -> ModuleType:
             if found is None:
                 raise
             return found
-    except (KeyboardInterrupt, SystemExit):
+    except KeyboardInterrupt:
         raise
-    except BaseException as e:
+    except BaseException as e:  # SystemExit too, as in _load_file
         raise ScenarioError(f'allocator = "{name}": cannot import {module}: {_one_line(e)}') from None
 
 
