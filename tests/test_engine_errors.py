@@ -57,3 +57,23 @@ def test_ctrl_c_stops_a_long_run_with_one_line_and_no_half_written_replay(cli, t
     assert p.returncode == 130, (out, err)
     assert err.strip() == "multibots: interrupted"
     assert list(tmp_path.iterdir()) == [scenario]
+
+
+def test_ctrl_c_stops_checking_many_scenarios():
+    # A sweep checks every planned run in one engine call: Ctrl-C must stop it as it stops runs.
+    import os
+    import signal
+    import threading
+
+    import pytest
+
+    from multibots import Scenario, _core
+
+    one = Scenario._parsed_only({"layout": "paper", "robots": 6, "tasks": {"random": 40, "seed": 1}})._core
+    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            _core.check_many([one] * 200_000, 1)  # about 6 s of checks, stopped after 0.2 s
+    finally:
+        timer.cancel()

@@ -41,6 +41,16 @@ pub(crate) fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Opti
     result_dict(py, &r)
 }
 
+/// A batch's watch: goes on until Ctrl-C, which it keeps in `interrupted` to raise.
+fn until_interrupted(interrupted: &mut Option<PyErr>) -> impl FnMut(usize) -> bool + '_ {
+    |_| {
+        #[allow(clippy::redundant_closure_for_method_calls)] // the method's lifetime is not general enough
+        let signals = Python::with_gil(|py| py.check_signals());
+        *interrupted = signals.err();
+        interrupted.is_none()
+    }
+}
+
 /// Runs many scenarios on `workers` threads (0: one per core); results come back in the
 /// order given. Ctrl-C stops every worker.
 #[pyfunction]
@@ -49,12 +59,7 @@ pub(crate) fn simulate_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers:
     let list: Vec<_> = scenarios.into_iter().map(|s| s.inner).collect();
     let mut interrupted = None;
     let results = engine(py, || {
-        Ok(batch::run_many(&list, workers, SIGNAL_POLL, |_| {
-            #[allow(clippy::redundant_closure_for_method_calls)] // the method's lifetime is not general enough
-            let signals = Python::with_gil(|py| py.check_signals());
-            interrupted = signals.err();
-            interrupted.is_none()
-        }))
+        Ok(batch::run_many(&list, workers, SIGNAL_POLL, until_interrupted(&mut interrupted)))
     })?;
     if let Some(e) = interrupted {
         return Err(e);
@@ -93,12 +98,7 @@ pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: us
     }
     let mut interrupted = None;
     let verdicts = engine(py, || {
-        Ok(batch::check_many_until(&list, workers, SIGNAL_POLL, |_| {
-            #[allow(clippy::redundant_closure_for_method_calls)] // the method's lifetime is not general enough
-            let signals = Python::with_gil(|py| py.check_signals());
-            interrupted = signals.err();
-            interrupted.is_none()
-        }))
+        Ok(batch::check_many_until(&list, workers, SIGNAL_POLL, until_interrupted(&mut interrupted)))
     });
     let verdicts = match (verdicts, interrupted) {
         (_, Some(e)) | (Err(e), None) => return Err(e),
