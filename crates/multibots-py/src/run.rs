@@ -58,9 +58,7 @@ fn until_interrupted(interrupted: &mut Option<PyErr>) -> impl FnMut(usize) -> bo
 pub(crate) fn simulate_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: usize) -> PyResult<Vec<Bound<'_, PyDict>>> {
     let list: Vec<_> = scenarios.into_iter().map(|s| s.inner).collect();
     let mut interrupted = None;
-    let results = engine(py, || {
-        Ok(batch::run_many(&list, workers, SIGNAL_POLL, until_interrupted(&mut interrupted)))
-    })?;
+    let results = engine(py, || Ok(batch::run_many(&list, workers, SIGNAL_POLL, until_interrupted(&mut interrupted))))?;
     if let Some(e) = interrupted {
         return Err(e);
     }
@@ -97,9 +95,7 @@ pub(crate) fn check_many(py: Python<'_>, scenarios: Vec<PyScenario>, workers: us
         list.push(s);
     }
     let mut interrupted = None;
-    let verdicts = engine(py, || {
-        Ok(batch::check_many_until(&list, workers, SIGNAL_POLL, until_interrupted(&mut interrupted)))
-    });
+    let verdicts = engine(py, || Ok(batch::check_many_until(&list, workers, SIGNAL_POLL, until_interrupted(&mut interrupted))));
     let verdicts = match (verdicts, interrupted) {
         (_, Some(e)) | (Err(e), None) => return Err(e),
         (Ok(v), None) => v.expect("only an interrupt cancels the checks"),
