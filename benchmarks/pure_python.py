@@ -2,9 +2,11 @@
 
     .venv/bin/python benchmarks/pure_python.py [--repetitions 5]
 
-Both run the paper scenario (N = 6 robots, task list group 1) from start to T, and must give
-the same T, S and C (checked here). Speed is robot-steps per second (6 x T per run), the
-median over repetitions; the ratio is engine / pure Python. tests/oracle/reference_model.py is
+Two figures. The paper's whole 30-run experiment (N = 1..6 x TABLE III's five lists), the
+pure-Python model's runs one after the other against the Python API's
+``simulate_many(..., workers=1)``, interleaved, every run's T, S and C checked equal; the
+ratio of the median times (issue 15's target: 100x). And one run (N = 6, group 1), in
+robot-steps per second (6 x T per run) against the engine's `scale` figure. tests/oracle/reference_model.py is
 written to be read, not to be fast: the ratio measures what the Rust engine buys over a
 straightforward Python program of the spec, not over the best possible Python.
 """
@@ -58,10 +60,51 @@ def measure(repetitions: int = 5) -> dict[str, Any]:
     }
 
 
+def measure_experiment(repetitions: int = 3, engine_calls: int = 7) -> dict[str, Any]:
+    """The 30-run experiment both ways, interleaved: each repetition runs the pure-Python
+    model once (about a second) and the Python API ``engine_calls`` times around it."""
+    from multibots import PAPER_TASKS, Scenario, simulate_many
+
+    from oracle import reference_model
+
+    runs = [(n, list(g)) for n in range(1, 7) for g in PAPER_TASKS.values()]
+    scenarios = [Scenario.paper(robots=n, goods=g) for n, g in runs]
+    py_s: list[float] = []
+    eng_s: list[float] = []
+
+    def engine() -> list[Any]:
+        t0 = time.perf_counter()
+        out = simulate_many(scenarios, workers=1)
+        eng_s.append(time.perf_counter() - t0)
+        return out
+
+    for _ in range(repetitions):
+        for _ in range(engine_calls // 2):
+            results = engine()
+        t0 = time.perf_counter()
+        refs = [reference_model.run(g, robots=n) for n, g in runs]
+        py_s.append(time.perf_counter() - t0)
+        for _ in range(engine_calls - engine_calls // 2):
+            results = engine()
+        for (n, g), ref, r in zip(runs, refs, results):
+            if (ref["T"], ref["S"], ref["C"]) != (r.T, r.S, r.C):
+                raise RuntimeError(f"N = {n}, goods {g}: reference {ref['T'], ref['S'], ref['C']}, "
+                                   f"engine {r.T, r.S, r.C}")
+    py, eng = statistics.median(py_s), statistics.median(eng_s)
+    robot_steps = sum(n * r.steps for (n, _), r in zip(runs, results))
+    return {"runs": len(runs), "robot_steps": robot_steps, "python_ms": py * 1000, "engine_ms": eng * 1000,
+            "engine_min_ms": min(eng_s) * 1000, "ratio": py / eng, "best_ratio": py / min(eng_s),
+            "repetitions": repetitions, "engine_calls": engine_calls * repetitions}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--repetitions", type=int, default=5)
     a = ap.parse_args(argv)
+    e = measure_experiment(max(1, a.repetitions // 2 + 1))
+    print(f"the paper's {e['runs']}-run experiment ({e['robot_steps']:,} robot-steps), T, S and C equal on every run: "
+          f"pure Python {e['python_ms']:,.0f} ms, Python API {e['engine_ms']:.1f} ms (median; best "
+          f"{e['engine_min_ms']:.1f}): ratio {e['ratio']:,.0f}x (with the best engine time {e['best_ratio']:,.0f}x)")
     r = measure(a.repetitions)
     print(f"paper scenario (N = 6, group 1): T = {r['T']}, S = {r['S']}, C = {r['C']} in both")
     print(
