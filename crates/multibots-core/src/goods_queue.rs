@@ -113,7 +113,8 @@ impl GoodsQueue {
             cells_full,
             slots,
             idle: Vec::with_capacity(robots),
-            decisions: Decisions { assign: Vec::with_capacity(robots), charge: Vec::new() },
+            // Assignments grow to the largest allocation event's (not the fleet's) count.
+            decisions: Decisions { assign: Vec::new(), charge: Vec::new() },
             taken: Vec::new(),
             pending: false,
         };
