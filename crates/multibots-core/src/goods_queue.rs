@@ -17,8 +17,8 @@
 use crate::alloc::{service_target, AllocView, Assignment, Decisions, Goods};
 use crate::error::{Error, Result};
 use crate::events::{Event, EventKind};
-use crate::ids::{CellId, GoodsId, NodeId, RobotId, NONE};
-use crate::lifelong::{Lifelong, StockEvent};
+use crate::ids::{CellId, GoodsId, NodeId, RobotId};
+use crate::lifelong::{Lifelong, OrderWindow, StockEvent};
 use crate::robot::{Robots, State, Target};
 use crate::scenario::Orders;
 use crate::sim::{Paper, Params};
@@ -32,13 +32,10 @@ pub(crate) struct GoodsQueue {
     pub queue: VecDeque<Goods>,
     /// Which cells hold goods.
     pub cells_full: Vec<bool>,
-    /// Indexed by goods id: whether the goods are in the queue, and whether the allocator
-    /// handed them out in the current call. They make checking and removing assignments
-    /// O(1) per assignment instead of a scan of the queue.
-    in_queue: Vec<bool>,
-    handed: Vec<bool>,
-    /// The cell of every goods item, by goods id.
-    cells: Vec<CellId>,
+    /// By goods id: the cell, whether the goods are in the queue, and whether the allocator
+    /// handed them out in the current call (O(1) checks and removals per assignment instead
+    /// of a scan of the queue). Lifelong runs drop delivered orders from the front.
+    slots: OrderWindow<Slot>,
     /// Reused by every allocation event.
     pub(crate) idle: Vec<RobotId>,
     pub(crate) decisions: Decisions,
@@ -46,6 +43,45 @@ pub(crate) struct GoodsQueue {
     /// Paused at a decision point: phase 1 of the current step waits for decisions from
     /// outside the engine.
     pub(crate) pending: bool,
+}
+
+/// What the queue knows of one goods item, in 4 bytes: its cell (below 2^30,
+/// `limits::MAX_CELLS`), whether it is in the queue, and whether the allocator handed it out
+/// in the current call (the two top bits).
+#[derive(Clone, Copy, Debug)]
+struct Slot(u32);
+
+const _: () = assert!(crate::limits::MAX_CELLS < 1 << 30);
+
+impl Slot {
+    const IN_QUEUE: u32 = 1 << 31;
+    const HANDED: u32 = 1 << 30;
+    const EMPTY: Slot = Slot(0);
+
+    /// Goods of `cell` in the queue.
+    fn queued(cell: CellId) -> Slot {
+        Slot(cell.0 | Slot::IN_QUEUE)
+    }
+
+    fn cell(self) -> CellId {
+        CellId(self.0 & !(Slot::IN_QUEUE | Slot::HANDED))
+    }
+
+    fn in_queue(self) -> bool {
+        self.0 & Slot::IN_QUEUE != 0
+    }
+
+    fn handed(self) -> bool {
+        self.0 & Slot::HANDED != 0
+    }
+
+    fn set(&mut self, flag: u32, on: bool) {
+        if on {
+            self.0 |= flag;
+        } else {
+            self.0 &= !flag;
+        }
+    }
 }
 
 impl GoodsQueue {
@@ -57,7 +93,7 @@ impl GoodsQueue {
         let mut lifelong = None;
         if let Some(o) = orders {
             cells_full.fill(true);
-            let mut ll = Lifelong::new(o, cell_count, csv, task_cells.len());
+            let mut ll = Lifelong::new(o, cell_count, csv);
             ll.initial(task_cells, &cells_full, &mut |id, cell| queue.push_back(Goods { id, cell }));
             lifelong = Some(ll);
         } else {
@@ -66,27 +102,19 @@ impl GoodsQueue {
                 Goods { id: GoodsId(k as u32), cell: CellId(c) }
             }));
         }
-        // Room for every order the run expects, so that the step loop does not allocate.
-        let cap = lifelong.as_ref().map_or(queue.len(), |l: &Lifelong| l.arrival.capacity());
-        let len = lifelong.as_ref().map_or(queue.len(), |l: &Lifelong| l.arrival.len());
-        let mut in_queue = Vec::with_capacity(cap);
-        in_queue.resize(len, false);
-        let mut handed = Vec::with_capacity(cap);
-        handed.resize(len, false);
-        let mut cells = Vec::with_capacity(cap);
-        cells.resize(len, CellId(NONE));
+        // Lifelong slots grow with the orders that arrive.
+        let mut slots = OrderWindow::new();
         for gd in &queue {
-            in_queue[gd.id.index()] = true;
-            cells[gd.id.index()] = gd.cell;
+            slots.reach(gd.id.index(), Slot::EMPTY);
+            slots[gd.id.index()] = Slot::queued(gd.cell);
         }
         let gq = GoodsQueue {
             queue,
             cells_full,
-            in_queue,
-            handed,
-            cells,
+            slots,
             idle: Vec::with_capacity(robots),
-            decisions: Decisions { assign: Vec::with_capacity(robots), charge: Vec::new() },
+            // Assignments grow to the largest allocation event's (not the fleet's) count.
+            decisions: Decisions { assign: Vec::new(), charge: Vec::new() },
             taken: Vec::new(),
             pending: false,
         };
@@ -96,7 +124,9 @@ impl GoodsQueue {
     /// Phase 0 of a lifelong run: restocks and the orders of step `t` arrive; the orders
     /// whose cells can serve them join the queue. Returns whether any did.
     pub fn take_orders(&mut self, ll: &mut Lifelong, t: u64, events: &mut Vec<Event>) -> bool {
-        let GoodsQueue { queue, cells_full, in_queue, handed, cells, .. } = self;
+        let GoodsQueue { queue, cells_full, slots, .. } = self;
+        // Orders delivered before the oldest open one are done with.
+        slots.drop_below(ll.first_open());
         let mut grew = false;
         ll.begin_step(
             t,
@@ -104,14 +134,8 @@ impl GoodsQueue {
             &mut |id, cell| {
                 queue.push_back(Goods { id, cell });
                 let k = id.index();
-                if in_queue.len() <= k {
-                    // Within the capacity reserved for the expected orders: no allocation.
-                    in_queue.resize(k + 1, false);
-                    handed.resize(k + 1, false);
-                    cells.resize(k + 1, CellId(NONE));
-                }
-                in_queue[k] = true;
-                cells[k] = cell;
+                slots.reach(k, Slot::EMPTY);
+                slots[k] = Slot::queued(cell);
                 grew = true;
             },
             &mut |e| {
@@ -128,12 +152,12 @@ impl GoodsQueue {
     /// Goods put back by the threshold rule go to the front of the queue.
     pub fn put_back(&mut self, g: Goods) {
         self.queue.push_front(g);
-        self.in_queue[g.id.index()] = true;
+        self.slots[g.id.index()].set(Slot::IN_QUEUE, true);
     }
 
     /// The cell of a goods item.
     pub fn cell_of(&self, goods: GoodsId) -> CellId {
-        self.cells[goods.index()]
+        self.slots[goods.index()].cell()
     }
 
     /// Checks the decisions in order (assignments, then robots sent to charge) and marks the
@@ -142,8 +166,8 @@ impl GoodsQueue {
         let r = self.check_each(robots, energy_full);
         if r.is_err() {
             for a in &self.decisions.assign {
-                if let Some(h) = self.handed.get_mut(a.goods.index()) {
-                    *h = false;
+                if let Some(slot) = self.slots.get_mut(a.goods.index()) {
+                    slot.set(Slot::HANDED, false);
                 }
             }
         }
@@ -171,13 +195,13 @@ impl GoodsQueue {
         for (k, a) in self.decisions.assign.iter().enumerate() {
             idle_robot(&mut self.taken, &format!("assignment {k}"), a.robot)?;
             let gi = a.goods.index();
-            if !self.in_queue.get(gi).copied().unwrap_or(false) {
+            let Some(slot) = self.slots.get_mut(gi).filter(|s| s.in_queue()) else {
                 return Err(format!("assignment {k}: unknown or taken goods id {}", a.goods));
-            }
-            if self.handed[gi] {
+            };
+            if slot.handed() {
                 return Err(format!("assignment {k}: goods {} handed out twice", a.goods));
             }
-            self.handed[gi] = true;
+            slot.set(Slot::HANDED, true);
         }
         for (k, &robot) in self.decisions.charge.iter().enumerate() {
             idle_robot(&mut self.taken, &format!("charge {k}"), robot)?;
@@ -191,11 +215,11 @@ impl GoodsQueue {
 
     /// One pass over the queue removes every goods handed out, keeping the others' order.
     fn remove_handed(&mut self) {
-        let in_queue = &mut self.in_queue;
-        let handed = &self.handed;
+        let slots = &mut self.slots;
         self.queue.retain(|g| {
-            let keep = !handed[g.id.index()];
-            in_queue[g.id.index()] = keep;
+            let slot = &mut slots[g.id.index()];
+            let keep = !slot.handed();
+            slot.set(Slot::IN_QUEUE, keep);
             keep
         });
     }
@@ -264,7 +288,7 @@ impl Paper {
         }
         for k in 0..self.goods.decisions.assign.len() {
             let Assignment { robot, goods } = self.goods.decisions.assign[k];
-            self.goods.handed[goods.index()] = false;
+            self.goods.slots[goods.index()].set(Slot::HANDED, false);
             let cell = self.goods.cell_of(goods);
             let i = robot.index();
             let edge = self.world.layout.cells[cell.index()].edge;

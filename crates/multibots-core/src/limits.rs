@@ -23,8 +23,9 @@ pub const MAX_ROBOTS: u32 = 1_000_000;
 /// Most workers on the floor (`[humans] count`).
 pub const MAX_HUMANS: u32 = 100_000;
 
-/// Most orders a lifelong run may expect (`orders.rate × orders.horizon`): about 20 bytes
-/// each, 2 GB at the end of a run this long (the buffers grow with the orders that arrive).
+/// Most orders a lifelong run may expect (`orders.rate × orders.horizon`). What outlives an
+/// order is its latency, 8 bytes a delivery: 800 MB at the end of a run this long. Orders in
+/// progress take 24 bytes each, dropped at delivery (`lifelong.rs`).
 pub const MAX_ORDERS: f64 = 100_000_000.0;
 
 /// Highest order rate, orders per step.
