@@ -64,9 +64,6 @@ fn run(path: &str, robots: Option<u32>, steps: u64) -> String {
     }
     let after = status();
     let cols = columns(&sim);
-    // Never freed: a heap profiler's "leaked" bytes at exit are then the run's live heap
-    // (`heaptrack memory huge.toml 10000 100`, then `heaptrack_print` on its file).
-    let sim = std::mem::ManuallyDrop::new(sim);
     let total: f64 = cols.iter().map(|c| c.2).sum();
     let cols_json: Vec<String> = cols.iter().map(|(name, size, b)| format!("[\"{name}\",{size},{b}]")).collect();
     format!(
