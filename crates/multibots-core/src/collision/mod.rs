@@ -115,9 +115,6 @@ pub struct Collisions {
     // "Blocked by" graph in compressed rows.
     edge_start: Vec<u32>,
     edge_to: Vec<u32>,
-    /// The robot of each edge in `edge_to` while the edges are gathered; then the sort's
-    /// scratch.
-    edge_from: Vec<u32>,
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
     /// Robots standing in a bay beside the aisle (an extension for large fleets, see
@@ -179,7 +176,6 @@ impl Collisions {
             sr: vec![0.0; robots],
             edge_start: vec![0; robots + 1],
             edge_to: Vec::with_capacity(robots),
-            edge_from: Vec::with_capacity(robots),
             waits: vec![false; robots],
             index: vec![u32::MAX; robots],
             low: vec![0; robots],
@@ -250,7 +246,7 @@ impl Collisions {
         let uniform = self.build_grid(x, y, radius);
         let (grid, tiny, placed) = (self.grid, self.tiny, self.placed);
         let (first, stamp, start, end, epoch) = (&self.first[..], &self.stamp[..], &self.start[..], &self.end[..], self.epoch);
-        let (cxs, cys) = (&self.cx[..n], &self.cy[..n]);
+        let (cell_of, cxs, cys) = (&self.cell_of[..n], &self.cx[..n], &self.cy[..n]);
         let (by_cell, sx, sy, sr) = (&self.by_cell[..n], &self.sx[..n], &self.sy[..n], &self.sr[..n]);
         // The run of robots in cells `c0..=c1` of one row (at most three cells): the runs of
         // adjacent cells are adjacent in the order, so it is one range.
@@ -277,18 +273,14 @@ impl Collisions {
             self.sin_angle = (angle, angle.sin());
         }
         let w = (self.reach * self.sin_angle.1 * 1.000_001 + 1e-9) * grid.inv_size;
-        // Build the "blocked by" edges. Robots are visited in grid order (in id order for
-        // tiny fleets, whose grid order is their id order): the candidates of neighbours in
-        // grid order lie together in memory, which keeps big fleets in cache. The edges are
-        // then put in id order of their robots by a stable counting sort, so each robot's
-        // edges, and their order, are exactly those of a visit in id order.
+        // Build the "blocked by" edges (in no particular order: the components, and so who
+        // is released, do not depend on it).
+        let edge_start = &mut self.edge_start[..=n];
         let edge_to = &mut self.edge_to;
-        let edge_from = &mut self.edge_from;
         edge_to.clear();
-        edge_from.clear();
-        for &robot in &by_cell[..placed] {
-            let i = robot as usize;
-            if !wants[i] {
+        for i in 0..n {
+            edge_start[i] = edge_to.len() as u32;
+            if !wants[i] || cell_of[i] == u32::MAX {
                 continue;
             }
             // Only robots in the cone ahead can block. Moving along an aisle (heading exactly
@@ -345,14 +337,12 @@ impl Collisions {
                         mask &= mask - 1;
                         if blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
                             edge_to.push(by_cell[k]);
-                            edge_from.push(robot);
                         }
                     }
                 } else {
                     for k in k0..k1 {
                         if near(k) == 1 && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
                             edge_to.push(by_cell[k]);
-                            edge_from.push(robot);
                         }
                     }
                 }
@@ -362,14 +352,13 @@ impl Collisions {
                 row += grid.cols;
             }
         }
+        edge_start[n] = edge_to.len() as u32;
         if edge_to.is_empty() {
             return;
         }
-        self.edges_by_robot(n);
         // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's
         // work is in proportion to them, not to the fleet.
         self.blocked.clear();
-        let edge_start = &self.edge_start[..=n];
         self.blocked.extend((0..n).filter(|&i| edge_start[i] < edge_start[i + 1]).map(|i| i as u32));
         self.release_cycles();
         for &i in &self.blocked {
@@ -379,53 +368,6 @@ impl Collisions {
             self.released[i] = false;
             self.index[i] = u32::MAX;
         }
-    }
-}
-
-impl Collisions {
-    /// The edges gathered in grid order (`edge_from[e]` blocked by `edge_to[e]`) into rows by
-    /// robot id: `edge_start[i]..edge_start[i + 1]` of `edge_to`. Stable, so each robot's
-    /// edges keep the order they were found in; tiny fleets gather in id order already.
-    fn edges_by_robot(&mut self, n: usize) {
-        let edge_start = &mut self.edge_start[..=n];
-        if self.tiny {
-            let mut e = 0;
-            for (i, start) in edge_start.iter_mut().enumerate() {
-                *start = e as u32;
-                while e < self.edge_from.len() && self.edge_from[e] as usize == i {
-                    e += 1;
-                }
-            }
-            return;
-        }
-        edge_start.fill(0);
-        for &f in &self.edge_from {
-            edge_start[f as usize + 1] += 1;
-        }
-        for i in 0..n {
-            edge_start[i + 1] += edge_start[i];
-        }
-        // Place each edge at its robot's next free slot (`edge_start[i]` moves up as it
-        // fills, then is set back), into `edge_from`'s room as scratch.
-        let m = self.edge_to.len();
-        let (from, to) = (&mut self.edge_from, &self.edge_to);
-        let mut sorted = std::mem::take(&mut self.stack);
-        sorted.clear();
-        sorted.resize(m, 0);
-        for e in 0..m {
-            let f = from[e] as usize;
-            sorted[edge_start[f] as usize] = to[e];
-            edge_start[f] += 1;
-        }
-        // Each `edge_start[i]` is now the end of row i, which is the start of row i + 1.
-        for i in (1..=n).rev() {
-            edge_start[i] = edge_start[i - 1];
-        }
-        edge_start[0] = 0;
-        self.edge_to.clear();
-        self.edge_to.extend_from_slice(&sorted);
-        sorted.clear();
-        self.stack = sorted;
     }
 }
 
