@@ -199,15 +199,7 @@ impl Collisions {
         let cell_of = &mut self.cell_of[..n];
         // Every robot can block, so every robot goes into the grid (bays aside).
         let mut placed = 0;
-        if self.tiny {
-            // No cells are read: only who is in the grid (bays aside).
-            for i in 0..n {
-                let out = !bay.is_empty() && bay[i];
-                cell_of[i] = if out { u32::MAX } else { 0 };
-                placed += usize::from(!out);
-            }
-        }
-        for i in 0..if self.tiny { 0 } else { n } {
+        for i in 0..n {
             if !bay.is_empty() && bay[i] {
                 cell_of[i] = u32::MAX;
                 continue;
