@@ -151,7 +151,7 @@ def build_markdown(d: dict[str, Any]) -> str:
             "n/a (6 robots)"
             if name == "paper"
             else f"{mem['bytes_per_robot']:,.0f} B"
-            if r["robots"] >= 10_000
+            if r["robots"] >= 10_000 and mem["bytes_per_robot"] > 0
             else "below allocator noise"
         )
         lines.append(
