@@ -22,6 +22,17 @@ impl Collisions {
     /// same every step: the caller keeps it).
     #[must_use]
     pub fn contacts_within(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+        if self.dense {
+            if let Some(found) = self.contacts_by_cell_pairs(x, y, radius, moved, r_max, slack) {
+                return found;
+            }
+        }
+        self.contacts_by_boxes(x, y, radius, moved, r_max, slack)
+    }
+
+    /// [`Collisions::contacts_within`] robot by robot: the cells of a box around each robot
+    /// that moved.
+    fn contacts_by_boxes(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
         let n = x.len();
         let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
         let grid = self.grid;
@@ -90,5 +101,109 @@ impl Collisions {
             }
         }
         (count, closest)
+    }
+
+    /// [`Collisions::contacts_within`] for dense grids: each pair of neighbouring robots is
+    /// found once, from the cell of the first in grid order (the rest of its cell, the next
+    /// cell of its row and the three cells below), instead of once from each robot's box.
+    /// Each pair found is then judged exactly as the box scan judges it, from the same robot
+    /// (the one that moved; of two that moved, the smaller id), so the pairs looked at, the
+    /// count and the closest approach are the same to the bit. `None` where that cannot be
+    /// promised: a neighbour could lie beyond the next cell, or a robot that moved stands
+    /// in a bay, out of the grid.
+    fn contacts_by_cell_pairs(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
+        let n = x.len();
+        let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.cell_of[..n]);
+        // A pair the box scan looks at stood (before the moves) within its `near` (at most
+        // `2 r_max + slack / 2`) plus one robot's move (at most `slack / 2`): within `span`.
+        let span = (2.0 * r_max + slack) * 1.000_1 + 1e-9;
+        let fits = span * 1.001 < 1.0 / self.grid.inv_size;
+        if !fits || (0..n).any(|i| moved[i] && cell_of[i] == u32::MAX) {
+            return None;
+        }
+        let span2 = span * span;
+        let half = 0.5 * slack;
+        let cols = self.grid.cols;
+        let placed = self.placed;
+        let (first, by_cell, sx, sy) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
+        let (mut count, mut closest) = (0u64, f64::INFINITY);
+        for k in 0..placed {
+            let i = by_cell[k] as usize;
+            let c = cell_of[i] as usize;
+            let (px, py) = (sx[k], sy[k]);
+            // The grid keeps a free cell on every side: `c + cols + 2` is still a cell index.
+            for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
+                for m in m0..m1 {
+                    let (dx, dy) = (sx[m] - px, sy[m] - py);
+                    if dx * dx + dy * dy > span2 {
+                        continue;
+                    }
+                    let j = by_cell[m] as usize;
+                    let (mi, mj) = (moved[i], moved[j]);
+                    if !(mi || mj) {
+                        continue;
+                    }
+                    // The robot the box scan would look from, and the other, by its place.
+                    let (l, o, ko) = if mi && (!mj || i < j) { (i, j, m) } else { (j, i, k) };
+                    let near = radius[l] + r_max + half;
+                    let near2 = near * near * 1.000_001;
+                    let (ex, ey) = (sx[ko] - x[l], sy[ko] - y[l]);
+                    if ex * ex + ey * ey > near2 {
+                        continue;
+                    }
+                    let d = crate::route::axis_dist(x[o] - x[l], y[o] - y[l]);
+                    closest = closest.min(d);
+                    count += u64::from(d < radius[l] + radius[o]);
+                }
+            }
+        }
+        Some((count, closest))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Collisions;
+
+    /// A small deterministic generator (no dependency for one test).
+    fn lcg(state: &mut u64) -> f64 {
+        *state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn cell_pairs_count_what_boxes_count_to_the_bit() {
+        let mut seed = 7;
+        let mut found = 0;
+        for case in 0..200 {
+            let n = 300 + case * 7;
+            // Crowded: about 6 cells per robot, so the grid is dense.
+            let side = (n as f64 * 6.0).sqrt() * 50.0;
+            let mut c = Collisions::new([0.0, 0.0, side, side], 25.0, n);
+            assert!(c.dense);
+            let (mut x, mut y) = (Vec::with_capacity(n), Vec::with_capacity(n));
+            for _ in 0..n {
+                // Some on an aisle's line, some anywhere, a few on top of each other.
+                let on_line = lcg(&mut seed) < 0.5;
+                x.push(if on_line { (lcg(&mut seed) * 10.0).floor() * 50.0 + 25.0 } else { lcg(&mut seed) * side });
+                y.push(lcg(&mut seed) * side);
+            }
+            let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
+            c.build_grid(&x, &y, &radius);
+            let moved: Vec<bool> = (0..n).map(|_| lcg(&mut seed) < 0.6).collect();
+            for i in 0..n {
+                if moved[i] {
+                    let a = lcg(&mut seed) * std::f64::consts::TAU;
+                    x[i] += 4.0 * a.cos();
+                    y[i] += 4.0 * a.sin();
+                }
+            }
+            let r_max = radius.iter().copied().fold(0.0, f64::max);
+            let pairs = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
+            let boxes = c.contacts_by_boxes(&x, &y, &radius, &moved, r_max, 8.0);
+            assert_eq!((pairs.0, pairs.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}");
+            found += pairs.0;
+        }
+        assert!(found > 1000, "the cases hold contacts: {found}");
     }
 }
