@@ -38,7 +38,10 @@ def build_base(rev: str) -> Path:
     if not tree.exists():
         subprocess.run(["git", "worktree", "add", "--detach", str(tree), sha], cwd=ROOT, check=True,
                        capture_output=True)
-    target = ROOT / "target" / "guard" / "target"
+    # A target directory per revision: with one shared directory cargo may leave another
+    # revision's binary at the shared path when the build is already fresh, and the guard
+    # would then time the wrong build.
+    target = tree / "target"
     subprocess.run(["cargo", "build", "-q", "--release", "-p", "multibots-core", "--example", "scale",
                     "--target-dir", str(target)], cwd=tree, check=True)
     return target / "release" / "examples" / "scale"
