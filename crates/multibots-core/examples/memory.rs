@@ -86,6 +86,7 @@ fn main() {
     let steps: u64 = rest.get(2).map_or(1000, |s| s.parse().expect("steps"));
     if !marginal {
         println!("{}", run(path, robots, steps));
+        return;
     }
     // Two fresh processes, so that neither inherits the other's heap.
     let child = |n: u32| -> String {
