@@ -7,9 +7,19 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// Phase 3 by the book: O(N²) "blocked by", strongly connected components by reachability,
 /// the smallest id of each component of two or more released.
 fn brute(x: &[f64], y: &[f64], radius: &[f64], margin: f64, wants: &[bool], alpha: &[f64], angle: f64) -> Vec<bool> {
+    brute_with_bays(x, y, radius, margin, wants, alpha, angle, &vec![false; x.len()])
+}
+
+/// [`brute`] with robots standing in bays, which neither block nor wait.
+#[allow(clippy::too_many_arguments)]
+fn brute_with_bays(x: &[f64], y: &[f64], radius: &[f64], margin: f64, wants: &[bool], alpha: &[f64], angle: f64, bay: &[bool]) -> Vec<bool> {
     let n = x.len();
     let edge: Vec<Vec<bool>> = (0..n)
-        .map(|i| (0..n).map(|j| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, angle)).collect())
+        .map(|i| {
+            (0..n)
+                .map(|j| i != j && wants[i] && !bay[i] && !bay[j] && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, angle))
+                .collect()
+        })
         .collect();
     let mut reach_of = edge.clone();
     for k in 0..n {
@@ -36,6 +46,49 @@ fn brute(x: &[f64], y: &[f64], radius: &[f64], margin: f64, wants: &[bool], alph
 #[test]
 fn grid_agrees_with_the_definition_on_crowded_aisles() {
     crowded_aisles(|_| 12.5, 0.0);
+}
+
+#[test]
+fn tiny_fleets_agree_with_the_definition_with_robots_in_bays() {
+    // At most 32 robots: the pass over pairs, not the neighbour list. Two steps each, so
+    // the second one flags pairs as wide as contacts asked for.
+    let mut s = 1_234_567u64;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    let headings = [0.0, -0.0, PI, -PI, FRAC_PI_2, -FRAC_PI_2, 0.3, 2.0];
+    for round in 0..300 {
+        let n = [1, 2, 6, 17, 32][round % 5];
+        let (x, y): (Vec<f64>, Vec<f64>) = (0..n)
+            .map(|_| {
+                let (along, lane) = ((rnd() % 120) as f64, (rnd() % 3) as f64 * 50.0);
+                if rnd() % 2 == 0 {
+                    (along, lane)
+                } else {
+                    (lane, along)
+                }
+            })
+            .unzip();
+        let alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() % headings.len() as u64) as usize]).collect();
+        let wants: Vec<bool> = (0..n).map(|_| rnd() % 5 != 0).collect();
+        let radius: Vec<f64> = (0..n).map(|_| if round % 2 == 0 { 12.5 } else { [8.0, 10.0, 12.5][(rnd() % 3) as usize] }).collect();
+        let bay: Vec<bool> = (0..n).map(|_| round % 3 == 0 && rnd() % 4 == 0).collect();
+        let margin = if round % 4 == 0 { 8.0 } else { 0.0 };
+        let reach = 2.0 * radius.iter().copied().fold(0.0, f64::max) + margin;
+        let mut c = Collisions::new([-50.0, -50.0, 200.0, 200.0], reach, n);
+        if bay.contains(&true) {
+            c.bay.clone_from(&bay);
+        }
+        for shift in [0.0, 1.0] {
+            let x: Vec<f64> = x.iter().map(|v| v + shift).collect();
+            c.resolve(&x, &y, &radius, &wants, &alpha, margin, 30f64.to_radians());
+            let _ = c.contacts(&x, &y, &radius, &wants, 8.0);
+            assert_eq!(c.waits, brute_with_bays(&x, &y, &radius, margin, &wants, &alpha, 30f64.to_radians(), &bay), "round {round}, shift {shift}");
+        }
+    }
 }
 
 #[test]

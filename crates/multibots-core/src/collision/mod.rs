@@ -87,9 +87,10 @@ pub struct Collisions {
     /// What [`Collisions::contacts`] needs listed: the widest distance it has looked at.
     contact_need: f64,
     // Two ways to find candidates:
-    // - tiny (a handful of robots, such as the paper's six): every robot in the traffic is a
-    //   candidate of every other, tested in one branch-free pass over copies of their
-    //   positions, which costs less than any bookkeeping.
+    // - tiny (a handful of robots, such as the paper's six): each step, one pass over the
+    //   pairs of robots in the traffic flags, for each, the others within `cover` of it
+    //   (`bits`); the collision test and the contact count look only at those. Robots far
+    //   apart, as they mostly are, then cost one distance per pair and step.
     // - otherwise, a neighbour list kept from step to step (see `neighbours.rs`).
     tiny: bool,
     /// Robots standing in a bay when the step's candidates were gathered (see `bay`); empty
@@ -104,6 +105,10 @@ pub struct Collisions {
     sx: Vec<f64>,
     sy: Vec<f64>,
     sr: Vec<f64>,
+    /// Tiny fleets: for the robot in place `k` of `by_cell`, the places of the others that
+    /// stood within `cover` of it (a relative slack far above rounding included), as bits.
+    bits: Vec<u32>,
+    cover: f64,
     /// Others: the neighbour list, and the positions when candidates were gathered (before
     /// the step's moves, which contacts compare with).
     near: Neighbours,
@@ -143,6 +148,7 @@ impl Collisions {
             sx: if tiny { vec![0.0; robots] } else { Vec::new() },
             sy: if tiny { vec![0.0; robots] } else { Vec::new() },
             sr: if tiny { vec![0.0; robots] } else { Vec::new() },
+            bits: if tiny { vec![0; robots] } else { Vec::new() },
             edge_start: vec![0; robots + 1],
             edge_to: Vec::with_capacity(robots),
             waits: vec![false; robots],
@@ -199,6 +205,25 @@ impl Collisions {
             }
         }
         self.placed = k;
+        // Wide enough for the collision test (every contact distance plus the margin) and
+        // for the widest contact count so far (see `contacts.rs`).
+        let cover = ((2.0 * self.r_max + self.margin) * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need);
+        let c2 = cover * cover * 1.000_01;
+        let (sx, sy, bits) = (&self.sx[..k], &self.sy[..k], &mut self.bits[..k]);
+        bits.fill(0);
+        for a in 0..k {
+            for b in a + 1..k {
+                // The same squared distance, to the bit, as from either robot: a difference
+                // only changes sign when its operands swap.
+                let (dx, dy) = (sx[b] - sx[a], sy[b] - sy[a]);
+                // Near unless clearly far (NaN included, as in the tests themselves).
+                let far = dx * dx + dy * dy > c2;
+                let m = u32::from(!far);
+                bits[a] |= m << b;
+                bits[b] |= m << a;
+            }
+        }
+        self.cover = cover;
     }
 
     /// Decides who waits. `alpha[i]` is used only where `wants[i]`; `margin` widens every
@@ -221,10 +246,17 @@ impl Collisions {
         edge_to.clear();
         let out = &self.out[..];
         if self.tiny {
-            let (placed, by_cell, sx, sy, sr) = (self.placed, &self.by_cell[..], &self.sx[..], &self.sy[..], &self.sr[..]);
+            let (placed, by_cell, sx, sy, sr, bits) = (self.placed, &self.by_cell[..], &self.sx[..], &self.sy[..], &self.sr[..], &self.bits[..]);
+            // Robots in the traffic are placed in id order: `p` is the place of robot `i`.
+            let mut p = 0;
             for i in 0..n {
                 edge_start[i] = edge_to.len() as u32;
-                if !wants[i] || (!out.is_empty() && out[i]) {
+                if p == placed || by_cell[p] as usize != i {
+                    // In a bay: neither blocks nor waits.
+                    continue;
+                }
+                p += 1;
+                if !wants[i] {
                     continue;
                 }
                 let (xi, yi, a, ri) = (x[i], y[i], alpha[i], radius[i]);
@@ -235,19 +267,14 @@ impl Collisions {
                     let r = contact(k);
                     let (dx, dy) = (sx[k] - xi, sy[k] - yi);
                     let far = dx * dx + dy * dy > r * r * 1.000_001;
-                    // 1 or 0, combined without a branch.
-                    u64::from(!far) & u64::from(by_cell[k] as usize != i)
+                    !far
                 };
-                // Most candidates are far: flag the near ones without a branch each (the
-                // outcome is hard to predict), then test only those.
-                let mut mask = 0u64;
-                for k in 0..placed {
-                    mask |= near(k) << k;
-                }
+                // `bits` holds every near one (and some that are not), in id order.
+                let mut mask = bits[p - 1];
                 while mask != 0 {
                     let k = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
-                    if blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
+                    if near(k) && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
                         edge_to.push(by_cell[k]);
                     }
                 }
