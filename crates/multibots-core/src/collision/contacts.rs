@@ -1,18 +1,17 @@
 //! Contacts: pairs of robots closer than r_i + r_j after a move (docs/metrics.md), found
-//! among the step's candidates.
+//! with the step's collision grid.
 
 use super::Collisions;
 
 impl Collisions {
     /// Contacts after this step's moves: pairs closer than `r_i + r_j` of which at least one
     /// robot moved (`moved`), counted once each, and the smallest centre distance among the
-    /// pairs looked at, or `f64::INFINITY`. A pair is looked at from the robot `i` that moved
-    /// (the larger id if both did) when the other robot, where it stood before the moves, is
-    /// within `r_i + r_max + slack / 2` of where `i` stands after them. `x`, `y` are the
-    /// positions after the moves; `slack` is twice the farthest a robot moves in a step.
-    /// Robots in bays (spread placement's parked robots) stand beside the aisle: they are not
-    /// looked at, as they do not block.
-    /// Call it after [`Collisions::resolve`] (or [`Collisions::build_grid`]) in the same step.
+    /// pairs looked at (within `r_i + r_j + slack`, or `f64::INFINITY`). `x`, `y` are the
+    /// positions after the moves; `slack` is at least the farthest any robot moved this step
+    /// (twice a step), so this step's grid (built before the moves) still finds every pair.
+    /// Robots in bays (spread placement's parked robots) stand beside the aisle and are not in
+    /// the grid: they are not counted, as they do not block.
+    /// Call it after [`Collisions::resolve`] in a step where someone wanted to move.
     #[must_use]
     pub fn contacts(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], slack: f64) -> (u64, f64) {
         let r_max = radius[..x.len()].iter().copied().fold(0.0, f64::max);
@@ -23,103 +22,69 @@ impl Collisions {
     /// same every step: the caller keeps it).
     #[must_use]
     pub fn contacts_within(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+        if self.tiny {
+            return self.contacts_tiny(x, y, radius, moved, r_max, slack);
+        }
+        if self.dense {
+            if let Some(found) = self.contacts_by_cell_pairs(x, y, radius, moved, r_max, slack) {
+                return found;
+            }
+        }
+        self.contacts_by_boxes(x, y, radius, moved, r_max, slack)
+    }
+
+    /// [`Collisions::contacts_within`] for tiny fleets: the robots flagged near each robot
+    /// that moved, by the step's pass over pairs (see `Collisions::tiny`).
+    fn contacts_tiny(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
         let n = x.len();
         let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
-        let (mut count, mut closest) = (0u64, f64::INFINITY);
-        if self.tiny {
-            let need = (2.0 * r_max + 0.5 * slack) * 1.000_001 + slack * (1.0 + 1e-9) + 1e-9;
-            if need > self.contact_need {
-                // From the next step on, the pass over pairs flags this wide.
-                self.contact_need = need;
-            }
-            let placed = self.placed;
-            let (by_cell, sx, sy, bits, cover) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.bits[..placed], self.cover);
-            // Robots in the traffic are placed in id order: `p` is the place of robot `i`.
-            let mut p = 0;
-            for i in 0..n {
-                let here = p < placed && by_cell[p] as usize == i;
-                p += usize::from(here);
-                if !moved[i] {
-                    continue;
-                }
-                let (xi, yi, ri) = (x[i], y[i], radius[i]);
-                // A robot within contact of `i` after the moves stood within contact plus half
-                // the slack of it before them: test the copied (pre-move) positions, and only
-                // the near ones by id.
-                let near = radius[i] + r_max + 0.5 * slack;
-                let near2 = near * near * 1.000_001;
-                let far = |k: usize| {
-                    let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    dx * dx + dy * dy > near2
-                };
-                // The others near `i` before the moves hold every robot this test can pass,
-                // unless `i` moved farther than they allow (or stands in a bay): then every
-                // robot in the traffic is looked at.
-                let mut mask = 0u64;
-                if here && near * 1.000_001 + crate::route::axis_dist(xi - sx[p - 1], yi - sy[p - 1]) * (1.0 + 1e-9) + 1e-9 <= cover {
-                    mask = u64::from(bits[p - 1]);
-                } else {
-                    // Flagged without a branch each (NaN counts as near, as ever).
-                    for (k, &j) in by_cell.iter().enumerate() {
-                        mask |= (u64::from(!far(k)) & u64::from(j as usize != i)) << k;
-                    }
-                }
-                while mask != 0 {
-                    let k = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let j = by_cell[k] as usize;
-                    if far(k) || (moved[j] && j < i) {
-                        continue;
-                    }
-                    let d = crate::route::axis_dist(x[j] - xi, y[j] - yi);
-                    closest = closest.min(d);
-                    count += u64::from(d < ri + radius[j]);
-                }
-            }
-            return (count, closest);
-        }
         // The widest pair looked at: the other robot before the moves within `near` of `i`
         // after them (a hair more for `near2`'s slack and rounding), so within `near` plus how
-        // far `i` moved of `i` before them. `slack` bounds that move; each robot's own move
-        // is checked below all the same.
-        let need = (self.r_max.max(r_max) + r_max + 0.5 * slack) * 1.000_001 + slack * (1.0 + 1e-9) + 1e-9;
+        // far `i` moved of `i` before them; `slack` bounds that move. Each robot's own move is
+        // checked below all the same.
+        let need = (2.0 * r_max + 0.5 * slack) * 1.000_001 + slack * (1.0 + 1e-9) + 1e-9;
         if need > self.contact_need {
+            // From the next step on, the pass over pairs flags this wide.
             self.contact_need = need;
         }
-        if need > self.near.cover {
-            // The list was not built for contacts this wide: build it now, at the positions
-            // before the moves, for which it answers.
-            let (px, py) = (&self.px[..], &self.py[..]);
-            self.near.build(px, py, need * 2.0);
-        }
-        let (px, py, out) = (&self.px[..n], &self.py[..n], &self.out[..]);
-        let (start, list, cover) = (&self.near.start[..=n], &self.near.list[..], self.near.cover);
-        let mut all: Vec<u32> = Vec::new();
+        let placed = self.placed;
+        let (by_cell, sx, sy, bits, cover) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.bits[..placed], self.cover);
+        let (mut count, mut closest) = (0u64, f64::INFINITY);
+        // Robots in the grid are placed in id order: `p` is the place of robot `i`.
+        let mut p = 0;
         for i in 0..n {
+            let here = p < placed && by_cell[p] as usize == i;
+            p += usize::from(here);
             if !moved[i] {
                 continue;
             }
             let (xi, yi, ri) = (x[i], y[i], radius[i]);
+            // A robot within contact of `i` after the moves stood within contact plus half the
+            // slack of it before them: test the copied (pre-move) positions, and only the
+            // near ones by id.
             let near = radius[i] + r_max + 0.5 * slack;
             let near2 = near * near * 1.000_001;
-            // `i`'s neighbours before the moves are every robot this test can pass, unless
-            // `i` moved farther than the list allows: then every robot is looked at.
-            let moved_by = crate::route::axis_dist(xi - px[i], yi - py[i]);
-            let candidates = if near * 1.000_001 + moved_by * (1.0 + 1e-9) + 1e-9 <= cover {
-                &list[start[i] as usize..start[i + 1] as usize]
-            } else {
-                if all.is_empty() {
-                    all.extend(0..n as u32);
-                }
-                &all[..]
+            let far = |k: usize| {
+                let (dx, dy) = (sx[k] - xi, sy[k] - yi);
+                dx * dx + dy * dy > near2
             };
-            for &j in candidates {
-                let j = j as usize;
-                if j == i || (!out.is_empty() && out[j]) || (moved[j] && j < i) {
-                    continue;
+            // The others flagged near `i` hold every robot this test can pass, unless `i`
+            // moved farther than the flags allow (or stands in a bay): then every robot in the
+            // grid is looked at.
+            let mut mask = 0u64;
+            if here && near * 1.000_001 + crate::route::axis_dist(xi - sx[p - 1], yi - sy[p - 1]) * (1.0 + 1e-9) + 1e-9 <= cover {
+                mask = u64::from(bits[p - 1]);
+            } else {
+                // Flagged without a branch each (NaN counts as near, as ever).
+                for (k, &j) in by_cell.iter().enumerate() {
+                    mask |= (u64::from(!far(k)) & u64::from(j as usize != i)) << k;
                 }
-                let (dx, dy) = (px[j] - xi, py[j] - yi);
-                if dx * dx + dy * dy > near2 {
+            }
+            while mask != 0 {
+                let k = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let j = by_cell[k] as usize;
+                if far(k) || (moved[j] && j < i) {
                     continue;
                 }
                 let d = crate::route::axis_dist(x[j] - xi, y[j] - yi);
@@ -129,17 +94,176 @@ impl Collisions {
         }
         (count, closest)
     }
+
+    /// [`Collisions::contacts_within`] robot by robot: the cells of a box around each robot
+    /// that moved.
+    fn contacts_by_boxes(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+        let n = x.len();
+        let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
+        let grid = self.grid;
+        let (by_cell, sx, sy) = (&self.by_cell[..], &self.sx[..], &self.sy[..]);
+        let (mut count, mut closest) = (0u64, f64::INFINITY);
+        for i in 0..n {
+            if !moved[i] {
+                continue;
+            }
+            let (xi, yi) = (x[i], y[i]);
+            // A robot within contact of `i` after the moves stood within contact plus half the
+            // slack of it before them: test the sorted (pre-move) positions first, read in
+            // order, and only the few near ones by id.
+            let near = radius[i] + r_max + 0.5 * slack;
+            let near2 = near * near * 1.000_001;
+            let ri = radius[i];
+            let mut pair = |k: usize| {
+                let j = by_cell[k] as usize;
+                if moved[j] && j < i {
+                    return;
+                }
+                let d = crate::route::axis_dist(x[j] - xi, y[j] - yi);
+                closest = closest.min(d);
+                count += u64::from(d < ri + radius[j]);
+            };
+            // Far is `d² > near2`, and the rest near (NaN included, as ever).
+            let near_k = |k: usize| {
+                let (dx, dy) = (sx[k] - xi, sy[k] - yi);
+                let far = dx * dx + dy * dy > near2;
+                u64::from(!far) & u64::from(by_cell[k] as usize != i)
+            };
+            // The cells of a box around `i`. Every position that passes the test above lies
+            // within `near` (and a hair, from `near2`'s slack and rounding) of `i` along each
+            // axis; which cells the box covers changes only what is read, never what is
+            // counted.
+            let hw = (near * 1.000_1 + 1e-9) * grid.inv_size + 1e-6;
+            let (tx, ty) = grid.scaled(xi, yi);
+            let (c0, r0) = grid.cell(tx - hw, ty - hw);
+            let (c1, r1) = grid.cell(tx + hw, ty + hw);
+            let (c0, r0, c1, r1) = (c0 as usize, r0 as usize, c1 as usize, r1 as usize);
+            for row in r0..=r1 {
+                let (mut k0, k1) = {
+                    let base = row * grid.cols;
+                    self.cells_run(base + c0, base + c1)
+                };
+                // Most candidates are far: flag the near ones without a branch each, 64 at a
+                // time, then look at those.
+                while k0 < k1 {
+                    let end = k1.min(k0 + 64);
+                    let mut mask = 0u64;
+                    for k in k0..end {
+                        mask |= near_k(k) << (k - k0);
+                    }
+                    while mask != 0 {
+                        pair(k0 + mask.trailing_zeros() as usize);
+                        mask &= mask - 1;
+                    }
+                    k0 = end;
+                }
+            }
+        }
+        (count, closest)
+    }
+
+    /// [`Collisions::contacts_within`] for dense grids: each pair of neighbouring robots is
+    /// found once, from the cell of the first in grid order (the rest of its cell, the next
+    /// cell of its row and the three cells below), instead of once from each robot's box.
+    /// Each pair found is then judged exactly as the box scan judges it, from the same robot
+    /// (the one that moved; of two that moved, the smaller id), so the pairs looked at, the
+    /// count and the closest approach are the same to the bit. `None` where that cannot be
+    /// promised: a neighbour could lie beyond the next cell, or a robot that moved stands
+    /// in a bay, out of the grid.
+    fn contacts_by_cell_pairs(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
+        let n = x.len();
+        let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.cell_of[..n]);
+        // A pair the box scan looks at stood (before the moves) within its `near` (at most
+        // `2 r_max + slack / 2`) plus one robot's move (at most `slack / 2`): within `span`.
+        let span = (2.0 * r_max + slack) * 1.000_1 + 1e-9;
+        let fits = span * 1.001 < 1.0 / self.grid.inv_size;
+        if !fits || (0..n).any(|i| moved[i] && cell_of[i] == u32::MAX) {
+            return None;
+        }
+        let span2 = span * span;
+        let half = 0.5 * slack;
+        let cols = self.grid.cols;
+        let placed = self.placed;
+        let (first, by_cell, sx, sy) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
+        let (mut count, mut closest) = (0u64, f64::INFINITY);
+        for k in 0..placed {
+            let i = by_cell[k] as usize;
+            let c = cell_of[i] as usize;
+            let (px, py) = (sx[k], sy[k]);
+            // The grid keeps a free cell on every side: `c + cols + 2` is still a cell index.
+            for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
+                for m in m0..m1 {
+                    let (dx, dy) = (sx[m] - px, sy[m] - py);
+                    if dx * dx + dy * dy > span2 {
+                        continue;
+                    }
+                    let j = by_cell[m] as usize;
+                    let (mi, mj) = (moved[i], moved[j]);
+                    if !(mi || mj) {
+                        continue;
+                    }
+                    // The robot the box scan would look from, and the other, by its place.
+                    let (l, o, ko) = if mi && (!mj || i < j) { (i, j, m) } else { (j, i, k) };
+                    let near = radius[l] + r_max + half;
+                    let near2 = near * near * 1.000_001;
+                    let (ex, ey) = (sx[ko] - x[l], sy[ko] - y[l]);
+                    if ex * ex + ey * ey > near2 {
+                        continue;
+                    }
+                    let d = crate::route::axis_dist(x[o] - x[l], y[o] - y[l]);
+                    closest = closest.min(d);
+                    count += u64::from(d < radius[l] + radius[o]);
+                }
+            }
+        }
+        Some((count, closest))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::Collisions;
-    use crate::route::axis_dist;
 
     /// A small deterministic generator (no dependency for one test).
     fn lcg(state: &mut u64) -> f64 {
         *state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
         (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn cell_pairs_count_what_boxes_count_to_the_bit() {
+        let mut seed = 7;
+        let mut found = 0;
+        for case in 0..200 {
+            let n = 300 + case * 7;
+            // Crowded: about 6 cells per robot, so the grid is dense.
+            let side = (n as f64 * 6.0).sqrt() * 50.0;
+            let mut c = Collisions::new([0.0, 0.0, side, side], 25.0, n);
+            assert!(c.dense);
+            let (mut x, mut y) = (Vec::with_capacity(n), Vec::with_capacity(n));
+            for _ in 0..n {
+                // Some on an aisle's line, some anywhere, a few on top of each other.
+                let on_line = lcg(&mut seed) < 0.5;
+                x.push(if on_line { (lcg(&mut seed) * 10.0).floor() * 50.0 + 25.0 } else { lcg(&mut seed) * side });
+                y.push(lcg(&mut seed) * side);
+            }
+            let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
+            c.build_grid(&x, &y, &radius);
+            let moved: Vec<bool> = (0..n).map(|_| lcg(&mut seed) < 0.6).collect();
+            for i in 0..n {
+                if moved[i] {
+                    let a = lcg(&mut seed) * std::f64::consts::TAU;
+                    x[i] += 4.0 * a.cos();
+                    y[i] += 4.0 * a.sin();
+                }
+            }
+            let r_max = radius.iter().copied().fold(0.0, f64::max);
+            let pairs = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
+            let boxes = c.contacts_by_boxes(&x, &y, &radius, &moved, r_max, 8.0);
+            assert_eq!((pairs.0, pairs.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}");
+            found += pairs.0;
+        }
+        assert!(found > 1000, "the cases hold contacts: {found}");
     }
 
     /// The count's definition over every pair (`px`, `py` before the moves, `x`, `y` after).
@@ -160,7 +284,7 @@ mod tests {
                 if dx * dx + dy * dy > near2 {
                     continue;
                 }
-                let d = axis_dist(x[j] - x[i], y[j] - y[i]);
+                let d = crate::route::axis_dist(x[j] - x[i], y[j] - y[i]);
                 closest = closest.min(d);
                 count += u64::from(d < radius[i] + radius[j]);
             }
@@ -171,14 +295,16 @@ mod tests {
     #[test]
     fn contacts_count_what_the_definition_counts_to_the_bit() {
         // Tiny fleets (the pass over pairs, from its first step with nothing flagged for
-        // contacts yet), and larger ones (the neighbour list, kept over several steps), with
+        // contacts yet) and larger ones (sparse and dense grids), over several steps, with
         // robots in bays in some cases.
         let mut seed = 7;
         let mut found = 0;
         for case in 0..160 {
             let n = [1, 2, 6, 20, 32, 33, 60, 300][case % 8];
             let side = (n as f64 * 3.0).sqrt() * 50.0;
-            let mut c = Collisions::new([0.0, 0.0, side, side], 25.0, n);
+            let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
+            let r_max = radius.iter().copied().fold(0.0, f64::max);
+            let mut c = Collisions::new([-50.0, -50.0, side + 50.0, side + 50.0], 2.0 * r_max, n);
             let (mut x, mut y) = (Vec::with_capacity(n), Vec::with_capacity(n));
             for _ in 0..n {
                 // Some on an aisle's line, some anywhere.
@@ -186,12 +312,10 @@ mod tests {
                 x.push(if on_line { (lcg(&mut seed) * 10.0).floor() * 50.0 + 25.0 } else { lcg(&mut seed) * side });
                 y.push(lcg(&mut seed) * side);
             }
-            let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
             let bay: Vec<bool> = (0..n).map(|_| case % 4 == 1 && lcg(&mut seed) < 0.15).collect();
             if bay.contains(&true) {
                 c.bay.clone_from(&bay);
             }
-            let r_max = radius.iter().copied().fold(0.0, f64::max);
             for step in 0..4 {
                 let (px, py) = (x.clone(), y.clone());
                 c.build_grid(&x, &y, &radius);

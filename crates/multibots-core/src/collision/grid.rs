@@ -1,98 +1,184 @@
-//! The uniform grid that builds the neighbour list: the robots counting-sorted by cell, with
-//! their positions copied alongside, so that the three cells of a grid row around a robot
-//! are one contiguous run.
+//! The collision phase's uniform grid: positions to cells, and the robots sorted by cell so
+//! that the cells a search box covers in one grid row are one contiguous run.
 
-/// Robots binned into square cells over the box their positions span.
-#[derive(Clone, Debug, Default)]
-pub(super) struct Bins {
-    x0: f64,
-    y0: f64,
-    /// `1 / size`: a multiplication instead of a division per coordinate.
-    inv_size: f64,
-    cols: usize,
-    rows: usize,
-    /// Each robot's cell; `u32::MAX` for a position that is not finite (it is near nothing).
-    pub(super) cell: Vec<u32>,
-    /// The robots of cell `c` are `order[first[c]..first[c + 1]]`.
-    first: Vec<u32>,
-    pub(super) order: Vec<u32>,
-    pub(super) sx: Vec<f64>,
-    pub(super) sy: Vec<f64>,
+use super::Collisions;
+
+/// The uniform grid's geometry: a cheap map from positions to cells.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Grid {
+    pub(super) x0: f64,
+    pub(super) y0: f64,
+    /// `1 / size`: a multiplication instead of a division per coordinate. Any monotonic map
+    /// of coordinates to cells finds every neighbour, as long as insertion and search use
+    /// the same one.
+    pub(super) inv_size: f64,
+    pub(super) cols: usize,
+    pub(super) last_col: i32,
+    pub(super) last_row: i32,
 }
 
-impl Bins {
-    /// Bins the robots into cells at least `size` wide (a hair more: two points within `size`
-    /// of each other along an axis then lie in the same or adjacent columns, rounding
-    /// included), over the box their finite positions span, so no position is ever clamped.
-    pub(super) fn sort(&mut self, x: &[f64], y: &[f64], size: f64) {
+impl Grid {
+    /// A point in grid units: its cell is the integer part.
+    #[inline]
+    pub(super) fn scaled(&self, x: f64, y: f64) -> (f64, f64) {
+        ((x - self.x0) * self.inv_size, (y - self.y0) * self.inv_size)
+    }
+
+    /// The cell column and row of a point in grid units, clamped into the grid (robots never
+    /// leave it: it has a free cell around everything they can reach). `as i32` truncates
+    /// like `floor` for the non-negative values that occur, and saturates on the rest.
+    #[inline]
+    pub(super) fn cell(&self, tx: f64, ty: f64) -> (u32, u32) {
+        ((tx as i32).clamp(0, self.last_col) as u32, (ty as i32).clamp(0, self.last_row) as u32)
+    }
+}
+
+/// The range of cells from `c` (the cell of `t`, in grid units) that a box from `t - lo` to
+/// `t + hi` overlaps, with `lo, hi` at most one cell: one comparison on each side instead of
+/// two float-to-integer conversions. These are the cells `floor` gives for the box's ends,
+/// so every robot inside the box is found.
+#[inline]
+pub(super) fn span(t: f64, c: u32, lo: f64, hi: f64) -> (usize, usize) {
+    let (c, cf) = (c as usize, f64::from(c));
+    (c - usize::from(t - lo < cf), c + usize::from(t + hi >= cf + 1.0))
+}
+
+impl Collisions {
+    /// runs of adjacent cells are adjacent).
+    pub(super) fn cells_run(&self, c0: usize, c1: usize) -> (usize, usize) {
+        if !self.dense {
+            let (mut k0, mut k1) = (u32::MAX, 0);
+            for c in c0..=c1 {
+                if self.stamp[c] == self.epoch {
+                    k0 = k0.min(self.start[c]);
+                    k1 = self.end[c];
+                }
+            }
+            return if k0 == u32::MAX { (0, 0) } else { (k0 as usize, k1 as usize) };
+        }
+        (self.first[c0] as usize, self.first[c1 + 1] as usize)
+    }
+
+    /// Tiny fleets: the robots in the grid in id order, with their positions (and radii).
+    pub(super) fn copy_placed(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
         let n = x.len();
-        let y = &y[..n];
-        let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let cell_of = &self.cell_of[..n];
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let mut k = 0;
         for i in 0..n {
-            if x[i].is_finite() && y[i].is_finite() {
-                (x0, y0, x1, y1) = (x0.min(x[i]), y0.min(y[i]), x1.max(x[i]), y1.max(y[i]));
+            if cell_of[i] != u32::MAX {
+                (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+                if !uniform {
+                    sr[k] = radius[i];
+                }
+                k += 1;
             }
         }
-        let (w, h) = ((x1 - x0).max(0.0), (y1 - y0).max(0.0));
-        // Robots spread thinly over a vast floor would want too many cells: past the limit the
-        // cells grow, which only adds candidates (each is tested).
-        let max = crate::limits::MAX_GRID_CELLS as f64;
-        let size = (size * (1.0 + 1e-6)).max((w * h / max).sqrt() * 1.01).max((w + h) / max * 1.01).max(f64::MIN_POSITIVE);
-        (self.x0, self.y0, self.inv_size) = (x0, y0, 1.0 / size);
-        if x0 > x1 {
-            // No finite position at all.
-            (self.cols, self.rows) = (1, 1);
-        } else {
-            self.cols = ((w * self.inv_size) as usize).saturating_add(1);
-            self.rows = ((h * self.inv_size) as usize).saturating_add(1);
+        // Each pair once: flag, for each robot, the others within `cover` of it (wide
+        // enough for the collision test, every contact distance plus the margin, and for the
+        // widest contact count so far, see `contacts.rs`).
+        let r_max = radius[..n].iter().copied().fold(0.0, f64::max);
+        let cover = ((2.0 * r_max + self.margin) * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need);
+        let c2 = cover * cover * 1.000_01;
+        let (sx, sy, bits) = (&self.sx[..k], &self.sy[..k], &mut self.bits[..k]);
+        bits.fill(0);
+        for a in 0..k {
+            for b in a + 1..k {
+                // The same squared distance, to the bit, as from either robot: a difference
+                // only changes sign when its operands swap.
+                let (dx, dy) = (sx[b] - sx[a], sy[b] - sy[a]);
+                // Near unless clearly far (NaN included, as in the tests themselves).
+                let far = dx * dx + dy * dy > c2;
+                let m = u32::from(!far);
+                bits[a] |= m << b;
+                bits[b] |= m << a;
+            }
         }
-        let (cols, rows) = (self.cols, self.rows);
-        self.cell.resize(n, 0);
-        for i in 0..n {
-            self.cell[i] = if x[i].is_finite() && y[i].is_finite() {
-                let cx = (((x[i] - x0) * self.inv_size) as usize).min(cols - 1);
-                let cy = (((y[i] - y0) * self.inv_size) as usize).min(rows - 1);
-                (cy * cols + cx) as u32
-            } else {
-                u32::MAX
-            };
-        }
-        let first = &mut self.first;
-        first.clear();
-        first.resize(cols * rows + 1, 0);
-        for &c in &self.cell {
+        self.cover = cover;
+    }
+
+    /// Dense grids: a counting sort by cell into `first`, `by_cell`, `sx`, `sy` (and `sr`).
+    pub(super) fn counting_sort(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
+        let n = x.len();
+        let cell_of = &self.cell_of[..n];
+        let first = &mut self.first[..];
+        first.fill(0);
+        for &c in cell_of {
             if c != u32::MAX {
                 first[c as usize] += 1;
             }
         }
-        // Running totals: `first[c]` is the end of cell `c`; placing robots from the last back
-        // to the first turns it into the start.
+        // Running totals: `first[c]` is the end of cell `c`; placing robots from the last
+        // back to the first turns it into the start.
         let mut total = 0;
         for f in first.iter_mut() {
             total += *f;
             *f = total;
         }
-        let placed = total as usize;
-        self.order.resize(placed, 0);
-        self.sx.resize(placed, 0.0);
-        self.sy.resize(placed, 0.0);
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
         for i in (0..n).rev() {
-            let c = self.cell[i];
+            let c = cell_of[i];
             if c != u32::MAX {
                 first[c as usize] -= 1;
                 let k = first[c as usize] as usize;
-                (self.order[k], self.sx[k], self.sy[k]) = (i as u32, x[i], y[i]);
+                (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+                if !uniform {
+                    sr[k] = radius[i];
+                }
             }
         }
     }
 
-    /// The runs of the sorted order (at most three) that hold the robots of the 3 × 3 cells
-    /// around cell `c`: one per grid row, the cells of a row being adjacent in the order.
-    pub(super) fn around(&self, c: u32) -> impl Iterator<Item = (usize, usize)> + '_ {
-        let (cols, c) = (self.cols, c as usize);
-        let (cx, cy) = (c % cols, c / cols);
-        let (c0, c1) = (cx.saturating_sub(1), (cx + 1).min(cols - 1));
-        let (r0, r1) = (cy.saturating_sub(1), (cy + 1).min(self.rows - 1));
-        (r0..=r1).map(move |r| (self.first[r * cols + c0] as usize, self.first[r * cols + c1 + 1] as usize))
+    /// Sparse grids: last step's order repaired by insertion sort (robots out of the grid
+    /// sort last), then the runs of the occupied cells stamped with a new epoch.
+    pub(super) fn repair_order(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool, placed: usize) {
+        let n = x.len();
+        let cell_of = &self.cell_of[..n];
+        if self.order.len() != n {
+            self.order.clear();
+            self.order.extend(0..n as u32);
+        }
+        let order = &mut self.order[..];
+        let mut moves = 0;
+        for k in 1..n {
+            let v = order[k];
+            let key = cell_of[v as usize];
+            let mut j = k;
+            while j > 0 && cell_of[order[j - 1] as usize] > key {
+                order[j] = order[j - 1];
+                j -= 1;
+            }
+            order[j] = v;
+            moves += k - j;
+            if moves > 8 * n {
+                // Far from sorted (the first step, a new fleet): sort outright.
+                order.sort_unstable_by_key(|&i| (cell_of[i as usize], i));
+                break;
+            }
+        }
+        self.epoch += 1;
+        let epoch = self.epoch;
+        let (stamp, start, end) = (&mut self.stamp[..], &mut self.start[..], &mut self.end[..]);
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let mut last = u32::MAX;
+        for (k, &i) in order[..placed].iter().enumerate() {
+            let i = i as usize;
+            (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
+            if !uniform {
+                sr[k] = radius[i];
+            }
+            let c = cell_of[i];
+            if c != last {
+                if last != u32::MAX {
+                    end[last as usize] = k as u32;
+                }
+                stamp[c as usize] = epoch;
+                start[c as usize] = k as u32;
+                last = c;
+            }
+        }
+        if last != u32::MAX {
+            end[last as usize] = placed as u32;
+        }
     }
 }
