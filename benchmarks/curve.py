@@ -34,7 +34,8 @@ EVENTS = ("cache-misses", "instructions", "cycles")
 
 
 def build() -> None:
-    subprocess.run(["cargo", "build", "-q", "--release", "-p", "multibots-core", "--example", "scale"], cwd=ROOT, check=True)
+    cmd = ["cargo", "build", "-q", "--release", "-p", "multibots-core", "--example", "scale"]
+    subprocess.run(cmd, cwd=ROOT, check=True)
 
 
 def scenario(n: int) -> str:
@@ -92,7 +93,9 @@ def main(argv: list[str] | None = None) -> int:
     ref = med.get(1000)
     print(f"steps {a.warmup + 1}..{a.warmup + a.steps}, one thread, median of {a.repetitions} interleaved repetitions")
     header = f"{'robots':>7} {'ns/robot-step':>14} {'min':>8} {'max':>8} {'vs 1,000':>9}"
-    counters = {n: perf_per_robot_step(n, a.steps, a.warmup, max(1, a.repetitions // 2)) for n in a.sizes} if a.perf else {}
+    counters = {}
+    if a.perf:
+        counters = {n: perf_per_robot_step(n, a.steps, a.warmup, max(1, a.repetitions // 2)) for n in a.sizes}
     if a.perf:
         header += f" {'instr':>8} {'cycles':>8} {'IPC':>5} {'misses':>8}"
     print(header)
