@@ -203,7 +203,7 @@ def build_markdown(d: dict[str, Any]) -> str:
         ".venv/bin/python benchmarks/peers.py         # rware and pogema alone",
         ".venv/bin/python benchmarks/envs.py          # the learning environments",
         ".venv/bin/python benchmarks/guard.py         # speed against an earlier build (docs: the issue 15 section)",
-        ".venv/bin/python benchmarks/whole_results.py # every field of 73 runs, hashed: diff before and after a change",
+        ".venv/bin/python benchmarks/whole_results.py # every field of 82 runs, hashed: diff before and after a change",
         "```",
         "",
     ]

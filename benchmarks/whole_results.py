@@ -1,4 +1,4 @@
-"""Whole results of 73 runs, hashed, for reviewers of engine changes that must not change
+"""Whole results of 82 runs, hashed, for reviewers of engine changes that must not change
 behaviour.
 
     .venv/bin/python benchmarks/whole_results.py > before.txt
@@ -7,7 +7,8 @@ behaviour.
 
 Prints one line per run: its name and a hash of every field of its result (`Result.to_dict`),
 so a change anywhere, not only in T, S and C, shows. The runs: small, large and huge with each
-traffic policy (a few hundred to a few thousand steps), `scenarios/*.toml` with each policy,
+traffic policy (a few hundred to a few thousand steps), the small size's layout with 6, 20
+and 32 robots and each policy (tiny fleets, with robots in bays), `scenarios/*.toml` with each policy,
 the people size, the paper's 30 runs, and 24 random task lists at margins 0 and 8. It takes
 about a minute. The fingerprints (`benchmarks/fingerprints.sh`) cover fewer runs but need no
 Python build; `benchmarks/guard.py` compares speed.
@@ -36,6 +37,10 @@ def cases() -> list[tuple[str, Scenario]]:
         base = Scenario.from_toml(ROOT / "benchmarks" / "sizes" / f"{size}.toml")
         for traffic in ("wait", "gate", "reserve"):
             out.append((f"{size}-{traffic}", base.replace(traffic=traffic, step_limit=limit)))
+    small = Scenario.from_toml(ROOT / "benchmarks" / "sizes" / "small.toml")
+    for robots in (6, 20, 32):
+        for traffic in ("wait", "gate", "reserve"):
+            out.append((f"small{robots}-{traffic}", small.replace(robots=robots, traffic=traffic, step_limit=3000)))
     for name in ("paper", "people", "warehouse-1000"):
         base = Scenario.from_toml(ROOT / "scenarios" / f"{name}.toml")
         limit = 800 if name == "warehouse-1000" else 20000

@@ -50,8 +50,8 @@ fn grid_agrees_with_the_definition_on_crowded_aisles() {
 
 #[test]
 fn tiny_fleets_agree_with_the_definition_with_robots_in_bays() {
-    // At most 32 robots: the pass over pairs, not the neighbour list. Two steps each, so
-    // the second one flags pairs as wide as contacts asked for.
+    // At most 32 robots: the pass over pairs, not the grid. Two steps each, so the second
+    // one flags pairs as wide as contacts asked for.
     let mut s = 1_234_567u64;
     let mut rnd = move || {
         s ^= s << 13;

@@ -312,7 +312,8 @@ mod tests {
                 x.push(if on_line { (lcg(&mut seed) * 10.0).floor() * 50.0 + 25.0 } else { lcg(&mut seed) * side });
                 y.push(lcg(&mut seed) * side);
             }
-            let bay: Vec<bool> = (0..n).map(|_| case % 4 == 1 && lcg(&mut seed) < 0.15).collect();
+            // Bays in every other round of fleet sizes, so tiny fleets get them too.
+            let bay: Vec<bool> = (0..n).map(|_| (case / 8) % 2 == 1 && lcg(&mut seed) < 0.15).collect();
             if bay.contains(&true) {
                 c.bay.clone_from(&bay);
             }
@@ -323,8 +324,12 @@ mod tests {
                 for i in 0..n {
                     if moved[i] {
                         let a = lcg(&mut seed) * std::f64::consts::TAU;
-                        x[i] += 4.0 * a.cos();
-                        y[i] += 4.0 * a.sin();
+                        // Now and then a tiny fleet's robot jumps far beyond `slack`, past
+                        // what the flags cover: the count must look at every robot for it.
+                        // (The grids' cell pairs rely on moves within `slack / 2`.)
+                        let len = if n <= 32 && lcg(&mut seed) < 0.1 { 40.0 } else { 4.0 };
+                        x[i] += len * a.cos();
+                        y[i] += len * a.sin();
                     }
                 }
                 let got = c.contacts_within(&x, &y, &radius, &moved, r_max, 8.0);

@@ -77,8 +77,11 @@ impl Collisions {
         // Each pair once: flag, for each robot, the others within `cover` of it (wide
         // enough for the collision test, every contact distance plus the margin, and for the
         // widest contact count so far, see `contacts.rs`).
-        let r_max = radius[..n].iter().copied().fold(0.0, f64::max);
-        let cover = ((2.0 * r_max + self.margin) * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need);
+        // A NaN radius or margin (scenarios refuse them; the public API does not) makes every
+        // contact test pass, as in the definition: then every pair is flagged.
+        let r_max = radius[..n].iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) });
+        let widest = 2.0 * r_max + self.margin;
+        let cover = if widest.is_nan() { f64::INFINITY } else { (widest * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need) };
         let c2 = cover * cover * 1.000_01;
         let (sx, sy, bits) = (&self.sx[..k], &self.sy[..k], &mut self.bits[..k]);
         bits.fill(0);

@@ -470,6 +470,19 @@ mod tests {
     }
 
     #[test]
+    fn a_nan_margin_or_radius_blocks_as_the_definition_says_in_a_tiny_fleet() {
+        // Scenarios refuse them, but the public API takes them: the pass over pairs must
+        // not drop a pair that the test itself would accept.
+        for (radius, margin) in [([12.5, 12.5], f64::NAN), ([12.5, f64::NAN], 0.0)] {
+            let mut c = Collisions::new([-100.0, -100.0, 900.0, 700.0], 25.0, 2);
+            c.resolve(&[0.0, 100.0], &[0.0, 0.0], &radius, &[true, false], &[0.0, 0.0], margin, ANGLE);
+            let expect = blocks(0.0, 0.0, 0.0, 100.0, 0.0, radius[0] + radius[1] + margin, ANGLE);
+            assert!(expect, "the definition lets a NaN contact distance block");
+            assert_eq!(c.waits, vec![expect, false], "radius {radius:?}, margin {margin}");
+        }
+    }
+
+    #[test]
     fn distance_zero_always_blocks() {
         assert!(blocks(5.0, 5.0, deg(135.0), 5.0, 5.0, 25.0, ANGLE));
     }
