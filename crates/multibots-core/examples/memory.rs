@@ -12,6 +12,10 @@
 //! With `--marginal` it runs itself twice, at N and N/2 robots on the same layout, and prints
 //! the marginal resident memory of a robot, `(RSS(N) - RSS(N/2)) / (N - N/2)`, the measure of
 //! `benchmarks/scale.py`, beside the columns' sum.
+//!
+//! With `MULTIBOTS_MEMORY_KEEP=1` the run is kept alive at exit, so that
+//! `heaptrack target/release/examples/memory SCENARIO N 300` reports its live heap as
+//! "leaked" (the bytes per robot of docs/benchmarks.md: two fleet sizes, the difference).
 use multibots_core::{Scenario, Simulation};
 use std::mem::size_of_val;
 
@@ -75,7 +79,7 @@ fn run(path: &str, robots: Option<u32>, steps: u64) -> String {
         status_json(after),
         cols_json.join(",")
     );
-    if std::env::var_os("MULTIBOTS_MEMORY_KEEP").is_some() {
+    if std::env::var("MULTIBOTS_MEMORY_KEEP").is_ok_and(|v| v == "1") {
         // Heaptrack then reports the run's live heap at the end as "leaked".
         std::mem::forget(sim);
     }

@@ -43,6 +43,16 @@ fn brute_with_bays(x: &[f64], y: &[f64], radius: &[f64], margin: f64, wants: &[b
         .collect()
 }
 
+/// A small deterministic generator (xorshift; no dependency for a test).
+fn xorshift(mut s: u64) -> impl FnMut() -> u64 {
+    move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    }
+}
+
 #[test]
 fn grid_agrees_with_the_definition_on_crowded_aisles() {
     crowded_aisles(|_| 12.5, 0.0);
@@ -52,13 +62,7 @@ fn grid_agrees_with_the_definition_on_crowded_aisles() {
 fn tiny_fleets_agree_with_the_definition_with_robots_in_bays() {
     // At most 32 robots: the pass over pairs, not the grid. Two steps each, so the second
     // one flags pairs as wide as contacts asked for.
-    let mut s = 1_234_567u64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
+    let mut rnd = xorshift(1_234_567);
     let headings = [0.0, -0.0, PI, -PI, FRAC_PI_2, -FRAC_PI_2, 0.3, 2.0];
     for round in 0..300 {
         let n = [1, 2, 6, 17, 32][round % 5];
@@ -98,13 +102,7 @@ fn grid_agrees_with_the_definition_with_mixed_radii_and_a_margin() {
 
 /// 200 rounds of 60 robots on aisles, radii from `radius_of(random)`.
 fn crowded_aisles(radius_of: impl Fn(u64) -> f64, margin: f64) {
-    let mut s = 987_654_321u64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
+    let mut rnd = xorshift(987_654_321);
     let headings = [0.0, -0.0, PI, -PI, FRAC_PI_2, -FRAC_PI_2, 0.3, 2.0];
     for round in 0..200 {
         let n = 60;
@@ -149,13 +147,8 @@ fn crowded_aisles(radius_of: impl Fn(u64) -> f64, margin: f64) {
 #[test]
 fn grid_agrees_with_the_definition_in_a_pile_of_more_than_64_robots() {
     // 150 robots within 40 px: a grid cell holds more than the 64 candidates flagged at once.
-    let mut s = 42u64;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s % 4001) as f64 / 100.0
-    };
+    let mut next = xorshift(42);
+    let mut rnd = move || (next() % 4001) as f64 / 100.0;
     let n = 150;
     let x: Vec<f64> = (0..n).map(|_| 100.0 + rnd()).collect();
     let y: Vec<f64> = (0..n).map(|_| 100.0 + rnd()).collect();

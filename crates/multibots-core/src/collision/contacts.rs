@@ -48,12 +48,14 @@ impl Collisions {
             self.contact_need = need;
         }
         let placed = self.placed;
+        let cell_of = &self.cell_of[..n];
         let (by_cell, sx, sy, bits, cover) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.bits[..placed], self.cover);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
-        // Robots in the grid are placed in id order: `p` is the place of robot `i`.
+        // Robots in the grid are placed in id order: `p` is the place of robot `i`, as in
+        // `Collisions::resolve`.
         let mut p = 0;
         for i in 0..n {
-            let here = p < placed && by_cell[p] as usize == i;
+            let here = cell_of[i] != u32::MAX;
             p += usize::from(here);
             if !moved[i] {
                 continue;
