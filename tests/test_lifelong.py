@@ -60,6 +60,13 @@ def test_cli_lifelong_errors_exit_2(cli, tmp_path):
     bad.write_text('tasks = []\n[orders]\nrate = 1\nhorizon = 0\n', encoding="utf-8")
     p = cli("run", str(bad))
     assert p.returncode == 2 and "orders.horizon = 0: must be at least 1 step" in p.stderr
+    # Runs are at most 2**32 - 1 steps: the engine's per-robot counters are 32-bit.
+    bad.write_text('tasks = []\n[orders]\nrate = 0.001\nhorizon = 4294967296\n', encoding="utf-8")
+    p = cli("run", str(bad))
+    assert p.returncode == 2 and p.stderr.strip().endswith("orders.horizon = 4294967296: at most 4294967295 steps"), p.stderr
+    assert p.stderr.count("\n") == 1
+    p = cli("run", "--goods", "1,2", "--step-limit", "4294967296")
+    assert p.returncode == 2 and "4294967296" in p.stderr and p.stderr.count("\n") == 1, p.stderr
     bad.write_text('tasks = []\nplacement = "spread"\n[orders]\nrate = 1\n', encoding="utf-8")
     p = cli("run", str(bad))
     assert p.returncode == 2 and 'placement = "spread": robots placed on aisles share chargers' in p.stderr

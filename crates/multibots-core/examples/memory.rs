@@ -47,7 +47,7 @@ fn columns(sim: &Simulation) -> Vec<(String, usize, f64)> {
         };
     }
     col!("robots.", r.x, y, radius, speed, heading, state, energy, home, at_node, edge_u, edge_v, routing, goal, has_final, final_x, final_y, final_v);
-    col!("robots.", r.wp_x, wp_y, wp_node, goods, cell, carrying, task_u, task_v, dwell, marked, waited, charger, via);
+    col!("robots.", r.wp_x, wp_y, wp_node, goods, cell, carrying, dwell, marked, waited, charger, via);
     col!("stats.", st.distance, wait_steps, collisions, state_steps, energy_used, delivered, charges, order_waits);
     out
 }

@@ -30,7 +30,7 @@ fn main() {
         for st in &sim.robots().state {
             hist[*st as usize] += 1;
         }
-        let waits: u64 = sim.stats().wait_steps.iter().sum();
+        let waits: u64 = sim.stats().wait_steps.iter().map(|&w| u64::from(w)).sum();
         let dist: f64 = sim.stats().distance.iter().sum();
         eprintln!("states {hist:?} queue {} wait share {:.3} mean distance {:.0}", sim.queue_cells().len(), waits as f64 / (n * sim.t() as f64), dist / n);
     }

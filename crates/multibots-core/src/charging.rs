@@ -53,7 +53,7 @@ impl Chargers {
         }
         let shared = scenario.charging.chargers == ChargerUse::Shared;
         let to_charger = if shared { layout.chargers.iter().flat_map(|&c| world.graph.lengths_to(c)).collect() } else { Vec::new() };
-        Chargers { shared, slot_of_node, claim: vec![NONE; layout.chargers.len()], queue: VecDeque::with_capacity(scenario.robots as usize), to_charger }
+        Chargers { shared, slot_of_node, claim: vec![NONE; layout.chargers.len()], queue: VecDeque::new(), to_charger }
     }
 
     /// The nearest free charger from `from` by route (ties: the first in the layout).
@@ -113,7 +113,9 @@ impl Paper {
     /// (past the point of putting goods back).
     fn inside_service_edge(&self, i: usize) -> bool {
         let r = &self.robots;
-        r.at_node[i] == NONE && r.edge_u[i] == r.task_u[i] && r.edge_v[i] == r.task_v[i]
+        // A robot fetching goods always has their cell.
+        let (u, v) = self.world.layout.cells[r.cell[i] as usize].edge;
+        r.at_node[i] == NONE && r.edge_u[i] == u.0 && r.edge_v[i] == v.0
     }
 
     /// Sends robot `i` to charge: to its home charger, or to the pool's nearest free one.

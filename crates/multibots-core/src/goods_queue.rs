@@ -87,7 +87,7 @@ impl Slot {
 impl GoodsQueue {
     /// The queue at the start of a run: the task list in order, or, with lifelong orders, a
     /// stocked warehouse whose task list arrives as the first orders.
-    pub fn new(cell_count: usize, task_cells: &[u32], orders: Option<&Orders>, csv: Vec<(u64, u32)>, robots: usize) -> (GoodsQueue, Option<Lifelong>) {
+    pub fn new(cell_count: usize, task_cells: &[u32], orders: Option<&Orders>, csv: Vec<(u64, u32)>) -> (GoodsQueue, Option<Lifelong>) {
         let mut cells_full = vec![false; cell_count];
         let mut queue: VecDeque<Goods> = VecDeque::with_capacity(cell_count.max(task_cells.len()));
         let mut lifelong = None;
@@ -112,7 +112,8 @@ impl GoodsQueue {
             queue,
             cells_full,
             slots,
-            idle: Vec::with_capacity(robots),
+            // Like the assignments, the idle list grows to the most robots idle at once.
+            idle: Vec::new(),
             // Assignments grow to the largest allocation event's (not the fleet's) count.
             decisions: Decisions { assign: Vec::new(), charge: Vec::new() },
             taken: Vec::new(),
@@ -291,12 +292,9 @@ impl Paper {
             self.goods.slots[goods.index()].set(Slot::HANDED, false);
             let cell = self.goods.cell_of(goods);
             let i = robot.index();
-            let edge = self.world.layout.cells[cell.index()].edge;
             let r = &mut self.robots;
             r.goods[i] = goods.0;
             r.cell[i] = cell.0;
-            r.task_u[i] = edge.0 .0;
-            r.task_v[i] = edge.1 .0;
             r.state[i] = State::ToPickup;
             let target = service_target(&self.world.layout, cell);
             self.route(i, target);
@@ -311,7 +309,7 @@ impl Paper {
                 let i = self.goods.idle[k].index();
                 if self.robots.state[i] == State::Idle {
                     self.robots.state[i] = State::ToHome;
-                    let home: Target = self.homes.target(&self.robots, i);
+                    let home: Target = self.homes.target(&self.world.layout, &self.robots, i);
                     self.route(i, home);
                 }
             }

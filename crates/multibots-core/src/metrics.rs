@@ -62,25 +62,26 @@ impl Outcome {
     }
 }
 
-/// Per-robot counters, one column each.
+/// Per-robot counters, one column each. Counts are 32-bit: no run is longer than
+/// [`crate::limits::MAX_STEPS`] steps, and a robot counts at most one of each per step.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RobotStats {
     /// Distance travelled, px.
     pub distance: Vec<f64>,
     /// Steps spent waiting at collisions.
-    pub wait_steps: Vec<u64>,
+    pub wait_steps: Vec<u32>,
     /// Collisions S of this robot (waits begun).
-    pub collisions: Vec<u64>,
+    pub collisions: Vec<u32>,
     /// Steps ending in each state, indexed by the state code.
-    pub state_steps: Vec<[u64; State::COUNT]>,
+    pub state_steps: Vec<[u32; State::COUNT]>,
     /// Energy consumed.
     pub energy_used: Vec<f64>,
     /// Goods delivered.
-    pub delivered: Vec<u64>,
+    pub delivered: Vec<u32>,
     /// Charges C of this robot.
-    pub charges: Vec<u64>,
+    pub charges: Vec<u32>,
     /// Steps spent waiting while on an order (TO_PICKUP or TO_DROP).
-    pub order_waits: Vec<u64>,
+    pub order_waits: Vec<u32>,
 }
 
 impl RobotStats {
@@ -194,13 +195,13 @@ impl Snapshot {
         let st = &t.stats;
         Snapshot {
             delivered: t.delivered,
-            waits: st.wait_steps.iter().sum(),
+            waits: st.wait_steps.iter().map(|&w| u64::from(w)).sum(),
             on_orders: st
                 .state_steps
                 .iter()
-                .map(|s| s[State::ToPickup as usize] + s[State::Loading as usize] + s[State::ToDrop as usize] + s[State::Unloading as usize])
+                .map(|s| [State::ToPickup, State::Loading, State::ToDrop, State::Unloading].iter().map(|&k| u64::from(s[k as usize])).sum::<u64>())
                 .sum(),
-            order_waits: st.order_waits.iter().sum(),
+            order_waits: st.order_waits.iter().map(|&w| u64::from(w)).sum(),
         }
     }
 }

@@ -17,22 +17,38 @@ use crate::route::{self, Place};
 use crate::scenario::{Placement, Scenario, Unload};
 use crate::world::World;
 
-/// A parking slot: the point `(x, y)` strictly inside the directed edge `(u, v)`. 24 bytes a
-/// robot, where a [`Target`] takes 32 (its tag pads it).
-#[derive(Clone, Copy, Debug)]
-struct Slot {
-    u: NodeId,
-    v: NodeId,
-    x: f64,
-    y: f64,
+/// Spread placement's parking slots, numbered in edge order: edge `e` holds slots
+/// `first[e]..first[e + 1]`. Robot `i` of `n` parks on slot `i · total / n`, so its slot is
+/// computed when needed, from the layout, and takes no memory per robot.
+#[derive(Clone, Debug)]
+struct Park {
+    first: Vec<u64>,
+    robots: usize,
+}
+
+impl Park {
+    fn total(&self) -> u64 {
+        self.first.last().copied().unwrap_or(0)
+    }
+
+    /// The slot of robot `i`: a point strictly inside a directed edge.
+    fn slot(&self, layout: &Layout, i: usize) -> (NodeId, NodeId, f64, f64) {
+        // `i · total` can pass 64 bits only in absurd layouts; 128 bits never overflow.
+        let k = (i as u128 * u128::from(self.total()) / self.robots as u128) as u64;
+        let e = self.first.partition_point(|&f| f <= k) - 1;
+        let m = self.first[e + 1] - self.first[e];
+        let (u, v) = layout.edges[e];
+        let (x, y) = slot_point(layout, u, v, k - self.first[e] + 1, m);
+        (u, v, x, y)
+    }
 }
 
 /// Where each robot parks and where each cell's goods are delivered.
 #[derive(Clone, Debug)]
 pub(crate) struct Homes {
-    /// Spread placement: each robot's parking slot (empty under departure placement, where
-    /// robots park on their home charger).
-    park: Vec<Slot>,
+    /// Spread placement's parking slots (`None` under departure placement, where robots
+    /// park on their home charger).
+    park: Option<Park>,
     /// The unloading zone allocators are told about (the first zone under `"nearest"`).
     pub unload: NodeId,
     /// The unloading zone of each cell's goods.
@@ -41,21 +57,29 @@ pub(crate) struct Homes {
 
 impl Homes {
     /// Where robot `i` parks: its parking slot (spread placement) or its home charger.
-    pub fn target(&self, robots: &Robots, i: usize) -> Target {
-        self.park.get(i).map_or(Target::Node(robots.home[i]), |s| Target::Point { u: s.u, v: s.v, x: s.x, y: s.y })
+    pub fn target(&self, layout: &Layout, robots: &Robots, i: usize) -> Target {
+        self.park.as_ref().map_or(Target::Node(robots.home[i]), |park| {
+            let (u, v, x, y) = park.slot(layout, i);
+            Target::Point { u, v, x, y }
+        })
     }
 
     /// Whether robot `i` stands where it parks (phase 8).
-    pub fn at_home(&self, robots: &Robots, i: usize) -> bool {
-        match self.park.get(i) {
-            Some(s) => robots.at_node[i] == NONE && robots.x[i] == s.x && robots.y[i] == s.y,
+    pub fn at_home(&self, layout: &Layout, robots: &Robots, i: usize) -> bool {
+        match &self.park {
+            Some(park) => {
+                robots.at_node[i] == NONE && {
+                    let (_, _, x, y) = park.slot(layout, i);
+                    robots.x[i] == x && robots.y[i] == y
+                }
+            }
             None => robots.at_node[i] == robots.home[i].0,
         }
     }
 
     /// Whether robots park on aisle slots (spread placement).
     pub fn spread(&self) -> bool {
-        !self.park.is_empty()
+        self.park.is_some()
     }
 
     /// The unloading zone of a cell's goods.
@@ -112,20 +136,27 @@ pub(crate) fn start_nodes(layout: &Layout, scenario: &Scenario) -> Result<Vec<No
 /// Parking slots of spread placement: points strictly inside the highway edges, in edge
 /// order, `spacing` px or more apart and from either end node, so that robots standing on
 /// them neither block each other nor stand on a crossing.
-fn parking_slots(layout: &Layout, spacing: f64) -> Vec<Target> {
-    let mut slots = Vec::new();
+fn parking_slots(layout: &Layout, spacing: f64) -> Vec<u64> {
+    let mut first = Vec::with_capacity(layout.edges.len() + 1);
+    let mut total = 0u64;
+    first.push(0);
     for &(u, v) in &layout.edges {
         let (ux, uy) = layout.pos(u);
         let (vx, vy) = layout.pos(v);
         let len = route::dist(ux, uy, vx, vy);
-        let m = (len / spacing).floor() as usize;
-        let m = m.saturating_sub(1);
-        for k in 1..=m {
-            let f = k as f64 / (m + 1) as f64;
-            slots.push(Target::Point { u, v, x: ux + (vx - ux) * f, y: uy + (vy - uy) * f });
-        }
+        let m = (len / spacing).floor() as u64;
+        total = total.saturating_add(m.saturating_sub(1));
+        first.push(total);
     }
-    slots
+    first
+}
+
+/// Slot `k` (1 to `m`) of the `m` evenly spaced on the edge `(u, v)`.
+fn slot_point(layout: &Layout, u: NodeId, v: NodeId, k: u64, m: u64) -> (f64, f64) {
+    let (ux, uy) = layout.pos(u);
+    let (vx, vy) = layout.pos(v);
+    let f = k as f64 / (m + 1) as f64;
+    (ux + (vx - ux) * f, uy + (vy - uy) * f)
 }
 
 /// The nearest of `zones` from `at` by route (ties: the first listed), given each zone's
@@ -154,28 +185,26 @@ pub(crate) fn place(world: &World, scenario: &Scenario, starts: &[NodeId], unloa
         })?;
         robots.push(home, layout.pos(home), home, r.radius, r.speed, r.energy_full);
     }
-    let mut park = Vec::new();
+    let mut park = None;
     if scenario.placement == Placement::Spread {
-        park.reserve_exact(n);
         // Slots far enough apart that no two parked robots touch, even with the margin.
         let spacing = layout.cell_size.max(2.0 * (2.0 * r.radius + scenario.collision.margin));
-        let slots = parking_slots(layout, spacing);
-        if n > slots.len() {
-            return Err(Error::scenario("robots", n, format!("more robots than parking slots ({}) in this layout: generate a larger one", slots.len())));
+        let slots = Park { first: parking_slots(layout, spacing), robots: n };
+        if n as u64 > slots.total() {
+            return Err(Error::scenario("robots", n, format!("more robots than parking slots ({}) in this layout: generate a larger one", slots.total())));
         }
         let rows: Vec<Vec<f64>> = layout.chargers.iter().map(|&c| g.lengths_to(c)).collect();
         for i in 0..n {
-            // Evenly over the slot list, so every part of the warehouse gets robots.
-            let slot = slots[i * slots.len() / n];
-            let Target::Point { u, v, x, y } = slot else { unreachable!("slots are points") };
+            // Evenly over the slots, so every part of the warehouse gets robots.
+            let (u, v, x, y) = slots.slot(layout, i);
             let at = Place { x, y, at_node: NONE, edge_u: u.0, edge_v: v.0 };
             let home = nearest(world, at, &layout.chargers, &rows);
             robots.push(home, (x, y), home, r.radius, r.speed, r.energy_full);
             robots.at_node[i] = NONE;
             robots.edge_u[i] = u.0;
             robots.edge_v[i] = v.0;
-            park.push(Slot { u, v, x, y });
         }
+        park = Some(slots);
     }
     let unload_of_cell = if scenario.unload == Unload::Nearest {
         let rows: Vec<Vec<f64>> = layout.unloading.iter().map(|&z| g.lengths_to(z)).collect();
@@ -192,4 +221,37 @@ pub(crate) fn place(world: &World, scenario: &Scenario, starts: &[NodeId], unloa
     // The pushes leave each column with room for up to twice the fleet; a clone holds exactly
     // the fleet (about 140 bytes a robot instead of up to 280).
     Ok((robots.clone(), Homes { park, unload, unload_of_cell }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::LayoutParams;
+
+    #[test]
+    fn a_robots_slot_is_the_one_the_full_list_would_give() {
+        // The slots as a list, built as spread placement first did, against the numbered
+        // slots computed robot by robot: the same points, to the bit.
+        let layout = Layout::generate(&LayoutParams { group_rows: 3, group_cols: 4, chargers: 4, ..LayoutParams::paper() }, "t").unwrap();
+        for spacing in [25.0, 50.0, 61.3] {
+            let mut list = Vec::new();
+            for &(u, v) in &layout.edges {
+                let ((ux, uy), (vx, vy)) = (layout.pos(u), layout.pos(v));
+                let m = ((route::dist(ux, uy, vx, vy) / spacing).floor() as usize).saturating_sub(1);
+                for k in 1..=m {
+                    let f = k as f64 / (m + 1) as f64;
+                    list.push((u, v, ux + (vx - ux) * f, uy + (vy - uy) * f));
+                }
+            }
+            for n in [1, 2, 7, list.len() / 3, list.len()] {
+                let park = Park { first: parking_slots(&layout, spacing), robots: n };
+                assert_eq!(park.total(), list.len() as u64);
+                for i in 0..n {
+                    let (u, v, x, y) = park.slot(&layout, i);
+                    let (eu, ev, ex, ey) = list[i * list.len() / n];
+                    assert_eq!((u, v, x.to_bits(), y.to_bits()), (eu, ev, ex.to_bits(), ey.to_bits()), "spacing {spacing}, robot {i} of {n}");
+                }
+            }
+        }
+    }
 }

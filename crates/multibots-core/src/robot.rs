@@ -106,9 +106,6 @@ pub struct Robots {
     pub goods: Vec<u32>,
     pub cell: Vec<u32>,
     pub carrying: Vec<bool>,
-    /// The service point's edge of the goods being fetched.
-    pub task_u: Vec<u32>,
-    pub task_v: Vec<u32>,
     /// Steps counted in LOADING or UNLOADING.
     pub dwell: Vec<u32>,
     /// Marked by the threshold rule to charge after unloading.
@@ -117,7 +114,8 @@ pub struct Robots {
     /// The charger a robot is heading to or charging at (its home in the paper model).
     pub charger: Vec<u32>,
     /// A detour (traffic policies): the node to take after the next node instead of the
-    /// route's next hop, or `NONE`.
+    /// route's next hop, or `NONE`. Empty until a policy gives the first detour (robots
+    /// past its end have none): most runs never take one.
     pub via: Vec<u32>,
 }
 
@@ -159,13 +157,10 @@ impl Robots {
         self.goods.push(NONE);
         self.cell.push(NONE);
         self.carrying.push(false);
-        self.task_u.push(NONE);
-        self.task_v.push(NONE);
         self.dwell.push(0);
         self.marked.push(false);
         self.waited.push(false);
         self.charger.push(home.0);
-        self.via.push(NONE);
     }
 
     /// Positions as `[x0, y0, x1, y1, …]`, for arrays of shape (N, 2).

@@ -292,7 +292,8 @@ pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, mut budget: f64) -> f
                 break;
             }
         } else {
-            let next = if r.via[i] == NONE { g.next_hop(NodeId(n), NodeId(r.goal[i])).map_or(NONE, |v| v.0) } else { std::mem::replace(&mut r.via[i], NONE) };
+            let via = r.via.get_mut(i).map_or(NONE, |v| std::mem::replace(v, NONE));
+            let next = if via == NONE { g.next_hop(NodeId(n), NodeId(r.goal[i])).map_or(NONE, |v| v.0) } else { via };
             let (x, y) = g.pos(next);
             r.wp_x[i] = x;
             r.wp_y[i] = y;

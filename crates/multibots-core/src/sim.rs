@@ -118,12 +118,11 @@ pub struct Paper {
     collisions: Collisions,
     /// The `gate` and `reserve` traffic policies (`None`: the paper's collision waiting).
     traffic: Option<TrafficState>,
-    /// Phase 2's answers: who wants to move, and its heading.
+    /// Phase 2's answer: who wants to move (the heading it wants is `robots.heading`).
     wants: Vec<bool>,
     /// Whether anything happened this step: a robot moved, dwelt or charged, or stock
     /// changed (no progress for long while work remains is a gridlock).
     progress: bool,
-    alpha: Vec<f64>,
     /// The fleet's largest radius and twice its top speed, for counting contacts (robots
     /// keep both for the whole run).
     contact_reach: (f64, f64),
@@ -160,7 +159,7 @@ impl Paper {
             None => Vec::new(),
         };
         let n = robots.len();
-        let (goods, lifelong) = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv, n);
+        let (goods, lifelong) = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv);
         let reach = 2.0 * scenario.robot.radius + scenario.collision.margin;
         let people = match &scenario.humans {
             Some(h) => People::new(h, &world, &robots)?.map(Box::new),
@@ -184,7 +183,6 @@ impl Paper {
             traffic: (scenario.traffic != Traffic::Wait)
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
-            alpha: vec![0.0; n],
             contact_reach: (robots.radius.iter().copied().fold(0.0, f64::max), 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
             events: Vec::new(),
             robots,
@@ -278,14 +276,14 @@ impl Paper {
         // Slices of exactly `n` (here and in the phases below): indexing by `i < n` needs
         // no bounds checks.
         let (routing, state, x, y, wp_x, wp_y) = (&r.routing[..n], &r.state[..n], &r.x[..n], &r.y[..n], &r.wp_x[..n], &r.wp_y[..n]);
-        let (wants, alpha, head) = (&mut self.wants[..n], &mut self.alpha[..n], &mut r.heading[..n]);
+        // The heading is the collision test's direction too (`resolve` reads it only where
+        // a robot wants to move, and so was set just now): no column of its own.
+        let (wants, head) = (&mut self.wants[..n], &mut r.heading[..n]);
         for i in 0..n {
             let w = routing[i] && state[i].travels();
             wants[i] = w;
             if w {
-                let a = bearing(wp_x[i] - x[i], wp_y[i] - y[i]);
-                alpha[i] = a;
-                head[i] = a;
+                head[i] = bearing(wp_x[i] - x[i], wp_y[i] - y[i]);
             }
         }
         if self.homes.spread() {
@@ -308,10 +306,10 @@ impl Paper {
         // Who waits and how far each robot may travel: the paper's collision waiting, or a
         // traffic policy (crate::traffic), which may also stop a robot short.
         match self.traffic.as_mut() {
-            None => self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle),
+            None => self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle),
             Some(ts) => {
                 let cone = if ts.policy == Traffic::Gate {
-                    self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &self.alpha, p.margin, p.angle);
+                    self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle);
                     Some(&self.collisions.waits[..])
                 } else {
                     None
@@ -439,8 +437,9 @@ impl Paper {
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
     fn end(&mut self) {
-        let complete =
-            self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
+        let complete = self.lifelong.is_none()
+            && self.tally.delivered == self.tally.goods_total
+            && (0..self.robots.len()).all(|i| self.homes.at_home(&self.world.layout, &self.robots, i));
         let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
         let jammed = self.tally.end_step(self.progress, work_remains);
         if complete {
@@ -619,7 +618,7 @@ mod tests {
         // Deliveries in the last, partial window are in no complete window.
         assert!(r.windows.iter().sum::<u64>() <= r.delivered);
         assert!((r.throughput.unwrap() - r.delivered as f64 * 1000.0 / t as f64).abs() < 1e-9);
-        let waits: u64 = r.robots.wait_steps.iter().sum();
+        let waits: u64 = r.robots.wait_steps.iter().map(|&w| u64::from(w)).sum();
         assert!((r.wait_share - waits as f64 / (6 * t) as f64).abs() < 1e-12);
         assert!(r.utilisation > 0.0 && r.utilisation + r.wait_share <= 1.0);
         // A warm-up past the end leaves no steady figures.

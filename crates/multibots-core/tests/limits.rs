@@ -40,6 +40,14 @@ fn scenario_sizes_are_limited() {
     assert_eq!(err(&s), "orders.rate = 1000000000: at most 100000 orders per step");
     s.orders = Some(Orders { rate: 3.0, horizon: 1_000_000_000, ..Orders::default() });
     assert!(err(&s).contains("expects 3.000e9 orders"), "{}", err(&s));
+    // Per-robot counters are 32-bit: no run may be longer than they count.
+    s.orders = Some(Orders { rate: 0.001, horizon: 4_294_967_296, ..Orders::default() });
+    assert_eq!(err(&s), "orders.horizon = 4294967296: at most 4294967295 steps");
+    let mut s = Scenario::paper(3, &[1]);
+    s.step_limit = 4_294_967_296;
+    assert_eq!(err(&s), "step_limit = 4294967296: at most 4294967295");
+    s.step_limit = 4_294_967_295;
+    assert!(Simulation::new(&s).is_ok());
     let mut s = Scenario::paper(3, &[1]);
     s.charging.level = f64::NAN;
     assert_eq!(err(&s), "charging.level = NaN: must be a finite number");

@@ -348,8 +348,8 @@ fn the_view_follows_the_robots() {
     assert!(o.robots().state.iter().all(|&s| s == State::Charging || s == State::Parked));
     assert!(o.queue_cells().is_empty());
     let r = o.result();
-    assert_eq!(r.robots.delivered.iter().sum::<u64>(), 2);
-    assert_eq!(r.robots.state_steps[0].iter().sum::<u64>(), r.steps);
+    assert_eq!(r.robots.delivered.iter().sum::<u32>(), 2);
+    assert_eq!(u64::from(r.robots.state_steps[0].iter().sum::<u32>()), r.steps);
 }
 
 fn refusal(edit: impl FnOnce(&mut Scenario)) -> String {

@@ -101,6 +101,6 @@ fn charging_happens_and_is_counted_at_the_charger() {
     // One robot, ten goods: it must charge on the way (the paper's N = 1 runs charge 3–4 times).
     let r = Simulation::new(&Scenario::paper(1, &PAPER_TASKS[0])).unwrap().run().unwrap();
     assert!(r.c >= 3);
-    assert_eq!(r.robots.charges[0], r.c);
+    assert_eq!(u64::from(r.robots.charges[0]), r.c);
     assert!(r.robots.state_steps[0][multibots_core::State::Charging as usize] > 0);
 }

@@ -6,6 +6,12 @@ use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// Per-robot counts as uint64, as Python has always had them: the engine keeps them in 32 bits
+/// (no run is longer than `limits::MAX_STEPS`).
+pub(crate) fn counts<'py>(py: Python<'py>, v: &[u32]) -> Bound<'py, PyArray1<u64>> {
+    PyArray1::from_iter(py, v.iter().map(|&c| u64::from(c)))
+}
+
 pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("T", r.t)?;
@@ -37,12 +43,12 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
     }
     let st = &r.robots;
     d.set_item("distance", PyArray1::from_slice(py, &st.distance))?;
-    d.set_item("wait_steps", PyArray1::from_slice(py, &st.wait_steps))?;
-    d.set_item("collisions", PyArray1::from_slice(py, &st.collisions))?;
+    d.set_item("wait_steps", counts(py, &st.wait_steps))?;
+    d.set_item("collisions", counts(py, &st.collisions))?;
     d.set_item("energy_used", PyArray1::from_slice(py, &st.energy_used))?;
-    d.set_item("robot_delivered", PyArray1::from_slice(py, &st.delivered))?;
-    d.set_item("charges", PyArray1::from_slice(py, &st.charges))?;
-    let flat: Vec<u64> = st.state_steps.iter().flat_map(|row| row.iter().copied()).collect();
+    d.set_item("robot_delivered", counts(py, &st.delivered))?;
+    d.set_item("charges", counts(py, &st.charges))?;
+    let flat: Vec<u64> = st.state_steps.iter().flat_map(|row| row.iter().map(|&c| u64::from(c))).collect();
     d.set_item("state_steps", PyArray1::from_vec(py, flat).reshape([st.state_steps.len(), State::COUNT])?)?;
     match &r.lifelong {
         Some(l) => {

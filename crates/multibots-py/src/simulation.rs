@@ -159,12 +159,12 @@ impl PySimulation {
     /// Collisions S of each robot.
     #[getter]
     fn robot_s<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u64>> {
-        PyArray1::from_slice(py, &self.sim.stats().collisions)
+        crate::results::counts(py, &self.sim.stats().collisions)
     }
     /// Charges C of each robot.
     #[getter]
     fn robot_c<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<u64>> {
-        PyArray1::from_slice(py, &self.sim.stats().charges)
+        crate::results::counts(py, &self.sim.stats().charges)
     }
     /// Cells of the goods still in the queue, front first.
     #[getter]

@@ -4,14 +4,25 @@
 use super::Collisions;
 
 impl Collisions {
-    /// more robots (Tarjan's algorithm without recursion), over the robots in `blocked`. A
-    /// robot that is not blocked has no way out, so it is never on a cycle, and edges to it
-    /// are skipped. Expects `index` all `u32::MAX`, `released` and `on_stack` all false.
+    /// Marks `released` the smallest robot of each strongly connected component of two or
+    /// more robots (Tarjan's algorithm without recursion), over the robots in `blocked`, by
+    /// their places there. A robot that is not blocked has no way out, so it is never on a
+    /// cycle, and edges to it are skipped. Expects `slot_of` to give the places of this
+    /// step's blocked robots.
     pub(super) fn release_cycles(&mut self) {
+        let m = self.blocked.len();
+        for (v, value) in [(&mut self.index, u32::MAX), (&mut self.low, 0)] {
+            v.clear();
+            v.resize(m, value);
+        }
+        for v in [&mut self.on_stack, &mut self.released] {
+            v.clear();
+            v.resize(m, false);
+        }
         self.stack.clear();
+        self.call.clear();
         let mut next_index = 0u32;
-        for k in 0..self.blocked.len() {
-            let root = self.blocked[k] as usize;
+        for root in 0..m {
             if self.index[root] != u32::MAX {
                 continue;
             }
@@ -24,11 +35,12 @@ impl Collisions {
             while let Some(&mut (v, ref mut e)) = self.call.last_mut() {
                 let v = v as usize;
                 if *e < self.edge_start[v + 1] {
-                    let w = self.edge_to[*e as usize] as usize;
+                    let w = self.slot_of[self.edge_to[*e as usize] as usize];
                     *e += 1;
-                    if self.edge_start[w] == self.edge_start[w + 1] {
+                    if w == u32::MAX {
                         continue;
                     }
+                    let w = w as usize;
                     if self.index[w] == u32::MAX {
                         self.index[w] = next_index;
                         self.low[w] = next_index;
@@ -47,6 +59,7 @@ impl Collisions {
                     self.low[p] = self.low[p].min(self.low[v]);
                 }
                 if self.low[v] == self.index[v] {
+                    // Places follow ids: the smallest place is the smallest robot.
                     let mut smallest = u32::MAX;
                     let mut size = 0;
                     loop {

@@ -63,7 +63,7 @@ impl Collisions {
     pub(super) fn copy_placed(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
         let n = x.len();
         let cell_of = &self.cell_of[..n];
-        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..if uniform { 0 } else { n }]);
         let mut k = 0;
         for i in 0..n {
             if cell_of[i] != u32::MAX {
@@ -118,7 +118,7 @@ impl Collisions {
             total += *f;
             *f = total;
         }
-        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..if uniform { 0 } else { n }]);
         for i in (0..n).rev() {
             let c = cell_of[i];
             if c != u32::MAX {
@@ -162,7 +162,7 @@ impl Collisions {
         self.epoch += 1;
         let epoch = self.epoch;
         let (stamp, start, end) = (&mut self.stamp[..], &mut self.start[..], &mut self.end[..]);
-        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..n]);
+        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..if uniform { 0 } else { n }]);
         let mut last = u32::MAX;
         for (k, &i) in order[..placed].iter().enumerate() {
             let i = i as usize;

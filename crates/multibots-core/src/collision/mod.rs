@@ -79,10 +79,10 @@ pub struct Collisions {
     grid: Grid,
     /// Half-width of the box searched around a robot: the contact distance, a hair wider.
     reach: f64,
-    /// Each robot's cell (`u32::MAX`: in a bay, out of the grid), column and row.
+    /// Each robot's cell (`u32::MAX`: in a bay, out of the grid). Its column and row are
+    /// computed again where needed: two conversions are cheaper than 8 bytes a robot read
+    /// from memory.
     cell_of: Vec<u32>,
-    cx: Vec<u32>,
-    cy: Vec<u32>,
     // Robots sorted by cell, with their positions and radii copied alongside: the cells of a
     // grid row that a search box covers are one contiguous run, read without chasing links.
     // Two ways to sort, chosen by the grid's size per robot:
@@ -120,16 +120,23 @@ pub struct Collisions {
     by_cell: Vec<u32>,
     sx: Vec<f64>,
     sy: Vec<f64>,
+    /// Radii, copied only for a fleet of mixed sizes (empty for one radius: then every
+    /// contact distance is the same, and no robot reads it).
     sr: Vec<f64>,
-    // "Blocked by" graph in compressed rows.
+    // "Blocked by" graph in compressed rows, over the blocked robots only: row `s` is robot
+    // `blocked[s]`'s blockers, `edge_to[edge_start[s]..edge_start[s + 1]]` (robot ids).
     edge_start: Vec<u32>,
     edge_to: Vec<u32>,
+    /// Each robot's place in `blocked`, `u32::MAX` for robots not blocked (the resting state
+    /// between steps). The one per-robot column of the release: everything else of it is
+    /// sized to the blocked robots.
+    slot_of: Vec<u32>,
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
     /// Robots standing in a bay beside the aisle (an extension for large fleets, see
     /// docs/model.md section 7): they neither block nor wait. Empty: nobody (the paper).
     pub bay: Vec<bool>,
-    // Tarjan's algorithm, iterative.
+    // Tarjan's algorithm, iterative, by place in `blocked`.
     index: Vec<u32>,
     low: Vec<u32>,
     on_stack: Vec<bool>,
@@ -167,8 +174,6 @@ impl Collisions {
             grid: Grid { x0: bounds[0] - size, y0: bounds[1] - size, inv_size: 1.0 / size, cols, last_col: last(cols), last_row: last(rows) },
             reach: reach.max(1e-6) * (1.0 + 1e-9) + 1e-9,
             cell_of: vec![0; robots],
-            cx: vec![0; robots],
-            cy: vec![0; robots],
             dense,
             tiny,
             bits: if tiny { vec![0; robots] } else { Vec::new() },
@@ -186,17 +191,18 @@ impl Collisions {
             by_cell: vec![0; robots],
             sx: vec![0.0; robots],
             sy: vec![0.0; robots],
-            sr: vec![0.0; robots],
-            edge_start: vec![0; robots + 1],
-            edge_to: Vec::with_capacity(robots),
+            sr: Vec::new(),
+            edge_start: Vec::new(),
+            edge_to: Vec::new(),
+            slot_of: vec![u32::MAX; robots],
             waits: vec![false; robots],
-            index: vec![u32::MAX; robots],
-            low: vec![0; robots],
-            on_stack: vec![false; robots],
-            stack: Vec::with_capacity(robots),
-            call: Vec::with_capacity(robots),
-            released: vec![false; robots],
-            blocked: Vec::with_capacity(robots),
+            index: Vec::new(),
+            low: Vec::new(),
+            on_stack: Vec::new(),
+            stack: Vec::new(),
+            call: Vec::new(),
+            released: Vec::new(),
+            blocked: Vec::new(),
             bay: Vec::new(),
         }
     }
@@ -207,7 +213,6 @@ impl Collisions {
         let n = x.len();
         let (y, radius) = (&y[..n], &radius[..n]);
         let grid = self.grid;
-        let (cxs, cys) = (&mut self.cx[..n], &mut self.cy[..n]);
         let bay: &[bool] = if self.bay.is_empty() { &[] } else { &self.bay[..n] };
         let cell_of = &mut self.cell_of[..n];
         // Every robot can block, so every robot goes into the grid (bays aside).
@@ -225,12 +230,14 @@ impl Collisions {
             }
             let (tx, ty) = grid.scaled(x[i], y[i]);
             let (cx, cy) = grid.cell(tx, ty);
-            (cxs[i], cys[i]) = (cx, cy);
             cell_of[i] = (cy as usize * grid.cols + cx as usize) as u32;
         }
         // One radius for the whole fleet (the usual case): one contact distance, and no
         // radii to copy or read per candidate.
         let uniform = radius.iter().all(|&r| r == radius[0]);
+        if !uniform && self.sr.len() < n {
+            self.sr.resize(n, 0.0);
+        }
         self.placed = placed;
         if self.tiny {
             self.copy_placed(x, y, radius, uniform);
@@ -257,8 +264,8 @@ impl Collisions {
         let uniform = self.build_grid(x, y, radius);
         let (grid, tiny) = (self.grid, self.tiny);
         let (first, stamp, start, end, epoch) = (&self.first[..], &self.stamp[..], &self.start[..], &self.end[..], self.epoch);
-        let (cell_of, cxs, cys) = (&self.cell_of[..n], &self.cx[..n], &self.cy[..n]);
-        let (by_cell, sx, sy, sr) = (&self.by_cell[..n], &self.sx[..n], &self.sy[..n], &self.sr[..n]);
+        let cell_of = &self.cell_of[..n];
+        let (by_cell, sx, sy, sr) = (&self.by_cell[..n], &self.sx[..n], &self.sy[..n], &self.sr[..if uniform { 0 } else { n }]);
         // The run of robots in cells `c0..=c1` of one row (at most three cells): the runs of
         // adjacent cells are adjacent in the order, so it is one range.
         let run = |c0: usize, c1: usize| -> (usize, usize) {
@@ -286,15 +293,24 @@ impl Collisions {
         let w = (self.reach * self.sin_angle.1 * 1.000_001 + 1e-9) * grid.inv_size;
         // Build the "blocked by" edges (in no particular order: the components, and so who
         // is released, do not depend on it).
-        let edge_start = &mut self.edge_start[..=n];
-        let edge_to = &mut self.edge_to;
+        let (edge_to, edge_start, blocked, slot_of) = (&mut self.edge_to, &mut self.edge_start, &mut self.blocked, &mut self.slot_of[..n]);
         edge_to.clear();
+        edge_start.clear();
+        blocked.clear();
+        // Robot `i`, whose edges start at `before`, is blocked if it has any: it takes the next
+        // place (robots come in id order, so `blocked` is ascending).
+        let mut row = |i: usize, before: usize, after: usize| {
+            if after > before {
+                slot_of[i] = blocked.len() as u32;
+                blocked.push(i as u32);
+                edge_start.push(before as u32);
+            }
+        };
         if tiny {
             let bits = &self.bits[..];
             // Robots in the grid are placed in id order: `p` is the place of robot `i`.
             let mut p = 0;
             for i in 0..n {
-                edge_start[i] = edge_to.len() as u32;
                 if cell_of[i] == u32::MAX {
                     continue;
                 }
@@ -313,6 +329,7 @@ impl Collisions {
                     !far
                 };
                 // `bits` holds every near one (and some that are not), in id order.
+                let before = edge_to.len();
                 let mut mask = bits[p - 1];
                 while mask != 0 {
                     let k = mask.trailing_zeros() as usize;
@@ -321,10 +338,10 @@ impl Collisions {
                         edge_to.push(by_cell[k]);
                     }
                 }
+                row(i, before, edge_to.len());
             }
         } else {
             for i in 0..n {
-                edge_start[i] = edge_to.len() as u32;
                 if !wants[i] || cell_of[i] == u32::MAX {
                     continue;
                 }
@@ -360,11 +377,13 @@ impl Collisions {
                 };
                 // One or two rows; in each, the box's one or two cells are one run of robots.
                 let (tx, ty) = grid.scaled(xi, yi);
-                let (gx0, gx1) = span(tx, cxs[i], l, r);
-                let (gy0, gy1) = span(ty, cys[i], d, u);
-                let (mut row, last_row) = (gy0 * grid.cols, gy1 * grid.cols);
+                let (cx, cy) = grid.cell(tx, ty);
+                let (gx0, gx1) = span(tx, cx, l, r);
+                let (gy0, gy1) = span(ty, cy, d, u);
+                let before = edge_to.len();
+                let (mut cells, last_cells) = (gy0 * grid.cols, gy1 * grid.cols);
                 loop {
-                    let (k0, k1) = run(row + gx0, row + gx1);
+                    let (k0, k1) = run(cells + gx0, cells + gx1);
                     if k1 - k0 <= 64 {
                         // Most candidates are far: flag the near ones without a branch each (the
                         // outcome is hard to predict), then test only those.
@@ -386,28 +405,26 @@ impl Collisions {
                             }
                         }
                     }
-                    if row == last_row {
+                    if cells == last_cells {
                         break;
                     }
-                    row += grid.cols;
+                    cells += grid.cols;
                 }
+                row(i, before, edge_to.len());
             }
         }
-        edge_start[n] = edge_to.len() as u32;
+        edge_start.push(edge_to.len() as u32);
         if edge_to.is_empty() {
             return;
         }
         // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's
         // work is in proportion to them, not to the fleet.
-        self.blocked.clear();
-        self.blocked.extend((0..n).filter(|&i| edge_start[i] < edge_start[i + 1]).map(|i| i as u32));
         self.release_cycles();
-        for &i in &self.blocked {
+        for (&i, &released) in self.blocked.iter().zip(&self.released) {
             let i = i as usize;
-            self.waits[i] = !self.released[i];
+            self.waits[i] = !released;
             // Back to the resting state for the next step.
-            self.released[i] = false;
-            self.index[i] = u32::MAX;
+            self.slot_of[i] = u32::MAX;
         }
     }
 }
@@ -537,6 +554,37 @@ mod tests {
     }
 
     #[test]
+    fn one_collisions_kept_from_step_to_step_decides_as_a_fresh_one() {
+        // The release keeps its places (`slot_of`) only for the step: a kept `Collisions`
+        // must decide each step as a new one would, whichever robots were blocked before.
+        // Dense clouds with random headings give cycles of every size.
+        let mut s = 99u64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % 10_000) as f64 / 10_000.0
+        };
+        for n in [5, 40, 300] {
+            let mut kept = Collisions::new([0.0, 0.0, 200.0, 200.0], 25.0, n);
+            let mut released = 0;
+            for step in 0..30 {
+                let side = if step % 2 == 0 { 60.0 } else { 200.0 };
+                let x: Vec<f64> = (0..n).map(|_| rnd() * side).collect();
+                let y: Vec<f64> = (0..n).map(|_| rnd() * side).collect();
+                let alpha: Vec<f64> = (0..n).map(|_| rnd() * TAU - PI).collect();
+                let wants: Vec<bool> = (0..n).map(|_| rnd() < 0.8).collect();
+                kept.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
+                let mut fresh = Collisions::new([0.0, 0.0, 200.0, 200.0], 25.0, n);
+                fresh.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
+                assert_eq!(kept.waits, fresh.waits, "{n} robots, step {step}");
+                released += kept.blocked.iter().filter(|&&i| !kept.waits[i as usize]).count();
+            }
+            assert!(n < 40 || released > 0, "{n} robots: some cycle was released");
+        }
+    }
+
+    #[test]
     fn grid_finds_neighbours_across_cell_borders_and_agrees_with_brute_force() {
         // Pseudo-random cloud, compared with the O(N²) definition.
         let mut s = 12345u64;
@@ -555,7 +603,8 @@ mod tests {
         c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
         for i in 0..n {
             let brute: Vec<u32> = (0..n).filter(|&j| j != i && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], 25.0, ANGLE)).map(|j| j as u32).collect();
-            let mut got = c.edge_to[c.edge_start[i] as usize..c.edge_start[i + 1] as usize].to_vec();
+            let s = c.blocked.binary_search(&(i as u32)).ok();
+            let mut got = s.map_or(Vec::new(), |s| c.edge_to[c.edge_start[s] as usize..c.edge_start[s + 1] as usize].to_vec());
             got.sort_unstable();
             assert_eq!(got, brute, "robot {i}");
         }

@@ -109,9 +109,9 @@ impl Ending {
 pub(crate) struct Account {
     t: u64,
     distance: Vec<f64>,
-    collisions: Vec<u64>,
-    charges: Vec<u64>,
-    delivered: Vec<u64>,
+    collisions: Vec<u32>,
+    charges: Vec<u32>,
+    delivered: Vec<u32>,
 }
 
 impl Account {
@@ -150,8 +150,8 @@ impl Account {
         let mut total = common;
         for i in 0..n {
             let d = st.distance[i] - self.distance[i];
-            let own = -w.distance * d - w.collision * (st.collisions[i] - self.collisions[i]) as f64 - w.charge * (st.charges[i] - self.charges[i]) as f64
-                + w.delivery * (st.delivered[i] - self.delivered[i]) as f64;
+            let own = -w.distance * d - w.collision * f64::from(st.collisions[i] - self.collisions[i]) - w.charge * f64::from(st.charges[i] - self.charges[i])
+                + w.delivery * f64::from(st.delivered[i] - self.delivered[i]);
             self.distance[i] = st.distance[i];
             self.collisions[i] = st.collisions[i];
             self.charges[i] = st.charges[i];

@@ -87,8 +87,6 @@ impl Original {
             v.goods[i] = if a.holds { self.goods_of_cell[usize::from(a.goods)] } else { NONE };
             v.cell[i] = if a.holds { u32::from(a.goods) } else { NONE };
             v.carrying[i] = a.loaded;
-            v.task_u[i] = if a.holds { u32::from(shelf.forward) } else { NONE };
-            v.task_v[i] = if a.holds { u32::from(shelf.backward) } else { NONE };
             v.dwell[i] = a.dwell;
             v.marked[i] = a.needs_charge && !a.to_charge;
             v.waited[i] = a.stopped;

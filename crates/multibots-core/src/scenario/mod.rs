@@ -33,7 +33,7 @@ pub struct Scenario {
     /// SEED }` for COUNT distinct cells drawn with a portable generator (ChaCha8), the same on
     /// every machine.
     pub tasks: Tasks,
-    /// A run not finished after this many steps ends `incomplete` (≥ 1). Default: 100000.
+    /// A run not finished after this many steps ends `incomplete` (1 to 4294967295). Default: 100000.
     #[serde(default = "defaults::step_limit")]
     pub step_limit: u64,
     /// Task-allocation strategy: a built-in (`in-turn`, `nearest`, `hungarian`, `auction`,
@@ -228,6 +228,9 @@ impl Scenario {
         if self.step_limit == 0 {
             return Err(Error::scenario("step_limit", 0, "must be greater than 0"));
         }
+        if self.step_limit > crate::limits::MAX_STEPS {
+            return Err(Error::scenario("step_limit", self.step_limit, format!("at most {}", crate::limits::MAX_STEPS)));
+        }
         let r = &self.robot;
         positive("robot.radius", r.radius)?;
         positive("robot.speed", r.speed)?;
@@ -301,6 +304,9 @@ impl Scenario {
             }
             if o.horizon == 0 {
                 return Err(Error::scenario("orders.horizon", 0, "must be at least 1 step"));
+            }
+            if o.horizon > crate::limits::MAX_STEPS {
+                return Err(Error::scenario("orders.horizon", o.horizon, format!("at most {} steps", crate::limits::MAX_STEPS)));
             }
             if o.restock == 0 {
                 return Err(Error::scenario("orders.restock", 0, "must be at least 1 step"));

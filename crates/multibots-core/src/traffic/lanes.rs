@@ -191,7 +191,8 @@ impl Lanes {
                 (NONE, 0.0)
             }
         } else {
-            let w = if r.via[i] == NONE { g.next_hop(crate::ids::NodeId(v), crate::ids::NodeId(goal)).map_or(NONE, |w| w.0) } else { r.via[i] };
+            let via = r.via.get(i).copied().unwrap_or(NONE);
+            let w = if via == NONE { g.next_hop(crate::ids::NodeId(v), crate::ids::NodeId(goal)).map_or(NONE, |w| w.0) } else { via };
             (g.edge_id(v, w), f64::INFINITY)
         };
         let len2 = if e2 == NONE { 0.0 } else { g.edge(e2).2 };

@@ -267,6 +267,9 @@ impl TrafficState {
                 continue;
             }
             if self.room_on(r, i, e) {
+                if r.via.len() <= i {
+                    r.via.resize(r.len(), NONE);
+                }
                 r.via[i] = w;
                 return true;
             }
