@@ -309,7 +309,7 @@ impl Paper {
                 let i = self.goods.idle[k].index();
                 if self.robots.state[i] == State::Idle {
                     self.robots.state[i] = State::ToHome;
-                    let home: Target = self.homes.target(&self.world.layout, &self.robots, i);
+                    let home: Target = self.homes.target(&self.robots, i);
                     self.route(i, home);
                 }
             }

@@ -437,9 +437,8 @@ impl Paper {
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
     fn end(&mut self) {
-        let complete = self.lifelong.is_none()
-            && self.tally.delivered == self.tally.goods_total
-            && (0..self.robots.len()).all(|i| self.homes.at_home(&self.world.layout, &self.robots, i));
+        let complete =
+            self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
         let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
         let jammed = self.tally.end_step(self.progress, work_remains);
         if complete {
