@@ -113,7 +113,8 @@ impl Paper {
     /// (past the point of putting goods back).
     fn inside_service_edge(&self, i: usize) -> bool {
         let r = &self.robots;
-        // A robot fetching goods always has their cell.
+        // A robot fetching goods always has their cell (they are set and cleared together).
+        debug_assert!(r.cell[i] != NONE, "robot {i} fetches goods without a cell");
         let (u, v) = self.world.layout.cells[r.cell[i] as usize].edge;
         r.at_node[i] == NONE && r.edge_u[i] == u.0 && r.edge_v[i] == v.0
     }

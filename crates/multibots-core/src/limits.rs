@@ -23,6 +23,8 @@ pub const MAX_ROBOTS: u32 = 1_000_000;
 /// Longest run, steps (`step_limit`, `orders.horizon`): each robot's counters (waits,
 /// steps in each state) are 32-bit, 4 bytes where 64-bit ones took 8.
 pub const MAX_STEPS: u64 = u32::MAX as u64;
+// Unlike the other limits, this one cannot be raised alone: the counters would wrap.
+const _: () = assert!(MAX_STEPS <= u32::MAX as u64, "per-robot counters are u32 (metrics.rs)");
 
 /// Most workers on the floor (`[humans] count`).
 pub const MAX_HUMANS: u32 = 100_000;

@@ -78,7 +78,7 @@ def parse_names(value: str, flag: str = "--starts") -> list[str]:
 #: The engine's limits (crates/multibots-core/src/limits.rs, docs/limits.md) for flags that
 #: would otherwise reach it as out-of-range integers.
 MAX_ROBOTS = 1_000_000
-MAX_STEPS = (1 << 63) - 1
+MAX_STEPS = 4_294_967_295
 
 
 def parse_number(value: Optional[str], flag: str, kind: type, most: Optional[float] = None) -> Any:

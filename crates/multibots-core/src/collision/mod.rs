@@ -565,22 +565,26 @@ mod tests {
             s ^= s << 17;
             (s % 10_000) as f64 / 10_000.0
         };
-        for n in [5, 40, 300] {
-            let mut kept = Collisions::new([0.0, 0.0, 200.0, 200.0], 25.0, n);
+        // Tiny, dense and sparse grids (a few robots in a big box), one radius and mixed.
+        for (n, side, mixed) in [(5, 200.0, false), (40, 200.0, false), (300, 200.0, true), (40, 2000.0, false), (60, 2000.0, true)] {
+            let bounds = [0.0, 0.0, side, side];
+            let mut kept = Collisions::new(bounds, 28.0, n);
             let mut released = 0;
             for step in 0..30 {
-                let side = if step % 2 == 0 { 60.0 } else { 200.0 };
-                let x: Vec<f64> = (0..n).map(|_| rnd() * side).collect();
-                let y: Vec<f64> = (0..n).map(|_| rnd() * side).collect();
+                // Every other step crowded into a corner: cycles; else spread out.
+                let span = if step % 2 == 0 { 60.0 } else { side };
+                let x: Vec<f64> = (0..n).map(|_| rnd() * span).collect();
+                let y: Vec<f64> = (0..n).map(|_| rnd() * span).collect();
                 let alpha: Vec<f64> = (0..n).map(|_| rnd() * TAU - PI).collect();
                 let wants: Vec<bool> = (0..n).map(|_| rnd() < 0.8).collect();
-                kept.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
-                let mut fresh = Collisions::new([0.0, 0.0, 200.0, 200.0], 25.0, n);
-                fresh.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
-                assert_eq!(kept.waits, fresh.waits, "{n} robots, step {step}");
+                let radius: Vec<f64> = (0..n).map(|_| if mixed { 8.0 + 6.0 * rnd() } else { 12.5 }).collect();
+                kept.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
+                let mut fresh = Collisions::new(bounds, 28.0, n);
+                fresh.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
+                assert_eq!(kept.waits, fresh.waits, "{n} robots in {side} px, step {step}");
                 released += kept.blocked.iter().filter(|&&i| !kept.waits[i as usize]).count();
             }
-            assert!(n < 40 || released > 0, "{n} robots: some cycle was released");
+            assert!(n < 40 || released > 0, "{n} robots in {side} px: some cycle was released");
         }
     }
 

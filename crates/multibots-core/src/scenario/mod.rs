@@ -35,6 +35,7 @@ pub struct Scenario {
     pub tasks: Tasks,
     /// A run not finished after this many steps ends `incomplete` (1 to 4294967295). Default: 100000.
     #[serde(default = "defaults::step_limit")]
+    #[schemars(range(min = 1, max = crate::limits::MAX_STEPS))]
     pub step_limit: u64,
     /// Task-allocation strategy: a built-in (`in-turn`, `nearest`, `hungarian`, `auction`,
     /// `energy-aware`, `min-cost`; docs/strategies.md) or a Python `module:Class`. Default:

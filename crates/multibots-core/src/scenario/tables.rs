@@ -183,7 +183,8 @@ pub struct Orders {
     /// A CSV file of `step,cell` rows (path relative to the working directory).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub csv: Option<String>,
-    /// Steps the run lasts (≥ 1). Default: 10000.
+    /// Steps the run lasts (1 to 4294967295). Default: 10000.
+    #[schemars(range(min = 1, max = crate::limits::MAX_STEPS))]
     pub horizon: u64,
     /// Steps after a pickup until the cell holds goods again (≥ 1). Default: 200.
     pub restock: u64,
