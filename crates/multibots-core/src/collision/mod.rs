@@ -553,18 +553,22 @@ mod tests {
         assert_eq!(w, vec![true, false]);
     }
 
+    /// Deterministic numbers in [0, 1) (xorshift; no dependency for a test).
+    fn uniform(mut s: u64) -> impl FnMut() -> f64 {
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % 10_000) as f64 / 10_000.0
+        }
+    }
+
     #[test]
     fn one_collisions_kept_from_step_to_step_decides_as_a_fresh_one() {
         // The release keeps its places (`slot_of`) only for the step: a kept `Collisions`
         // must decide each step as a new one would, whichever robots were blocked before.
         // Dense clouds with random headings give cycles of every size.
-        let mut s = 99u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % 10_000) as f64 / 10_000.0
-        };
+        let mut rnd = uniform(99);
         // Tiny, dense and sparse grids (a few robots in a big box), one radius and mixed.
         for (n, side, mixed) in [(5, 200.0, false), (40, 200.0, false), (300, 200.0, true), (40, 2000.0, false), (60, 2000.0, true)] {
             let bounds = [0.0, 0.0, side, side];
@@ -591,13 +595,7 @@ mod tests {
     #[test]
     fn grid_finds_neighbours_across_cell_borders_and_agrees_with_brute_force() {
         // Pseudo-random cloud, compared with the O(N²) definition.
-        let mut s = 12345u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % 10_000) as f64 / 10_000.0
-        };
+        let mut rnd = uniform(12345);
         let n = 400;
         let x: Vec<f64> = (0..n).map(|_| rnd() * 300.0).collect();
         let y: Vec<f64> = (0..n).map(|_| rnd() * 300.0).collect();
