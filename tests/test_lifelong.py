@@ -63,11 +63,13 @@ def test_cli_lifelong_errors_exit_2(cli, tmp_path):
     # Runs are at most 2**32 - 1 steps: the engine's per-robot counters are 32-bit.
     bad.write_text('tasks = []\n[orders]\nrate = 0.001\nhorizon = 4294967296\n', encoding="utf-8")
     p = cli("run", str(bad))
-    assert p.returncode == 2 and p.stderr.strip().endswith("orders.horizon = 4294967296: at most 4294967295 steps"), p.stderr
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.strip().endswith("orders.horizon = 4294967296: at most 4294967295 steps"), p.stderr
     assert p.stderr.count("\n") == 1
     for steps in ("4294967296", "10000000000000000000"):
         p = cli("run", "--goods", "1,2", "--step-limit", steps)
-        assert p.returncode == 2 and p.stderr.strip().endswith(f"--step-limit = {steps}: at most 4,294,967,295 (docs/limits.md)"), p.stderr
+        expected = f"--step-limit = {steps}: at most 4,294,967,295 (docs/limits.md)"
+        assert p.returncode == 2 and p.stderr.strip().endswith(expected), p.stderr
         assert p.stderr.count("\n") == 1
     bad.write_text('tasks = []\nplacement = "spread"\n[orders]\nrate = 1\n', encoding="utf-8")
     p = cli("run", str(bad))
