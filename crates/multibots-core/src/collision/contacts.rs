@@ -143,7 +143,7 @@ impl Collisions {
             for row in r0..=r1 {
                 let (mut k0, k1) = {
                     let base = row * grid.cols;
-                    self.cells_run(base + c0, base + c1)
+                    self.runs().of(base + c0, base + c1)
                 };
                 // Most candidates are far: flag the near ones without a branch each, 64 at a
                 // time, then look at those.

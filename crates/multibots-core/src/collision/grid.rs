@@ -43,10 +43,24 @@ pub(super) fn span(t: f64, c: u32, lo: f64, hi: f64) -> (usize, usize) {
     (c - usize::from(t - lo < cf), c + usize::from(t + hi >= cf + 1.0))
 }
 
-impl Collisions {
+/// The sorted order's runs by cell, borrowed apart from the rest of [`Collisions`]: the
+/// collision test reads them while it writes its edges. Dense grids: `first`; sparse grids:
+/// `stamp`, `start`, `end` (non-empty only for them).
+#[derive(Clone, Copy)]
+pub(super) struct Runs<'a> {
+    pub(super) first: &'a [u32],
+    pub(super) stamp: &'a [u64],
+    pub(super) start: &'a [u32],
+    pub(super) end: &'a [u32],
+    pub(super) epoch: u64,
+}
+
+impl Runs<'_> {
+    /// The robots in cells `c0..=c1` of one grid row, as a range of the sorted order (the
     /// runs of adjacent cells are adjacent).
-    pub(super) fn cells_run(&self, c0: usize, c1: usize) -> (usize, usize) {
-        if !self.dense {
+    #[inline]
+    pub(super) fn of(&self, c0: usize, c1: usize) -> (usize, usize) {
+        if !self.stamp.is_empty() {
             let (mut k0, mut k1) = (u32::MAX, 0);
             for c in c0..=c1 {
                 if self.stamp[c] == self.epoch {
@@ -57,6 +71,12 @@ impl Collisions {
             return if k0 == u32::MAX { (0, 0) } else { (k0 as usize, k1 as usize) };
         }
         (self.first[c0] as usize, self.first[c1 + 1] as usize)
+    }
+}
+
+impl Collisions {
+    pub(super) fn runs(&self) -> Runs<'_> {
+        Runs { first: &self.first, stamp: &self.stamp, start: &self.start, end: &self.end, epoch: self.epoch }
     }
 
     /// Tiny fleets: the robots in the grid in id order, with their positions (and radii).

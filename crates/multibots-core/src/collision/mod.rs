@@ -263,24 +263,10 @@ impl Collisions {
         self.margin = margin;
         let uniform = self.build_grid(x, y, radius);
         let (grid, tiny) = (self.grid, self.tiny);
-        let (first, stamp, start, end, epoch) = (&self.first[..], &self.stamp[..], &self.start[..], &self.end[..], self.epoch);
+        // Borrowed field by field: the edges below are written while the runs are read.
+        let runs = grid::Runs { first: &self.first, stamp: &self.stamp, start: &self.start, end: &self.end, epoch: self.epoch };
         let cell_of = &self.cell_of[..n];
         let (by_cell, sx, sy, sr) = (&self.by_cell[..n], &self.sx[..n], &self.sy[..n], &self.sr[..if uniform { 0 } else { n }]);
-        // The run of robots in cells `c0..=c1` of one row (at most three cells): the runs of
-        // adjacent cells are adjacent in the order, so it is one range.
-        let run = |c0: usize, c1: usize| -> (usize, usize) {
-            if !stamp.is_empty() {
-                let (mut k0, mut k1) = (u32::MAX, 0);
-                for c in c0..=c1 {
-                    if stamp[c] == epoch {
-                        k0 = k0.min(start[c]);
-                        k1 = end[c];
-                    }
-                }
-                return if k0 == u32::MAX { (0, 0) } else { (k0 as usize, k1 as usize) };
-            }
-            (first[c0] as usize, first[c1 + 1] as usize)
-        };
 
         // Half-width of the cone's box across the heading, with slack above rounding; both
         // in grid units, about half a cell (a hair more, so a box can touch three cells of a
@@ -383,7 +369,7 @@ impl Collisions {
                 let before = edge_to.len();
                 let (mut cells, last_cells) = (gy0 * grid.cols, gy1 * grid.cols);
                 loop {
-                    let (k0, k1) = run(cells + gx0, cells + gx1);
+                    let (k0, k1) = runs.of(cells + gx0, cells + gx1);
                     if k1 - k0 <= 64 {
                         // Most candidates are far: flag the near ones without a branch each (the
                         // outcome is hard to predict), then test only those.
