@@ -1,6 +1,7 @@
 //! Robot states and the fleet's columns (struct of arrays).
 
 use crate::ids::{CellId, GoodsId, NodeId, NONE};
+use crate::route::Motion;
 
 /// The ten states of the paper model (plus one for shared chargers), with the codes that
 /// replays and the Python arrays use.
@@ -119,6 +120,15 @@ pub struct Robots {
     pub via: Vec<u32>,
 }
 
+/// The columns of phases 3 to 6 beside motion's, each a slice of the fleet's length.
+pub(crate) struct Pass<'a> {
+    pub state: &'a [State],
+    pub waited: &'a mut [bool],
+    pub speed: &'a [f64],
+    pub dwell: &'a mut [u32],
+    pub energy: &'a mut [f64],
+}
+
 impl Robots {
     /// Robot count.
     #[must_use]
@@ -161,6 +171,38 @@ impl Robots {
         self.marked.push(false);
         self.waited.push(false);
         self.charger.push(home.0);
+    }
+
+    /// The columns the step's pass over the robots (phases 3 to 6) reads and writes, each a
+    /// slice of the fleet's length: motion's (see [`Motion`]), then the rest of the pass's.
+    pub(crate) fn split(&mut self) -> (Motion<'_>, Pass<'_>) {
+        let n = self.x.len();
+        let via = self.via.len().min(n);
+        let motion = Motion {
+            x: &mut self.x[..n],
+            y: &mut self.y[..n],
+            at_node: &mut self.at_node[..n],
+            edge_u: &mut self.edge_u[..n],
+            edge_v: &mut self.edge_v[..n],
+            routing: &mut self.routing[..n],
+            goal: &self.goal[..n],
+            has_final: &self.has_final[..n],
+            final_x: &self.final_x[..n],
+            final_y: &self.final_y[..n],
+            final_v: &self.final_v[..n],
+            wp_x: &mut self.wp_x[..n],
+            wp_y: &mut self.wp_y[..n],
+            wp_node: &mut self.wp_node[..n],
+            via: &mut self.via[..via],
+        };
+        let pass = Pass {
+            state: &self.state[..n],
+            waited: &mut self.waited[..n],
+            speed: &self.speed[..n],
+            dwell: &mut self.dwell[..n],
+            energy: &mut self.energy[..n],
+        };
+        (motion, pass)
     }
 
     /// Positions as `[x0, y0, x1, y1, …]`, for arrays of shape (N, 2).

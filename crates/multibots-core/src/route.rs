@@ -251,61 +251,94 @@ fn along(dx: f64, dy: f64, d: f64, budget: f64) -> (f64, f64) {
 
 /// Moves robot `i` up to `budget` px along its route, through waypoints without losing
 /// distance, stopping exactly at the route's end. Returns the distance travelled.
-#[inline]
-pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, mut budget: f64) -> f64 {
-    let mut moved = 0.0;
-    while r.routing[i] {
-        let (dx, dy) = (r.wp_x[i] - r.x[i], r.wp_y[i] - r.y[i]);
-        let d = axis_dist(dx, dy);
-        if budget < d {
-            // dx / d is exactly ±1 or 0 on axis-parallel aisles, so positions stay exact.
-            let (mx, my) = along(dx, dy, d, budget);
-            r.x[i] += mx;
-            r.y[i] += my;
-            r.at_node[i] = NONE;
-            moved += budget;
-            break;
-        }
-        r.x[i] = r.wp_x[i];
-        r.y[i] = r.wp_y[i];
-        budget -= d;
-        moved += d;
-        let n = r.wp_node[i];
-        if n == NONE {
-            // The final point: strictly inside its edge, which the robot keeps for planning.
-            r.at_node[i] = NONE;
-            r.edge_u[i] = r.goal[i];
-            r.edge_v[i] = r.final_v[i];
-            r.routing[i] = false;
-            break;
-        }
-        r.at_node[i] = n;
-        if n == r.goal[i] {
-            if r.has_final[i] {
-                r.wp_x[i] = r.final_x[i];
-                r.wp_y[i] = r.final_y[i];
-                r.wp_node[i] = NONE;
-                r.edge_u[i] = n;
-                r.edge_v[i] = r.final_v[i];
-            } else {
-                r.routing[i] = false;
+pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, budget: f64) -> f64 {
+    Motion::of(r).advance(g, i, budget)
+}
+
+/// The columns that motion reads and writes, each a slice of the fleet's length: the step's
+/// pass over the robots indexes them with no bounds check per access (on the whole `Vec`s
+/// those checks were a third of that pass's instructions at the paper's sizes).
+pub(crate) struct Motion<'a> {
+    pub(crate) x: &'a mut [f64],
+    pub(crate) y: &'a mut [f64],
+    pub(crate) at_node: &'a mut [u32],
+    pub(crate) edge_u: &'a mut [u32],
+    pub(crate) edge_v: &'a mut [u32],
+    pub(crate) routing: &'a mut [bool],
+    pub(crate) goal: &'a [u32],
+    pub(crate) has_final: &'a [bool],
+    pub(crate) final_x: &'a [f64],
+    pub(crate) final_y: &'a [f64],
+    pub(crate) final_v: &'a [u32],
+    pub(crate) wp_x: &'a mut [f64],
+    pub(crate) wp_y: &'a mut [f64],
+    pub(crate) wp_node: &'a mut [u32],
+    /// Detours: empty, or as long as the fleet (robots past its end have none).
+    pub(crate) via: &'a mut [u32],
+}
+
+impl<'a> Motion<'a> {
+    pub(crate) fn of(r: &'a mut Robots) -> Motion<'a> {
+        r.split().0
+    }
+
+    /// [`advance`], for robot `i` of this view.
+    #[inline]
+    pub(crate) fn advance(&mut self, g: &HighwayGraph, i: usize, mut budget: f64) -> f64 {
+        let mut moved = 0.0;
+        while self.routing[i] {
+            let (dx, dy) = (self.wp_x[i] - self.x[i], self.wp_y[i] - self.y[i]);
+            let d = axis_dist(dx, dy);
+            if budget < d {
+                // dx / d is exactly ±1 or 0 on axis-parallel aisles, so positions stay exact.
+                let (mx, my) = along(dx, dy, d, budget);
+                self.x[i] += mx;
+                self.y[i] += my;
+                self.at_node[i] = NONE;
+                moved += budget;
                 break;
             }
-        } else {
-            let via = r.via.get_mut(i).map_or(NONE, |v| std::mem::replace(v, NONE));
-            let next = if via == NONE { g.next_hop(NodeId(n), NodeId(r.goal[i])).map_or(NONE, |v| v.0) } else { via };
-            let (x, y) = g.pos(next);
-            r.wp_x[i] = x;
-            r.wp_y[i] = y;
-            r.wp_node[i] = next;
-            r.edge_u[i] = n;
-            r.edge_v[i] = next;
+            self.x[i] = self.wp_x[i];
+            self.y[i] = self.wp_y[i];
+            budget -= d;
+            moved += d;
+            let n = self.wp_node[i];
+            if n == NONE {
+                // The final point: strictly inside its edge, which the robot keeps for planning.
+                self.at_node[i] = NONE;
+                self.edge_u[i] = self.goal[i];
+                self.edge_v[i] = self.final_v[i];
+                self.routing[i] = false;
+                break;
+            }
+            self.at_node[i] = n;
+            if n == self.goal[i] {
+                if self.has_final[i] {
+                    self.wp_x[i] = self.final_x[i];
+                    self.wp_y[i] = self.final_y[i];
+                    self.wp_node[i] = NONE;
+                    self.edge_u[i] = n;
+                    self.edge_v[i] = self.final_v[i];
+                } else {
+                    self.routing[i] = false;
+                    break;
+                }
+            } else {
+                let via = self.via.get_mut(i).map_or(NONE, |v| std::mem::replace(v, NONE));
+                let next = if via == NONE { g.next_hop(NodeId(n), NodeId(self.goal[i])).map_or(NONE, |v| v.0) } else { via };
+                let (x, y) = g.pos(next);
+                self.wp_x[i] = x;
+                self.wp_y[i] = y;
+                self.wp_node[i] = next;
+                self.edge_u[i] = n;
+                self.edge_v[i] = next;
+            }
+            if budget <= 0.0 {
+                break;
+            }
         }
-        if budget <= 0.0 {
-            break;
-        }
+        moved
     }
-    moved
 }
 
 #[cfg(test)]

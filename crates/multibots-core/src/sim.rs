@@ -345,8 +345,10 @@ impl Paper {
         let st = &mut self.tally.stats;
         let (wait_steps, collisions, distance, energy_used, order_waits) =
             (&mut st.wait_steps[..n], &mut st.collisions[..n], &mut st.distance[..n], &mut st.energy_used[..n], &mut st.order_waits[..n]);
+        let (mut motion, r) = self.robots.split();
+        let events = &mut self.events;
+        let (t, s) = (self.tally.t, &mut self.tally.s);
         for i in 0..n {
-            let r = &mut self.robots;
             let state = r.state[i];
             // Phase 3: a wait that begins is a collision.
             let w = waits[i];
@@ -356,9 +358,9 @@ impl Paper {
                     order_waits[i] += 1;
                 }
                 if !r.waited[i] {
-                    self.tally.s += 1;
+                    *s += 1;
                     collisions[i] += 1;
-                    self.events.push(Event { step: self.tally.t, kind: EventKind::Wait, robot: i as u32, cell: NONE });
+                    events.push(Event { step: t, kind: EventKind::Wait, robot: i as u32, cell: NONE });
                 }
             }
             r.waited[i] = w;
@@ -370,7 +372,7 @@ impl Paper {
                 if slow.is_some_and(|s| s[i]) {
                     step = step.min(r.speed[i] * slow_factor);
                 }
-                distance[i] += route::advance(r, g, i, step);
+                distance[i] += motion.advance(g, i, step);
             }
             // Phases 5 and 6.
             match state {

@@ -22,6 +22,10 @@ impl Collisions {
     /// same every step: the caller keeps it).
     #[must_use]
     pub fn contacts_within(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+        if x.len() < 2 {
+            // No pairs (and `resolve` built no grid for a robot alone).
+            return (0, f64::INFINITY);
+        }
         if self.tiny {
             return self.contacts_tiny(x, y, radius, moved, r_max, slack);
         }
