@@ -321,7 +321,9 @@ impl Paper {
                         // nothing has moved it or changed its route since, so routing it home
                         // again would write what its fields hold (a route of length zero). At
                         // the large size that is a quarter of the fleet each step.
-                        debug_assert!(self.route_home_changes_nothing(i));
+                        if cfg!(any(test, debug_assertions)) {
+                            assert!(self.route_home_changes_nothing(i), "robot {i} woken away from its route home");
+                        }
                         continue;
                     }
                     let home: Target = self.homes.target(&self.robots, i);
@@ -335,7 +337,8 @@ impl Paper {
 }
 
 impl Paper {
-    /// Whether routing robot `i` home would leave its fields as they are (debug checks).
+    /// Whether routing robot `i` home would leave its fields as they are (checked in debug
+    /// builds and in the crate's own tests, which run optimised).
     fn route_home_changes_nothing(&self, i: usize) -> bool {
         let r = &self.robots;
         let p = crate::route::plan(&self.world.graph, crate::route::Place::of(r, i), self.homes.target(r, i));
@@ -363,5 +366,31 @@ fn view_of<'a>(gq: &'a GoodsQueue, robots: &'a Robots, world: &'a World, unload:
         speed: p.speed,
         people_x: &[],
         people_y: &[],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::robot::State;
+    use crate::scenario::Scenario;
+    use crate::sim::Paper;
+
+    #[test]
+    fn parked_robots_woken_and_left_idle_stay_on_their_route_home() {
+        // The small size: orders trickle in, so parked robots are woken and most are left
+        // idle again. Each time, the crate's own tests check that routing it home would
+        // change nothing (`route_home_changes_nothing`); here, that it happened often. A
+        // woken robot parks again within the step, having spent one step's energy.
+        let s = Scenario::from_toml(include_str!("../../../benchmarks/sizes/small.toml"), "small.toml").unwrap();
+        let mut sim = Paper::new(&s).unwrap();
+        let mut woken = 0;
+        for _ in 0..3000 {
+            let before: Vec<(State, f64)> = sim.robots.state.iter().copied().zip(sim.robots.energy.iter().copied()).collect();
+            sim.step().unwrap();
+            let r = &sim.robots;
+            woken += before.iter().enumerate().filter(|&(i, &(st, e))| st == State::Parked && r.state[i] == State::Parked && r.energy[i] < e).count();
+        }
+        assert!(woken > 1000, "{woken} woken and parked again");
+        assert!(sim.tally.delivered > 0);
     }
 }

@@ -120,6 +120,34 @@ pub struct Robots {
     pub via: Vec<u32>,
 }
 
+/// Motion's columns of a fleet `$r`, each sliced to `$n`: one list for [`Robots::split`],
+/// which borrows other columns beside them, and [`Robots::motion`]. Detours are empty, or as
+/// long as the fleet.
+macro_rules! motion_of {
+    ($r:expr, $n:expr) => {
+        Motion {
+            x: &mut $r.x[..$n],
+            y: &mut $r.y[..$n],
+            at_node: &mut $r.at_node[..$n],
+            edge_u: &mut $r.edge_u[..$n],
+            edge_v: &mut $r.edge_v[..$n],
+            routing: &mut $r.routing[..$n],
+            goal: &$r.goal[..$n],
+            has_final: &$r.has_final[..$n],
+            final_x: &$r.final_x[..$n],
+            final_y: &$r.final_y[..$n],
+            final_v: &$r.final_v[..$n],
+            wp_x: &mut $r.wp_x[..$n],
+            wp_y: &mut $r.wp_y[..$n],
+            wp_node: &mut $r.wp_node[..$n],
+            via: {
+                let via = $r.via.len().min($n);
+                &mut $r.via[..via]
+            },
+        }
+    };
+}
+
 /// The columns of phases 3 to 6 beside motion's, each a slice of the fleet's length.
 pub(crate) struct Pass<'a> {
     pub state: &'a [State],
@@ -177,24 +205,6 @@ impl Robots {
     /// slice of the fleet's length: motion's (see [`Motion`]), then the rest of the pass's.
     pub(crate) fn split(&mut self) -> (Motion<'_>, Pass<'_>) {
         let n = self.x.len();
-        let via = self.via.len().min(n);
-        let motion = Motion {
-            x: &mut self.x[..n],
-            y: &mut self.y[..n],
-            at_node: &mut self.at_node[..n],
-            edge_u: &mut self.edge_u[..n],
-            edge_v: &mut self.edge_v[..n],
-            routing: &mut self.routing[..n],
-            goal: &self.goal[..n],
-            has_final: &self.has_final[..n],
-            final_x: &self.final_x[..n],
-            final_y: &self.final_y[..n],
-            final_v: &self.final_v[..n],
-            wp_x: &mut self.wp_x[..n],
-            wp_y: &mut self.wp_y[..n],
-            wp_node: &mut self.wp_node[..n],
-            via: &mut self.via[..via],
-        };
         let pass = Pass {
             state: &self.state[..n],
             waited: &mut self.waited[..n],
@@ -202,7 +212,14 @@ impl Robots {
             dwell: &mut self.dwell[..n],
             energy: &mut self.energy[..n],
         };
-        (motion, pass)
+        (motion_of!(self, n), pass)
+    }
+
+    /// Motion's columns alone (other columns may be shorter: [`crate::route::advance`] is
+    /// public, and a hand-built fleet need not fill them).
+    pub(crate) fn motion(&mut self) -> Motion<'_> {
+        let n = self.x.len();
+        motion_of!(self, n)
     }
 
     /// Positions as `[x0, y0, x1, y1, …]`, for arrays of shape (N, 2).

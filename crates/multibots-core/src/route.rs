@@ -279,7 +279,7 @@ pub(crate) struct Motion<'a> {
 
 impl<'a> Motion<'a> {
     pub(crate) fn of(r: &'a mut Robots) -> Motion<'a> {
-        r.split().0
+        r.motion()
     }
 
     /// [`advance`], for robot `i` of this view.

@@ -107,8 +107,11 @@ impl Collisions {
         let cover = if widest.is_nan() { f64::INFINITY } else { (widest * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need) };
         self.cover = cover;
         if self.apart.holds(placed, &self.sx[..k], &self.sy[..k], cover) {
-            // No pair within `cover`: the flags are all clear, as the pass would leave them.
-            debug_assert!(self.bits[..k].iter().all(|&b| b == 0));
+            // No pair within `cover`: the flags are all clear, as the pass would leave them
+            // (the last pass did; checked in the crate's own tests too, which run optimised).
+            if cfg!(any(test, debug_assertions)) {
+                assert!(self.bits[..k].iter().all(|&b| b == 0), "flags set under a proof that none is");
+            }
             self.clear = true;
             return;
         }
@@ -131,7 +134,7 @@ impl Collisions {
             }
         }
         let clear = bits.iter().all(|&b| b == 0);
-        self.apart.anchor(placed, sx, sy, clear, closest2, k);
+        self.apart.anchor(placed, sx, sy, clear, closest2);
         self.clear = clear;
     }
 
@@ -227,16 +230,24 @@ impl Collisions {
 /// so two robots that stood `gap` apart are still farther apart than `gap` less both moves
 /// since: when that exceeds `cover` (with a slack far above rounding), every pair's distance
 /// would test far, and the flags would all be clear, exactly as the pass would leave them.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub(super) struct Apart {
     /// The positions of the robots in the grid at the last pass over pairs, in place order.
     pub(super) x: Vec<f64>,
     y: Vec<f64>,
-    /// Which robots were in the grid then, as bits of their ids: another set has no proof.
+    /// Which robots were in the grid then, as bits of their ids. The argument holds for any
+    /// robots matched place by place; requiring the same robots keeps it plain to check.
     placed: u32,
     /// The smallest distance between two of them then, rounded down; negative: no proof
     /// (some pair was flagged, or a distance was not finite).
     gap: f64,
+}
+
+impl Default for Apart {
+    /// No pass yet: no proof.
+    fn default() -> Apart {
+        Apart { x: Vec::new(), y: Vec::new(), placed: 0, gap: -1.0 }
+    }
 }
 
 impl Apart {
@@ -258,13 +269,13 @@ impl Apart {
 
     /// Records a pass over pairs: the positions, and whether every pair tested far (`clear`),
     /// the smallest squared distance among them being `closest2`.
-    fn anchor(&mut self, placed: u32, sx: &[f64], sy: &[f64], clear: bool, closest2: f64, k: usize) {
+    fn anchor(&mut self, placed: u32, sx: &[f64], sy: &[f64], clear: bool, closest2: f64) {
         self.placed = placed;
         self.x.clear();
         self.x.extend_from_slice(sx);
         self.y.clear();
         self.y.extend_from_slice(sy);
-        self.gap = if k < 2 {
+        self.gap = if sx.len() < 2 {
             // No pairs: nothing can come near until the set of robots changes.
             f64::INFINITY
         } else if clear && closest2.is_finite() {
