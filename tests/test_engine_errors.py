@@ -62,21 +62,18 @@ def test_ctrl_c_stops_a_long_run_with_one_line_and_no_half_written_replay(cli, t
 def test_ctrl_c_stops_checking_many_scenarios():
     # A sweep checks every planned run in one engine call: Ctrl-C must stop it as it stops runs.
     import os
-    import subprocess
+    import signal
+    import threading
 
     import pytest
 
     from multibots import Scenario, _core
 
     one = Scenario._parsed_only({"layout": "paper", "robots": 6, "tasks": {"random": 40, "seed": 1}})._core
-    # The signal comes from outside the process, as a terminal's Ctrl-C does. A Python timer
-    # thread as the sender needs the GIL first, which the checks' watch takes after every
-    # finished check; in the full suite on a busy 2-core machine that version of this test
-    # failed 4 runs in 5 (never alone), and the checks ran to the end uninterrupted.
-    sender = subprocess.Popen(["sh", "-c", f"sleep 0.5; kill -INT {os.getpid()}"])
+    timer = threading.Timer(0.2, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
     try:
         with pytest.raises(KeyboardInterrupt):
-            _core.check_many([one] * 200_000, 1)  # about 5 s of checks, stopped after 0.5 s
+            _core.check_many([one] * 200_000, 1)  # about 6 s of checks, stopped after 0.2 s
     finally:
-        sender.kill()
-        sender.wait()
+        timer.cancel()
