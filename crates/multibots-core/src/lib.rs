@@ -13,6 +13,7 @@ pub mod batch;
 pub mod charging;
 pub mod codec;
 pub mod collision;
+mod cruise;
 pub mod decision_point;
 pub mod energy;
 pub mod error;

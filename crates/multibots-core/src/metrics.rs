@@ -284,6 +284,24 @@ impl Tally {
         work_remains && self.livelock_after > 0 && self.t - self.last_work >= self.livelock_after
     }
 
+    /// How many of the next steps, while work remains, a step limit of `step_limit` and, each
+    /// step, `progress` as given, surely end with no verdict: not gridlocked
+    /// ([`Tally::end_step`]), not livelocked, not at the limit. The pickups and deliveries that
+    /// would reset the livelock count are not counted on.
+    #[must_use]
+    pub(crate) fn steps_without_verdict(&self, progress: bool, step_limit: u64) -> u64 {
+        // Step j from now (j = 1, 2, ...) is step t + j, with `stalled + j` steps in a row
+        // without progress.
+        let mut k = step_limit.saturating_sub(self.t + 1);
+        if !progress && self.gridlock_after > 0 {
+            k = k.min(self.gridlock_after.saturating_sub(self.stalled + 1));
+        }
+        if self.livelock_after > 0 {
+            k = k.min((self.last_work + self.livelock_after).saturating_sub(self.t + 1));
+        }
+        k
+    }
+
     /// End of a step: windows, the warm-up, and the count of steps without progress.
     /// Returns whether the fleet is gridlocked (when work remains).
     pub fn end_step(&mut self, progress: bool, work_remains: bool) -> bool {

@@ -197,6 +197,9 @@ impl Drop for ReplayWriter {
 /// is given; returns the steps run. Callers that must stay responsive (Ctrl-C) call it in
 /// slices.
 pub fn step_recorded(sim: &mut Simulation, mut writer: Option<&mut ReplayWriter>, max_steps: u64) -> Result<u64> {
+    if writer.is_none() {
+        return sim.steps(max_steps);
+    }
     let mut k = 0;
     while k < max_steps && !sim.done() {
         sim.step()?;

@@ -151,7 +151,12 @@ macro_rules! motion_of {
 /// The columns of phases 3 to 6 beside motion's, each a slice of the fleet's length.
 pub(crate) struct Pass<'a> {
     pub state: &'a [State],
+    /// Phase 2's heading: written only by cruising steps (`crate::cruise`), which do phase
+    /// 2 in the same pass.
+    pub heading: &'a mut [f64],
     pub waited: &'a mut [bool],
+    /// Read by cruising steps only (`crate::cruise`).
+    pub marked: &'a [bool],
     pub speed: &'a [f64],
     pub dwell: &'a mut [u32],
     pub energy: &'a mut [f64],
@@ -203,11 +208,14 @@ impl Robots {
 
     /// The columns the step's pass over the robots (phases 3 to 6) reads and writes, each a
     /// slice of the fleet's length: motion's (see [`Motion`]), then the rest of the pass's.
+    #[inline]
     pub(crate) fn split(&mut self) -> (Motion<'_>, Pass<'_>) {
         let n = self.x.len();
         let pass = Pass {
             state: &self.state[..n],
+            heading: &mut self.heading[..n],
             waited: &mut self.waited[..n],
+            marked: &self.marked[..n],
             speed: &self.speed[..n],
             dwell: &mut self.dwell[..n],
             energy: &mut self.energy[..n],

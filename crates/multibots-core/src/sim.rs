@@ -53,6 +53,51 @@ pub(crate) struct Params {
 }
 
 impl Params {
+    /// Whether phase 7 has anything to do for a robot in `state`, after this step's phases
+    /// 2 to 6. Most robots have nothing due: under way, dwelling or charging, with energy to
+    /// spare. Only the others take the full rules.
+    #[inline]
+    pub(crate) fn due(&self, state: State, routing: bool, dwell: u32, e: f64) -> bool {
+        let dwell_or_route_done = match state {
+            State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !routing,
+            State::Loading => dwell >= self.loading,
+            State::Unloading => dwell >= self.unloading,
+            State::Charging => energy::is_full(e, self.energy_full),
+            _ => false,
+        };
+        dwell_or_route_done
+            || energy::below(e, self.threshold)
+            || energy::exhausted(e)
+            || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
+    }
+
+    /// Whether phase 7 would change anything for a robot (`marked` by the threshold rule):
+    /// [`Params::due`] less robots below the threshold that the threshold rule has nothing
+    /// left to do for (`Paper::energy_rules`): marked already, or going to charge, charging,
+    /// waiting for a charger, parked or going home. A robot fetching goods below it counts as
+    /// acting (whether it puts them back depends on where it is). A charging robot below the
+    /// threshold is due every step until it is full: without this, no run of steps could
+    /// cruise through a charge.
+    #[inline]
+    pub(crate) fn acts(&self, state: State, routing: bool, dwell: u32, e: f64, marked: bool) -> bool {
+        let task = match state {
+            State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !routing,
+            State::Loading => dwell >= self.loading,
+            State::Unloading => dwell >= self.unloading,
+            State::Charging => energy::is_full(e, self.energy_full),
+            _ => false,
+        };
+        let threshold = energy::below(e, self.threshold)
+            && match state {
+                State::Idle | State::ToPickup => true,
+                State::Loading | State::ToDrop | State::Unloading => !marked,
+                _ => false,
+            };
+        task || threshold
+            || (energy::exhausted(e) && state != State::Stranded)
+            || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
+    }
+
     fn of(scenario: &Scenario) -> Params {
         let r = &scenario.robot;
         Params {
@@ -114,19 +159,19 @@ pub struct Paper {
     /// An allocation event is due: robots became idle or goods joined the queue.
     pub(crate) alloc_due: bool,
     /// Set when a step failed part-way: the run cannot go on.
-    failure: Option<String>,
-    collisions: Collisions,
+    pub(crate) failure: Option<String>,
+    pub(crate) collisions: Collisions,
     /// The `gate` and `reserve` traffic policies (`None`: the paper's collision waiting).
-    traffic: Option<TrafficState>,
+    pub(crate) traffic: Option<TrafficState>,
     /// Phase 2's answer: who wants to move (the heading it wants is `robots.heading`).
-    wants: Vec<bool>,
+    pub(crate) wants: Vec<bool>,
     /// Whether anything happened this step: a robot moved, dwelt or charged, or stock
     /// changed (no progress for long while work remains is a gridlock).
-    progress: bool,
+    pub(crate) progress: bool,
     /// The fleet's largest radius and twice its top speed, for counting contacts (robots
     /// keep both for the whole run).
-    contact_reach: (f64, f64),
-    events: Vec<Event>,
+    pub(crate) contact_reach: (f64, f64),
+    pub(crate) events: Vec<Event>,
     /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
     pub(crate) people: Option<Box<People>>,
 }
@@ -192,10 +237,26 @@ impl Paper {
 
     /// Runs until the run completes or reaches the step limit.
     pub fn run(&mut self) -> Result<RunResult> {
-        while self.outcome.is_none() {
-            self.step()?;
-        }
+        self.steps(u64::MAX)?;
         Ok(self.result())
+    }
+
+    /// Runs up to `max` steps, fewer if the run ends first; returns how many ran. The same as
+    /// calling [`Paper::step`] that often, to the bit, but stretches of steps in which nothing
+    /// can happen but travel, dwelling, charging and consumption run in one pass
+    /// (`crate::cruise`).
+    pub fn steps(&mut self, max: u64) -> Result<u64> {
+        let mut done = 0;
+        while done < max && self.outcome.is_none() {
+            let k = self.cruise(max - done);
+            if k == 0 {
+                self.step()?;
+                done += 1;
+            } else {
+                done += k;
+            }
+        }
+        Ok(done)
     }
 
     /// Runs one step (all eight phases). Does nothing once the run has ended.
@@ -412,23 +473,11 @@ impl Paper {
     }
 
     /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
-    fn transitions(&mut self) {
+    pub(crate) fn transitions(&mut self) {
         let p = self.p;
         for i in 0..self.robots.len() {
             let r = &self.robots;
-            let (state, e) = (r.state[i], r.energy[i]);
-            // Most robots have nothing due: under way, dwelling or charging, with energy to
-            // spare. Only the others take the full rules below.
-            let due = match state {
-                State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !r.routing[i],
-                State::Loading => r.dwell[i] >= p.loading,
-                State::Unloading => r.dwell[i] >= p.unloading,
-                State::Charging => energy::is_full(e, p.energy_full),
-                _ => false,
-            } || energy::below(e, p.threshold)
-                || energy::exhausted(e)
-                || p.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level));
-            if due {
+            if p.due(r.state[i], r.routing[i], r.dwell[i], r.energy[i]) {
                 self.task_transition(i);
                 self.energy_rules(i);
             }
@@ -438,7 +487,7 @@ impl Paper {
 
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
-    fn end(&mut self) {
+    pub(crate) fn end(&mut self) {
         let complete =
             self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
         let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };

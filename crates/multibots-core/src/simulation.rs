@@ -73,10 +73,25 @@ impl Simulation {
 
     /// Runs until the run ends.
     pub fn run(&mut self) -> Result<RunResult> {
-        while !self.done() {
-            self.step()?;
-        }
+        self.steps(u64::MAX)?;
         Ok(self.result())
+    }
+
+    /// Runs up to `max` steps, fewer if the run ends first; returns how many ran. The same
+    /// as calling [`Simulation::step`] that often, to the bit, and faster where the paper
+    /// rules can cruise through quiet steps (see [`Paper::steps`]).
+    pub fn steps(&mut self, max: u64) -> Result<u64> {
+        match &mut self.rules {
+            RuleSet::Paper(p) => p.steps(max),
+            RuleSet::Original(_) => {
+                let mut k = 0;
+                while k < max && !self.done() {
+                    self.step()?;
+                    k += 1;
+                }
+                Ok(k)
+            }
+        }
     }
 
     /// Runs one step (one timer tick under the original rules). Does nothing once the run has

@@ -30,14 +30,7 @@ impl PySimulation {
         while done < n && !self.sim.done() {
             let chunk = (n - done).min(SIGNAL_EVERY);
             let sim = &mut self.sim;
-            done += engine(py, move || {
-                let mut k = 0;
-                while k < chunk && !sim.done() {
-                    sim.step()?;
-                    k += 1;
-                }
-                Ok(k)
-            })?;
+            done += engine(py, move || sim.steps(chunk))?;
             py.check_signals()?;
         }
         Ok(done)

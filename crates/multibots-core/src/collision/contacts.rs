@@ -3,6 +3,12 @@
 
 use super::Collisions;
 
+/// Tiny fleets: how far apart, before the moves, two robots must stand for the contact count
+/// (with the fleet's largest radius `r_max` and moves of at most `slack`) to pass them by.
+pub(super) fn contact_need(r_max: f64, slack: f64) -> f64 {
+    (2.0 * r_max + 0.5 * slack) * 1.000_001 + slack * (1.0 + 1e-9) + 1e-9
+}
+
 impl Collisions {
     /// Contacts after this step's moves: pairs closer than `r_i + r_j` of which at least one
     /// robot moved (`moved`), counted once each, and the smallest centre distance among the
@@ -46,7 +52,7 @@ impl Collisions {
         // after them (a hair more for `near2`'s slack and rounding), so within `near` plus how
         // far `i` moved of `i` before them; `slack` bounds that move. Each robot's own move is
         // checked below all the same.
-        let need = (2.0 * r_max + 0.5 * slack) * 1.000_001 + slack * (1.0 + 1e-9) + 1e-9;
+        let need = contact_need(r_max, slack);
         if need > self.contact_need {
             // From the next step on, the pass over pairs flags this wide.
             self.contact_need = need;

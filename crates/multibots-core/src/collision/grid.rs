@@ -79,6 +79,20 @@ impl Collisions {
         Runs { first: &self.first, stamp: &self.stamp, start: &self.start, end: &self.end, epoch: self.epoch }
     }
 
+    /// Tiny fleets: the flags' reach for robots of radii `radius`: every contact distance
+    /// plus the margin, for the collision test, and the widest contact count so far (see
+    /// `contacts.rs`). A NaN radius or margin (scenarios refuse them; the public API does
+    /// not) makes every contact test pass, as in the definition: then every pair is flagged.
+    pub(super) fn cover_of(&self, radius: &[f64]) -> f64 {
+        let r_max = radius.iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) });
+        let widest = 2.0 * r_max + self.margin;
+        if widest.is_nan() {
+            f64::INFINITY
+        } else {
+            (widest * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need)
+        }
+    }
+
     /// Tiny fleets: the robots in the grid in id order, with their positions (and radii).
     pub(super) fn copy_placed(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
         let n = x.len();
@@ -97,14 +111,8 @@ impl Collisions {
                 k += 1;
             }
         }
-        // Each pair once: flag, for each robot, the others within `cover` of it (wide
-        // enough for the collision test, every contact distance plus the margin, and for the
-        // widest contact count so far, see `contacts.rs`).
-        // A NaN radius or margin (scenarios refuse them; the public API does not) makes every
-        // contact test pass, as in the definition: then every pair is flagged.
-        let r_max = radius[..n].iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) });
-        let widest = 2.0 * r_max + self.margin;
-        let cover = if widest.is_nan() { f64::INFINITY } else { (widest * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need) };
+        // Each pair once: flag, for each robot, the others within `cover` of it.
+        let cover = self.cover_of(&radius[..n]);
         self.cover = cover;
         if self.apart.holds(placed, &self.sx[..k], &self.sy[..k], cover) {
             // No pair within `cover`: the flags are all clear, as the pass would leave them

@@ -256,6 +256,57 @@ impl Collisions {
         uniform
     }
 
+    /// For how many steps from now collision waiting surely blocks nobody and
+    /// [`Collisions::contacts_within`] (with `r_max` and `slack`) surely finds no pair: steps
+    /// in which nobody comes near anybody. The robots stand at `x`, `y` now; robot `i`
+    /// travels at most `speed[i]` along its route a step where `moving[i]` and stands
+    /// otherwise, and `slack` is at least twice every speed. A robot alone: always. Tiny fleets without bays: by a pass over the
+    /// pairs. 0 for any other fleet.
+    ///
+    /// Two robots `d` apart now are at least `d - (j - 1) (speed_a + speed_b)` apart when
+    /// step `j` starts. While that exceeds the flags' reach `cover` (as the step's own pass
+    /// over pairs would set it, with a slack far above rounding), the step's pass would flag
+    /// no pair, so nobody could block anybody; and every robot, moving less than the contact
+    /// count allows for, would find nobody near after the moves either.
+    #[must_use]
+    #[allow(clippy::too_many_arguments)]
+    pub fn quiet_steps(&self, x: &[f64], y: &[f64], radius: &[f64], speed: &[f64], moving: &[bool], r_max: f64, slack: f64) -> u64 {
+        let n = x.len();
+        if n < 2 {
+            return u64::MAX;
+        }
+        // The contact count's reach has grown to what these moves need (it has once a count
+        // has run), so the steps' counts look no wider than `cover`.
+        let wide_enough = self.contact_need >= contacts::contact_need(r_max, slack);
+        if !self.tiny || n > TINY || !self.bay.is_empty() || !wide_enough {
+            return 0;
+        }
+        let (y, speed, moving) = (&y[..n], &speed[..n], &moving[..n]);
+        let travel = |i: usize| if moving[i] { speed[i] } else { 0.0 };
+        let apart = self.cover_of(&radius[..n]) * 1.001 + 1e-6;
+        let mut k = u64::MAX;
+        for a in 0..n {
+            for b in a + 1..n {
+                let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
+                let d = (dx * dx + dy * dy).sqrt();
+                // Near already, or a NaN.
+                let far = d > apart;
+                if !far {
+                    return 0;
+                }
+                let closing = travel(a) + travel(b);
+                if closing > 0.0 {
+                    // Steps `j` with `(j - 1) closing` well short of the room: one more than
+                    // the room allows for, a millionth of it kept back.
+                    let room = ((d - apart) * (1.0 - 1e-6) - 1e-6).max(0.0);
+                    let more = room / closing;
+                    k = k.min(if more >= 1e18 { u64::MAX } else { 1 + more as u64 });
+                }
+            }
+        }
+        k
+    }
+
     /// Decides who waits. `alpha[i]` is used only where `wants[i]`; `margin` widens every
     /// contact distance and `angle` is the collision angle in radians. Fills `self.waits`.
     #[allow(clippy::too_many_arguments)]

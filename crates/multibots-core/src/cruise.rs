@@ -1,0 +1,281 @@
+//! Cruising: runs of steps in which nothing can happen but travel, dwelling, charging and
+//! consumption, done in one lean pass per step.
+//!
+//! Why: in a fleet of a handful of robots (the paper's one to six) the full step's fixed cost
+//! (the phases' set-up, the collision phase's proof, the contact count, the verdicts) was
+//! several times its work per robot: about 800 instructions a step for one robot. Most steps
+//! of such runs are quiet: robots far apart, under way, dwelling or charging, nobody due for
+//! a transition.
+//!
+//! A step cruises when, before it starts:
+//! - nothing from outside can act: no allocation event is due (phase 1 does nothing), no
+//!   decisions pending, no lifelong orders, no traffic policy, no people, no bays;
+//! - collision waiting surely blocks nobody and the contact count surely finds no pair
+//!   ([`crate::collision::Collisions::quiet_steps`]: a robot alone, or a tiny fleet proven
+//!   apart with room for this many steps of travel);
+//! - phase 8 surely gives no verdict ([`crate::metrics::Tally::steps_without_verdict`]).
+//!
+//! It then does phases 2 to 6 exactly as `sim.rs` does when nobody waits, and counts the
+//! step. The first step after which a robot is due (a route's end, a dwell's end, a full
+//! battery, the threshold) ends the run of steps: its phases 7 and 8 are the usual ones.
+//! Completion and stranding cannot come without a transition. So every result, statistic
+//! and event is the one step by step gives, to the bit; `tests/cruise.rs` checks it.
+
+use crate::collision::bearing;
+use crate::energy;
+use crate::robot::State;
+use crate::sim::Paper;
+
+impl Paper {
+    /// Runs up to `max` quiet steps (see the module); returns how many ran, 0 when the next
+    /// step needs the full phases.
+    pub(crate) fn cruise(&mut self, max: u64) -> u64 {
+        if self.outcome.is_some()
+            || self.failure.is_some()
+            || self.goods.pending
+            || self.alloc_due
+            || self.lifelong.is_some()
+            || self.traffic.is_some()
+            || self.people.is_some()
+            || self.homes.spread()
+        {
+            return 0;
+        }
+        let n = self.robots.len();
+        let r = &self.robots;
+        // Who travels (phase 2's answer, the same every step until somebody is due), dwells
+        // and charges cannot change while nobody is due, and so neither can whether a step
+        // makes progress.
+        let wants = &mut self.wants[..n];
+        for (i, w) in wants.iter_mut().enumerate() {
+            *w = r.routing[i] && r.state[i].travels();
+        }
+        let moving = wants.contains(&true);
+        let progress = moving || r.state.iter().any(|s| matches!(s, State::Loading | State::Unloading | State::Charging));
+        let (r_max, slack) = self.contact_reach;
+        // Nobody moving: collision waiting and the contact count have nobody to look at.
+        let quiet = if moving { self.collisions.quiet_steps(&r.x, &r.y, &r.radius, &r.speed, wants, r_max, slack) } else { u64::MAX };
+        let k_max = max.min(quiet).min(self.tally.steps_without_verdict(progress, self.p.step_limit));
+        if k_max == 0 {
+            return 0;
+        }
+        // What each step's phases 0 and 3 would leave: no events, nobody waiting.
+        self.events.clear();
+        self.collisions.waits[..n].fill(false);
+        let p = self.p;
+        let g = &self.world.graph;
+        let wants = &mut self.wants[..n];
+        let tally = &mut self.tally;
+        let (mut motion, pass) = self.robots.split();
+        let (mut k, mut due) = (0, false);
+        while k < k_max && !due {
+            tally.t += 1;
+            k += 1;
+            let st = &mut tally.stats;
+            let (distance, energy_used) = (&mut st.distance[..n], &mut st.energy_used[..n]);
+            for i in 0..n {
+                let state = pass.state[i];
+                // Phase 2.
+                let w = motion.routing[i] && state.travels();
+                wants[i] = w;
+                if w {
+                    pass.heading[i] = bearing(motion.wp_x[i] - motion.x[i], motion.wp_y[i] - motion.y[i]);
+                }
+                // Phase 3: nobody waits. Phase 4: robots that want to move travel.
+                pass.waited[i] = false;
+                if w {
+                    distance[i] += motion.advance(g, i, pass.speed[i]);
+                }
+                // Phases 5 and 6.
+                match state {
+                    State::Loading | State::Unloading => pass.dwell[i] += 1,
+                    State::Charging => pass.energy[i] = energy::charge(pass.energy[i], p.charge_rate, p.energy_full),
+                    _ => {}
+                }
+                if !matches!(state, State::Charging | State::Parked | State::Stranded) {
+                    let e = energy::consume(pass.energy[i], p.consumption);
+                    energy_used[i] += pass.energy[i] - e;
+                    pass.energy[i] = e;
+                }
+                due |= p.acts(state, motion.routing[i], pass.dwell[i], pass.energy[i], pass.marked[i]);
+            }
+            if !due {
+                // Phase 7 with nobody due, and phase 8 with no verdict.
+                for (steps, &s) in st.state_steps[..n].iter_mut().zip(pass.state) {
+                    steps[s as usize] += 1;
+                }
+                let verdict = tally.end_step(progress, true);
+                debug_assert!(!verdict, "a gridlock inside a run of steps bounded to have none");
+            }
+        }
+        self.progress = progress;
+        if due {
+            // The last step's phases 7 and 8, the usual way.
+            self.transitions();
+            self.end();
+        }
+        k
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::alloc::{AllocView, Allocator, Assignment, Decisions};
+    use crate::ids::RobotId;
+    use crate::scenario::{ChargerUse, ChargingPolicy, PAPER_TASKS};
+    use crate::sim::Paper;
+    use crate::Scenario;
+
+    /// Everything a step leaves that anybody can read, to the bit (`Debug` prints every
+    /// float's shortest exact form).
+    fn state(p: &Paper) -> String {
+        format!("{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}", p.robots, p.tally, p.events, p.outcome, p.collisions.waits, p.alloc_due)
+    }
+
+    fn next(s: &mut u64) -> u64 {
+        *s ^= *s << 13;
+        *s ^= *s >> 7;
+        *s ^= *s << 17;
+        *s
+    }
+
+    /// Runs `s` twice, step by step and in runs of random length that cruise where they can,
+    /// comparing after every run; returns (steps, steps cruised).
+    fn twin(s: &Scenario, seed: u64) -> (u64, u64) {
+        twin_of(s, seed, || Paper::new(s).unwrap())
+    }
+
+    fn twin_of(s: &Scenario, seed: u64, new: impl Fn() -> Paper) -> (u64, u64) {
+        let (mut a, mut b) = (new(), new());
+        let (mut rng, mut cruised) = (seed | 1, 0);
+        while !b.done() {
+            let k = 1 + next(&mut rng) % 400;
+            let mut done = 0;
+            while done < k && !b.done() {
+                let c = b.cruise(k - done);
+                cruised += c;
+                if c == 0 {
+                    b.step().unwrap();
+                    done += 1;
+                } else {
+                    done += c;
+                }
+            }
+            for _ in 0..done {
+                assert!(!a.done(), "{s:?}: the cruising run went past the end, to step {}", b.t());
+                a.step().unwrap();
+            }
+            assert_eq!(state(&a), state(&b), "seed {seed}, after step {}", a.t());
+        }
+        assert!(a.done());
+        assert_eq!(a.result(), b.result());
+        (a.t(), cruised)
+    }
+
+    /// `len` distinct cells of `cells`, in random order.
+    fn random_cells(rng: &mut u64, len: usize, cells: u32) -> Vec<u32> {
+        let mut all: Vec<u32> = (0..cells).collect();
+        for i in (1..all.len()).rev() {
+            all.swap(i, (next(rng) % (i as u64 + 1)) as usize);
+        }
+        all.truncate(len);
+        all
+    }
+
+    #[test]
+    fn the_paper_runs_cruise_most_steps_and_end_as_step_by_step() {
+        let (mut steps, mut cruised) = (0, 0);
+        for n in 1..=6 {
+            for (g, cells) in PAPER_TASKS.iter().enumerate() {
+                let (t, c) = twin(&Scenario::paper(n, cells), 7 * u64::from(n) + g as u64);
+                steps += t;
+                cruised += c;
+            }
+        }
+        // Measured: 96% of the steps.
+        assert!(cruised * 10 > steps * 9, "{cruised} of {steps} steps cruised");
+    }
+
+    /// Low thresholds' neighbours: charging often, robots marked, goods put back, robots
+    /// charging below the threshold, shared chargers with a queue, opportunistic charging,
+    /// margins, step limits, short windows and a warm-up, collisions.
+    #[test]
+    fn cruising_changes_nothing_through_charges_queues_limits_and_windows() {
+        let mut rng = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut cruised = 0;
+        for case in 0..48_u64 {
+            let n = 2 + (case % 5) as u32;
+            let len = 1 + (next(&mut rng) % 40) as usize;
+            let mut s = Scenario::paper(n, &random_cells(&mut rng, len, 80));
+            s.robot.threshold = [3.5, 7.0, 8.5][(case % 3) as usize];
+            s.collision.margin = [0.0, 8.0][(case / 3 % 2) as usize];
+            if case % 4 == 1 {
+                s.charging.chargers = ChargerUse::Shared;
+            }
+            if case % 5 == 2 {
+                s.charging.policy = ChargingPolicy::Opportunistic;
+                s.charging.level = s.robot.threshold + 0.3;
+            }
+            if case % 6 == 3 {
+                s.step_limit = 200 + next(&mut rng) % 2000;
+            }
+            s.metrics.window = 1 + next(&mut rng) % 50;
+            s.metrics.warmup = next(&mut rng) % 500;
+            cruised += twin(&s, case).1;
+        }
+        assert!(cruised > 10_000, "{cruised}");
+    }
+
+    /// Gives goods to robot 0 only: the others stay idle, using energy, until the threshold
+    /// (or opportunistic charging) sends them to charge.
+    struct OnlyTheFirst;
+
+    impl Allocator for OnlyTheFirst {
+        fn name(&self) -> &'static str {
+            "only-the-first"
+        }
+
+        fn allocate(&mut self, view: &AllocView<'_>, out: &mut Decisions) -> crate::Result<()> {
+            if let (Some(&RobotId(0)), Some(g)) = (view.idle.first(), view.goods.first()) {
+                out.assign.push(Assignment { robot: RobotId(0), goods: g.id });
+            }
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn idle_robots_cruise_until_their_energy_sends_them_to_charge() {
+        let mut rng = 99_u64;
+        for case in 0..6_u64 {
+            let mut s = Scenario::paper(3, &random_cells(&mut rng, 12, 80));
+            s.robot.threshold = 8.0;
+            if case % 2 == 1 {
+                s.charging.policy = ChargingPolicy::Opportunistic;
+                s.charging.level = 9.0;
+            }
+            if case >= 4 {
+                s.charging.chargers = ChargerUse::Shared;
+            }
+            let (_, c) = twin_of(&s, case, || Paper::with_allocator(&s, Box::new(OnlyTheFirst)).unwrap());
+            assert!(c > 0);
+        }
+    }
+
+    /// Tiny fleets of up to 32 robots (one per top-aisle crossing) on generated layouts,
+    /// where robots meet more often.
+    #[test]
+    fn a_crowded_tiny_fleet_cruises_only_where_nobody_is_near() {
+        let mut rng = 12345_u64;
+        for cols in [7_u32, 15, 31] {
+            let robots = cols + 1;
+            let layout = format!("[layout_generate]\ngroup_rows = 2\ngroup_cols = {cols}\ngroup_width = 2\ngroup_height = 4\nchargers = {robots}\n");
+            let probe = Scenario::from_toml(&format!("robots = 1\ntasks = [0]\n{layout}"), "generated").unwrap();
+            let cells = crate::world::World::of(&probe).unwrap().layout.cells.len() as u32;
+            let tasks = random_cells(&mut rng, 3 * robots as usize, cells);
+            let text = format!("robots = {robots}\ntasks = {tasks:?}\nstep_limit = 20000\n{layout}");
+            let s = Scenario::from_toml(&text, "generated").unwrap();
+            let (t, c) = twin(&s, u64::from(robots));
+            assert!(c > 0 && c < t, "{robots} robots: {c} of {t} steps cruised");
+        }
+    }
+}
