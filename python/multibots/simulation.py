@@ -56,7 +56,7 @@ def simulate_many(scenarios: Sequence[Scenario], workers: int = 0, allocator: An
     if allocator is not None and _built_in_name(allocator):
         scenarios = [s.replace(allocator=allocator) for s in scenarios]
         allocator = None
-    if allocator is None and all(_built_in_name(s.to_dict()["allocator"]) for s in scenarios):
+    if allocator is None and all(_built_in_name(s._core.allocator) for s in scenarios):
         return [Result(r) for r in _core.simulate_many([s._core for s in scenarios], workers)]
     return [Result(_core.simulate(s._core, None, allocator)) for s in scenarios]
 

@@ -208,7 +208,8 @@ impl Robots {
 
     /// The columns the step's pass over the robots (phases 3 to 6) reads and writes, each a
     /// slice of the fleet's length: motion's (see [`Motion`]), then the rest of the pass's.
-    #[inline]
+    #[allow(clippy::inline_always)] // measured: inlined, the passes know every slice's length
+    #[inline(always)]
     pub(crate) fn split(&mut self) -> (Motion<'_>, Pass<'_>) {
         let n = self.x.len();
         let pass = Pass {

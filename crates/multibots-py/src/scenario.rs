@@ -32,6 +32,13 @@ impl PyScenario {
         self.inner.to_json()
     }
 
+    /// The allocator's name, without a round trip through JSON (checked for every run of a
+    /// batch).
+    #[getter]
+    fn allocator(&self) -> &str {
+        &self.inner.allocator
+    }
+
     /// Checks every field, against the layout too.
     fn validate(&self, py: Python<'_>) -> PyResult<()> {
         let s = self.inner.clone();
