@@ -150,11 +150,14 @@ class Result:
     state_steps: np.ndarray
 
     def __init__(self, raw: dict[str, Any]) -> None:
+        # A batch makes one per run: the arrays are the only fields to freeze.
+        get = raw.get
         for key in self.__slots__:
-            value = raw.get(key)
+            object.__setattr__(self, key, get(key))
+        for key in _ARRAYS:
+            value = get(key)
             if isinstance(value, np.ndarray):
                 value.setflags(write=False)
-            object.__setattr__(self, key, value)
 
     @property
     def complete(self) -> bool:
