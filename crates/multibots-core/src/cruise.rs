@@ -19,7 +19,7 @@
 //! step. The first step after which a robot is due (a route's end, a dwell's end, a full
 //! battery, the threshold) ends the run of steps: its phases 7 and 8 are the usual ones.
 //! Completion and stranding cannot come without a transition. So every result, statistic
-//! and event is the one step by step gives, to the bit; `tests/cruise.rs` checks it.
+//! and event is the one step by step gives, to the bit; the tests below check it.
 
 use crate::collision::bearing;
 use crate::energy;
@@ -258,6 +258,59 @@ mod tests {
             }
             let (_, c) = twin_of(&s, case, || Paper::with_allocator(&s, Box::new(OnlyTheFirst)).unwrap());
             assert!(c > 0);
+        }
+    }
+
+    /// Far from the origin with a tiny speed, a move lands on the nearest float and can go a
+    /// hair farther than `speed`, the same way every step: the bound of how close robots come
+    /// must allow for it. Robot 1 stands stranded on robot 0's route; found in review, where
+    /// robot 0 drove into it uncounted over millions of cruising steps (speeds of 10737.51
+    /// units in the last place round up every step; 10737.49 round down).
+    #[test]
+    fn far_from_the_origin_rounding_does_not_let_robots_through() {
+        use crate::alloc::{built_in, service_target};
+        use crate::ids::{CellId, NONE};
+        use crate::layout::Layout;
+        use crate::layout_file::LayoutFile;
+        use crate::robot::State;
+        use crate::route::{waypoints, Place};
+        for (shift, ulps) in [(9.0e6, 10737.51), (9.0e6, 10737.49), (0.0, 10737.51)] {
+            let mut f = LayoutFile::from_layout(&Layout::paper(), None);
+            f.bounds = [f.bounds[0] + shift, f.bounds[1] + shift, f.bounds[2] + shift, f.bounds[3] + shift];
+            for n in &mut f.nodes {
+                (n.x, n.y) = (n.x + shift, n.y + shift);
+            }
+            for c in &mut f.chargers {
+                (c.x, c.y) = (c.x + shift, c.y + shift);
+            }
+            for c in &mut f.cells {
+                (c.x, c.y) = (c.x + shift, c.y + shift);
+                c.service = [c.service[0] + shift, c.service[1] + shift];
+            }
+            let world = crate::world::World::new(f.to_layout().unwrap()).unwrap();
+            let mut s = Scenario::paper(2, &[42]);
+            s.robot.speed = ulps * 2f64.powi(-29);
+            s.robot.radius = 0.25;
+            s.robot.consumption = 1e-12;
+            s.step_limit = 4_000_000_000;
+            let new = || {
+                let mut p = Paper::with_world(world.clone(), &s, built_in(&s).unwrap()).unwrap();
+                let g = &p.world.graph;
+                let pts = waypoints(g, Place::node(g, p.robots.home[0]), service_target(&p.world.layout, CellId(42)));
+                let ((ax, ay), (bx, by)) = (pts[2], pts[3]);
+                let r = &mut p.robots;
+                (r.x[1], r.y[1], r.at_node[1], r.state[1], r.energy[1]) = ((ax + bx) / 2.0, (ay + by) / 2.0, NONE, State::Stranded, 0.0);
+                p
+            };
+            let (mut a, mut b) = (new(), new());
+            while !a.done() {
+                a.step().unwrap();
+            }
+            b.steps(u64::MAX).unwrap();
+            let (ra, rb) = (a.result(), b.result());
+            let case = format!("shifted by {shift}, speed {ulps} units in the last place");
+            assert_eq!((ra.outcome, ra.steps, ra.contacts, ra.closest), (rb.outcome, rb.steps, rb.contacts, rb.closest), "{case}");
+            assert!(ra == rb && state(&a) == state(&b), "{case}");
         }
     }
 

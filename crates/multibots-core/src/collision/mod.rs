@@ -110,6 +110,9 @@ pub struct Collisions {
     clear: bool,
     /// The margin of the last [`Collisions::resolve`] (0 before it).
     margin: f64,
+    /// The farthest a coordinate can be from 0 (robots never leave the bounds): rounding
+    /// in a move is at most a few units in the last place of it.
+    far_coordinate: f64,
     /// The widest distance [`Collisions::contacts`] has looked at.
     contact_need: f64,
     /// Robots in the grid (bays aside): `by_cell[..placed]`.
@@ -178,6 +181,7 @@ impl Collisions {
         Collisions {
             grid: Grid { x0: bounds[0] - size, y0: bounds[1] - size, inv_size: 1.0 / size, cols, last_col: last(cols), last_row: last(rows) },
             reach: reach.max(1e-6) * (1.0 + 1e-9) + 1e-9,
+            far_coordinate: bounds.iter().fold(0.0, |m: f64, b| m.max(b.abs())),
             cell_of: vec![0; robots],
             dense,
             tiny,
@@ -264,7 +268,7 @@ impl Collisions {
     /// pairs. 0 for any other fleet.
     ///
     /// Two robots `d` apart now are at least `d - (j - 1) (speed_a + speed_b)` apart when
-    /// step `j` starts. While that exceeds the flags' reach `cover` (as the step's own pass
+    /// step `j` starts (each speed with what rounding can add to a move). While that exceeds the flags' reach `cover` (as the step's own pass
     /// over pairs would set it, with a slack far above rounding), the step's pass would flag
     /// no pair, so nobody could block anybody; and every robot, moving less than the contact
     /// count allows for, would find nobody near after the moves either.
@@ -282,7 +286,11 @@ impl Collisions {
             return 0;
         }
         let (y, speed, moving) = (&y[..n], &speed[..n], &moving[..n]);
-        let travel = |i: usize| if moving[i] { speed[i] } else { 0.0 };
+        // A move of `speed` lands on the nearest float: it can go a little farther, by up to
+        // half a unit in the last place of each coordinate, the same way every step (far
+        // from the origin with a tiny speed, that adds up over a long run of steps).
+        let rounding = 4.0 * f64::EPSILON * self.far_coordinate;
+        let travel = |i: usize| if moving[i] { speed[i] * (1.0 + 4.0 * f64::EPSILON) + rounding } else { 0.0 };
         let apart = self.cover_of(&radius[..n]) * 1.001 + 1e-6;
         let mut k = u64::MAX;
         for a in 0..n {
