@@ -58,17 +58,25 @@ impl Params {
     /// spare. Only the others take the full rules.
     #[inline]
     pub(crate) fn due(&self, state: State, routing: bool, dwell: u32, e: f64) -> bool {
-        let dwell_or_route_done = match state {
+        self.task_done(state, routing, dwell, e) || energy::below(e, self.threshold) || self.energy_acts(state, e)
+    }
+
+    /// A trip, a dwell or a charge that ended: the task cycle's transition is due.
+    #[inline]
+    fn task_done(&self, state: State, routing: bool, dwell: u32, e: f64) -> bool {
+        match state {
             State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !routing,
             State::Loading => dwell >= self.loading,
             State::Unloading => dwell >= self.unloading,
             State::Charging => energy::is_full(e, self.energy_full),
             _ => false,
-        };
-        dwell_or_route_done
-            || energy::below(e, self.threshold)
-            || energy::exhausted(e)
-            || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
+        }
+    }
+
+    /// Stranding, or opportunistic charging, for a robot with energy `e`.
+    #[inline]
+    fn energy_acts(&self, state: State, e: f64) -> bool {
+        energy::exhausted(e) || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
     }
 
     /// Whether phase 7 would change anything for a robot (`marked` by the threshold rule):
@@ -80,22 +88,14 @@ impl Params {
     /// cruise through a charge.
     #[inline]
     pub(crate) fn acts(&self, state: State, routing: bool, dwell: u32, e: f64, marked: bool) -> bool {
-        let task = match state {
-            State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !routing,
-            State::Loading => dwell >= self.loading,
-            State::Unloading => dwell >= self.unloading,
-            State::Charging => energy::is_full(e, self.energy_full),
-            _ => false,
-        };
         let threshold = energy::below(e, self.threshold)
             && match state {
                 State::Idle | State::ToPickup => true,
                 State::Loading | State::ToDrop | State::Unloading => !marked,
                 _ => false,
             };
-        task || threshold
-            || (energy::exhausted(e) && state != State::Stranded)
-            || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
+        // A stranded robot stays stranded.
+        self.task_done(state, routing, dwell, e) || threshold || (state != State::Stranded && self.energy_acts(state, e))
     }
 
     fn of(scenario: &Scenario) -> Params {
