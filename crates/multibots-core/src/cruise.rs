@@ -22,7 +22,6 @@
 //! and event is the one step by step gives, to the bit; the tests below check it.
 
 use crate::collision::bearing;
-use crate::energy;
 use crate::robot::State;
 use crate::sim::Paper;
 
@@ -86,17 +85,7 @@ impl Paper {
                 if w {
                     distance[i] += motion.advance(g, i, pass.speed[i]);
                 }
-                // Phases 5 and 6.
-                match state {
-                    State::Loading | State::Unloading => pass.dwell[i] += 1,
-                    State::Charging => pass.energy[i] = energy::charge(pass.energy[i], p.charge_rate, p.energy_full),
-                    _ => {}
-                }
-                if !matches!(state, State::Charging | State::Parked | State::Stranded) {
-                    let e = energy::consume(pass.energy[i], p.consumption);
-                    energy_used[i] += pass.energy[i] - e;
-                    pass.energy[i] = e;
-                }
+                p.dwell_and_energy(state, &mut pass.dwell[i], &mut pass.energy[i], &mut energy_used[i]);
                 due |= p.acts(state, motion.routing[i], pass.dwell[i], pass.energy[i], pass.marked[i]);
             }
             if !due {

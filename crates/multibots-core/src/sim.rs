@@ -98,6 +98,22 @@ impl Params {
         self.task_done(state, routing, dwell, e) || threshold || (state != State::Stranded && self.energy_acts(state, e))
     }
 
+    /// Phases 5 and 6 for one robot in `state`: its dwell counter, charging, and consumption
+    /// (counted in `energy_used`).
+    #[inline]
+    pub(crate) fn dwell_and_energy(&self, state: State, dwell: &mut u32, energy: &mut f64, energy_used: &mut f64) {
+        match state {
+            State::Loading | State::Unloading => *dwell += 1,
+            State::Charging => *energy = energy::charge(*energy, self.charge_rate, self.energy_full),
+            _ => {}
+        }
+        if !matches!(state, State::Charging | State::Parked | State::Stranded) {
+            let e = energy::consume(*energy, self.consumption);
+            *energy_used += *energy - e;
+            *energy = e;
+        }
+    }
+
     fn of(scenario: &Scenario) -> Params {
         let r = &scenario.robot;
         Params {
@@ -435,18 +451,8 @@ impl Paper {
                 }
                 distance[i] += motion.advance(g, i, step);
             }
-            // Phases 5 and 6.
-            match state {
-                State::Loading | State::Unloading => r.dwell[i] += 1,
-                State::Charging => r.energy[i] = energy::charge(r.energy[i], p.charge_rate, p.energy_full),
-                _ => {}
-            }
+            p.dwell_and_energy(state, &mut r.dwell[i], &mut r.energy[i], &mut energy_used[i]);
             progress |= moves | matches!(state, State::Loading | State::Unloading | State::Charging);
-            if !matches!(state, State::Charging | State::Parked | State::Stranded) {
-                let e = energy::consume(r.energy[i], p.consumption);
-                energy_used[i] += r.energy[i] - e;
-                r.energy[i] = e;
-            }
         }
         self.progress |= progress;
         if progress {
