@@ -22,7 +22,6 @@
 //! and event is the one step by step gives, to the bit; the tests below check it.
 
 use crate::collision::bearing;
-use crate::robot::State;
 use crate::sim::Paper;
 
 impl Paper {
@@ -50,7 +49,7 @@ impl Paper {
             *w = r.routing[i] && r.state[i].travels();
         }
         let moving = wants.contains(&true);
-        let progress = moving || r.state.iter().any(|s| matches!(s, State::Loading | State::Unloading | State::Charging));
+        let progress = moving || r.state.iter().any(|s| s.busy_in_place());
         let (r_max, slack) = self.contact_reach;
         // Nobody moving: collision waiting and the contact count have nobody to look at.
         let quiet = if moving { self.collisions.quiet_steps(&r.x, &r.y, &r.radius, &r.speed, wants, r_max, slack) } else { u64::MAX };
@@ -113,19 +112,13 @@ mod tests {
     use crate::ids::RobotId;
     use crate::scenario::{ChargerUse, ChargingPolicy, PAPER_TASKS};
     use crate::sim::Paper;
+    use crate::xorshift as next;
     use crate::Scenario;
 
     /// Everything a step leaves that anybody can read, to the bit (`Debug` prints every
     /// float's shortest exact form).
     fn state(p: &Paper) -> String {
         format!("{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}", p.robots, p.tally, p.events, p.outcome, p.collisions.waits, p.alloc_due)
-    }
-
-    fn next(s: &mut u64) -> u64 {
-        *s ^= *s << 13;
-        *s ^= *s >> 7;
-        *s ^= *s << 17;
-        *s
     }
 
     /// Runs `s` twice, step by step and in runs of random length that cruise where they can,

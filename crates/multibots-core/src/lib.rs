@@ -42,6 +42,15 @@ pub mod tasks;
 pub mod traffic;
 pub mod world;
 
+/// Deterministic pseudo-random numbers for the crate's own tests (xorshift; no dependency).
+#[cfg(test)]
+pub(crate) fn xorshift(s: &mut u64) -> u64 {
+    *s ^= *s << 13;
+    *s ^= *s >> 7;
+    *s ^= *s << 17;
+    *s
+}
+
 pub use alloc::{AllocView, Allocator, Assignment, Decisions, Goods};
 pub use error::{Error, Result};
 pub use events::{Event, EventKind};

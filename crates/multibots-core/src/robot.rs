@@ -62,6 +62,13 @@ impl State {
     pub fn travels(self) -> bool {
         matches!(self, State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome)
     }
+
+    /// Loading, unloading or charging: a step of it is progress, though the robot stands.
+    #[inline]
+    #[must_use]
+    pub fn busy_in_place(self) -> bool {
+        matches!(self, State::Loading | State::Unloading | State::Charging)
+    }
 }
 
 /// Where a route ends.

@@ -264,14 +264,15 @@ impl Collisions {
     /// [`Collisions::contacts_within`] (with `r_max` and `slack`) surely finds no pair: steps
     /// in which nobody comes near anybody. The robots stand at `x`, `y` now; robot `i`
     /// travels at most `speed[i]` along its route a step where `moving[i]` and stands
-    /// otherwise, and `slack` is at least twice every speed. A robot alone: always. Tiny fleets without bays: by a pass over the
-    /// pairs. 0 for any other fleet.
+    /// otherwise, and `slack` is at least twice every speed. A robot alone: always. Tiny
+    /// fleets without bays: by a pass over the pairs. 0 for any other fleet.
     ///
     /// Two robots `d` apart now are at least `d - (j - 1) (speed_a + speed_b)` apart when
-    /// step `j` starts (each speed with what rounding can add to a move). While that exceeds the flags' reach `cover` (as the step's own pass
-    /// over pairs would set it, with a slack far above rounding), the step's pass would flag
-    /// no pair, so nobody could block anybody; and every robot, moving less than the contact
-    /// count allows for, would find nobody near after the moves either.
+    /// step `j` starts (each speed with what rounding can add to a move). While that exceeds
+    /// the flags' reach `cover` (as the step's own pass over pairs would set it, with a slack
+    /// far above rounding), the step's pass would flag no pair, so nobody could block
+    /// anybody; and every robot, moving less than the contact count allows for, would find
+    /// nobody near after the moves either.
     #[must_use]
     #[allow(clippy::too_many_arguments)]
     pub fn quiet_steps(&self, x: &[f64], y: &[f64], radius: &[f64], speed: &[f64], moving: &[bool], r_max: f64, slack: f64) -> u64 {
@@ -610,12 +611,7 @@ mod tests {
 
     /// Deterministic numbers in [0, 1) (xorshift; no dependency for a test).
     fn uniform(mut s: u64) -> impl FnMut() -> f64 {
-        move || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s % 10_000) as f64 / 10_000.0
-        }
+        move || (crate::xorshift(&mut s) % 10_000) as f64 / 10_000.0
     }
 
     #[test]
