@@ -182,7 +182,7 @@ impl Collisions {
     /// count and the closest approach are the same to the bit. `None` where that cannot be
     /// promised: a neighbour could lie beyond the next cell, or a robot that moved stands
     /// in a bay, out of the grid.
-    fn contacts_by_cell_pairs(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
+    fn contacts_by_cell_pairs(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
         let n = x.len();
         let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.cell_of[..n]);
         // A pair the box scan looks at stood (before the moves) within its `near` (at most
@@ -193,40 +193,41 @@ impl Collisions {
             return None;
         }
         let span2 = span * span;
+        // From the next step on, the collision test collects its pairs this wide too.
+        self.contact_span2 = self.contact_span2.max(span2);
         let half = 0.5 * slack;
-        let cols = self.grid.cols;
         let placed = self.placed;
-        let (first, by_cell, sx, sy) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
+        let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
-        for k in 0..placed {
-            let i = by_cell[k] as usize;
-            let c = cell_of[i] as usize;
-            let (px, py) = (sx[k], sy[k]);
-            // The grid keeps a free cell on every side: `c + cols + 2` is still a cell index.
-            for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
-                for m in m0..m1 {
-                    let (dx, dy) = (sx[m] - px, sy[m] - py);
-                    if dx * dx + dy * dy > span2 {
-                        continue;
-                    }
-                    let j = by_cell[m] as usize;
-                    let (mi, mj) = (moved[i], moved[j]);
-                    if !(mi || mj) {
-                        continue;
-                    }
-                    // The robot the box scan would look from, and the other, by its place.
-                    let (l, o, ko) = if mi && (!mj || i < j) { (i, j, m) } else { (j, i, k) };
-                    let near = radius[l] + r_max + half;
-                    let near2 = near * near * 1.000_001;
-                    let (ex, ey) = (sx[ko] - x[l], sy[ko] - y[l]);
-                    if ex * ex + ey * ey > near2 {
-                        continue;
-                    }
-                    let d = crate::route::axis_dist(x[o] - x[l], y[o] - y[l]);
-                    closest = closest.min(d);
-                    count += u64::from(d < radius[l] + radius[o]);
-                }
+        let mut judge = |k: usize, m: usize| {
+            let (dx, dy) = (sx[m] - sx[k], sy[m] - sy[k]);
+            if dx * dx + dy * dy > span2 {
+                return;
             }
+            let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
+            let (mi, mj) = (moved[i], moved[j]);
+            if !(mi || mj) {
+                return;
+            }
+            // The robot the box scan would look from, and the other, by its place.
+            let (l, o, ko) = if mi && (!mj || i < j) { (i, j, m) } else { (j, i, k) };
+            let near = radius[l] + r_max + half;
+            let near2 = near * near * 1.000_001;
+            let (ex, ey) = (sx[ko] - x[l], sy[ko] - y[l]);
+            if ex * ex + ey * ey > near2 {
+                return;
+            }
+            let d = crate::route::axis_dist(x[o] - x[l], y[o] - y[l]);
+            closest = closest.min(d);
+            count += u64::from(d < radius[l] + radius[o]);
+        };
+        if span2 <= self.pairs_r2 {
+            // The collision test collected them this step, at least this wide.
+            for &(k, m) in &self.pairs {
+                judge(k as usize, m as usize);
+            }
+        } else {
+            self.neighbour_pairs(span2, judge);
         }
         Some((count, closest))
     }
@@ -260,6 +261,7 @@ mod tests {
                 y.push(lcg(&mut seed) * side);
             }
             let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
+            let (px, py) = (x.clone(), y.clone());
             c.build_grid(&x, &y, &radius);
             let moved: Vec<bool> = (0..n).map(|_| lcg(&mut seed) < 0.6).collect();
             for i in 0..n {
@@ -273,6 +275,13 @@ mod tests {
             let pairs = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             let boxes = c.contacts_by_boxes(&x, &y, &radius, &moved, r_max, 8.0);
             assert_eq!((pairs.0, pairs.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}");
+            // The same grid through the collision test, which collects the pairs this wide
+            // (the count above asked for it): the count reads them instead.
+            let heading = vec![0.0; n];
+            c.resolve(&px, &py, &radius, &vec![true; n], &heading, 0.0, 0.5);
+            assert!(c.pairs_r2 >= 0.0, "case {case}: the collision test collected pairs");
+            let kept = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
+            assert_eq!((kept.0, kept.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}, pairs kept");
             found += pairs.0;
         }
         assert!(found > 1000, "the cases hold contacts: {found}");

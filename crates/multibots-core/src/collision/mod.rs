@@ -9,7 +9,9 @@
 //! Candidates come from a uniform grid whose cells are twice the largest contact distance
 //! wide, so the cost grows with N, not N². Each step the robots are counting-sorted by cell,
 //! with their positions copied alongside, so the cells a search box covers in a grid row are
-//! one contiguous run. The speed-ups are exact: shortcuts (distances along the axes, the
+//! one contiguous run. In a dense grid whose cells are wider than every contact distance, the
+//! pairs of neighbouring robots are found once from the sorted order instead (`pairs.rs`),
+//! and the contact count after the moves reads the same pairs. The speed-ups are exact: shortcuts (distances along the axes, the
 //! cone box, the "clearly far" filter) only skip work whose outcome is certain, and `blocks`
 //! decides every case near a boundary, so results are bit-identical to the brute-force
 //! definition (tested in `tests/collision_grid.rs`). All buffers live in [`Collisions`] and
@@ -66,6 +68,7 @@ pub fn folded_angle(a: f64, b: f64) -> f64 {
 mod contacts;
 mod cycles;
 mod grid;
+mod pairs;
 
 /// Fleets of at most this many robots use no cells (see [`Collisions`]): with 32 robots a
 /// pass over all of them is as cheap as reading a few cells.
@@ -139,6 +142,20 @@ pub struct Collisions {
     /// between steps). The one per-robot column of the release: everything else of it is
     /// sized to the blocked robots.
     slot_of: Vec<u32>,
+    /// Dense grids: this step's pairs of places within `sqrt(pairs_r2)` (see `pairs.rs`),
+    /// from [`Collisions::resolve`] until the next grid is built; `pairs_r2` is -∞ when
+    /// there are none to read.
+    pairs: Vec<(u32, u32)>,
+    pairs_r2: f64,
+    /// The widest squared distance the contact count has looked at in a dense grid: the
+    /// pairs are collected this wide, so that the count can reuse them.
+    contact_span2: f64,
+    /// "Blocked by" edges from the pairs, `(from, to)`, before they are sorted into rows.
+    pair_edges: Vec<(u32, u32)>,
+    /// Robots with an edge this step, as bits of their ids; all clear between steps.
+    has_edge: Vec<u64>,
+    /// Where the next edge of each row goes, while they are sorted into rows.
+    cursor: Vec<u32>,
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
     /// Robots standing in a bay beside the aisle (an extension for large fleets, see
@@ -215,6 +232,12 @@ impl Collisions {
             released: Vec::new(),
             blocked: Vec::new(),
             bay: Vec::new(),
+            pairs: Vec::new(),
+            pairs_r2: f64::NEG_INFINITY,
+            contact_span2: 0.0,
+            pair_edges: Vec::new(),
+            has_edge: Vec::new(),
+            cursor: Vec::new(),
         }
     }
 
@@ -223,6 +246,7 @@ impl Collisions {
     pub fn build_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64]) -> bool {
         let n = x.len();
         let (y, radius) = (&y[..n], &radius[..n]);
+        self.pairs_r2 = f64::NEG_INFINITY;
         let grid = self.grid;
         let bay: &[bool] = if self.bay.is_empty() { &[] } else { &self.bay[..n] };
         let cell_of = &mut self.cell_of[..n];
@@ -324,12 +348,20 @@ impl Collisions {
         // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
         let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
         self.waits[..n].fill(false);
+        self.pairs_r2 = f64::NEG_INFINITY;
         // A robot alone is never blocked (the paper's N = 1 runs: 40% of its steps).
         if n < 2 || !wants.contains(&true) {
             return;
         }
         self.margin = margin;
         let uniform = self.build_grid(x, y, radius);
+        let r_max = if uniform { radius[0] } else { radius.iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) }) };
+        if let Some(r2) = self.pair_reach2(r_max, margin) {
+            self.collect_pairs(r2);
+            self.edges_from_pairs(wants, alpha, radius, margin, angle);
+            self.release_blocked();
+            return;
+        }
         let (grid, tiny) = (self.grid, self.tiny);
         // Borrowed field by field: the edges below are written while the runs are read.
         let runs = grid::Runs { first: &self.first, stamp: &self.stamp, start: &self.start, end: &self.end, epoch: self.epoch };
@@ -470,7 +502,12 @@ impl Collisions {
             }
         }
         edge_start.push(edge_to.len() as u32);
-        if edge_to.is_empty() {
+        self.release_blocked();
+    }
+
+    /// Who of the blocked robots waits: all but the released, from this step's edges.
+    fn release_blocked(&mut self) {
+        if self.edge_to.is_empty() {
             return;
         }
         // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's

@@ -1,0 +1,138 @@
+//! Dense grids: the pairs of neighbouring robots, found once a step from the sorted order
+//! and shared by the collision test and the contact count.
+//!
+//! Cells are at least twice the contact distance wide, so two robots within it stand in the
+//! same cell or in two neighbouring ones. Each pair is found once, from the cell of the first
+//! in grid order: the rest of its cell, the next cell of its row and the three cells below.
+//! A robot's own search box costs more than its share of these reads when, as in a crowded
+//! warehouse, it holds one or two others: it is computed for every robot that wants to move,
+//! in rows that each need their own run.
+
+use super::{blocks, Collisions};
+
+impl Collisions {
+    /// Calls `f(k, m)` for each pair of places `k < m` in the sorted order whose positions
+    /// are not farther apart than `sqrt(r2)` (a NaN distance counts as near). Every pair
+    /// within the cell size, less rounding, is among them.
+    #[inline]
+    pub(super) fn neighbour_pairs(&self, r2: f64, mut f: impl FnMut(usize, usize)) {
+        let placed = self.placed;
+        let cols = self.grid.cols;
+        let (first, by_cell, sx, sy, cell_of) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.cell_of[..]);
+        for k in 0..placed {
+            let c = cell_of[by_cell[k] as usize] as usize;
+            let (px, py) = (sx[k], sy[k]);
+            // The grid keeps a free cell on every side: `c + cols + 2` is still a cell index.
+            for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
+                for m in m0..m1 {
+                    let (dx, dy) = (sx[m] - px, sy[m] - py);
+                    let far = dx * dx + dy * dy > r2;
+                    if !far {
+                        f(k, m);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Whether the pairs of this step's grid can stand in for the search boxes: a dense
+    /// grid whose cells are wider than every contact distance (radii `r_max` at most, and
+    /// `margin`) and than what the contact count looked at last, with room for rounding.
+    /// Then returns the squared distance to collect pairs within.
+    pub(super) fn pair_reach2(&self, r_max: f64, margin: f64) -> Option<f64> {
+        if !self.dense {
+            return None;
+        }
+        // The widest contact distance `blocks` is given, and the collision test's filter on
+        // it (`d² > r² · 1.000001` is far): contact distances are sums of two radii and the
+        // margin, and rounding keeps their order.
+        let widest = r_max + r_max + margin;
+        if widest.is_nan() {
+            // The boxes' NaN handling decides.
+            return None;
+        }
+        let r2 = (widest * widest * 1.000_001).max(self.contact_span2);
+        let size = 1.0 / self.grid.inv_size;
+        (r2.sqrt() * 1.001 < size).then_some(r2)
+    }
+
+    /// This step's pairs within `sqrt(r2)`, kept for the contact count after the moves.
+    pub(super) fn collect_pairs(&mut self, r2: f64) {
+        let mut pairs = std::mem::take(&mut self.pairs);
+        pairs.clear();
+        self.neighbour_pairs(r2, |k, m| pairs.push((k as u32, m as u32)));
+        self.pairs = pairs;
+        self.pairs_r2 = r2;
+    }
+
+    /// The "blocked by" edges from this step's pairs: in compressed rows over the blocked
+    /// robots, ascending, as the search boxes build them (the order of a row's edges differs;
+    /// the components, and so who is released, do not depend on it).
+    pub(super) fn edges_from_pairs(&mut self, wants: &[bool], alpha: &[f64], radius: &[f64], margin: f64, angle: f64) {
+        let n = wants.len();
+        let (alpha, radius) = (&alpha[..n], &radius[..n]);
+        let placed = self.placed;
+        let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
+        let edges = &mut self.pair_edges;
+        edges.clear();
+        // Which robots have an edge, as bits of their ids (all clear between steps).
+        let has_edge = &mut self.has_edge;
+        has_edge.resize(n.div_ceil(64), 0);
+        for &(k, m) in &self.pairs {
+            let (k, m) = (k as usize, m as usize);
+            let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
+            let (wi, wj) = (wants[i], wants[j]);
+            if !(wi || wj) {
+                continue;
+            }
+            // The same contact distance and "clearly far" filter as from either robot's box:
+            // sums and squared differences do not depend on the order of their operands.
+            let r = radius[i] + radius[j] + margin;
+            let (dx, dy) = (sx[m] - sx[k], sy[m] - sy[k]);
+            if dx * dx + dy * dy > r * r * 1.000_001 {
+                continue;
+            }
+            if wi && blocks(sx[k], sy[k], alpha[i], sx[m], sy[m], r, angle) {
+                edges.push((i as u32, j as u32));
+                has_edge[i >> 6] |= 1 << (i & 63);
+            }
+            if wj && blocks(sx[m], sy[m], alpha[j], sx[k], sy[k], r, angle) {
+                edges.push((j as u32, i as u32));
+                has_edge[j >> 6] |= 1 << (j & 63);
+            }
+        }
+        // The blocked robots in ascending order from the bits (clearing them for the next
+        // step), then the edges counting-sorted into their rows.
+        let (edge_to, edge_start, blocked, slot_of, cursor) =
+            (&mut self.edge_to, &mut self.edge_start, &mut self.blocked, &mut self.slot_of[..n], &mut self.cursor);
+        blocked.clear();
+        for (w, bits) in has_edge.iter_mut().enumerate() {
+            let mut b = std::mem::take(bits);
+            while b != 0 {
+                let i = w * 64 + b.trailing_zeros() as usize;
+                b &= b - 1;
+                slot_of[i] = blocked.len() as u32;
+                blocked.push(i as u32);
+            }
+        }
+        edge_start.clear();
+        edge_start.resize(blocked.len() + 1, 0);
+        for &(i, _) in edges.iter() {
+            edge_start[slot_of[i as usize] as usize + 1] += 1;
+        }
+        let mut total = 0;
+        for e in edge_start.iter_mut() {
+            total += *e;
+            *e = total;
+        }
+        cursor.clear();
+        cursor.extend_from_slice(&edge_start[..blocked.len()]);
+        edge_to.clear();
+        edge_to.resize(edges.len(), 0);
+        for &(i, j) in edges.iter() {
+            let s = slot_of[i as usize] as usize;
+            edge_to[cursor[s] as usize] = j;
+            cursor[s] += 1;
+        }
+    }
+}
