@@ -196,18 +196,23 @@ impl Collisions {
         // From the next step on, the collision test collects its pairs this wide too.
         self.contact_span2 = self.contact_span2.max(span2);
         let half = 0.5 * slack;
+        if span2 > self.pairs_r2 {
+            // The collision test did not collect them this step, or not this wide.
+            self.collect_pairs(span2);
+        }
         let placed = self.placed;
         let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
-        let mut judge = |k: usize, m: usize| {
+        for &(k, m) in &self.pairs[..self.pairs_len] {
+            let (k, m) = (k as usize, m as usize);
             let (dx, dy) = (sx[m] - sx[k], sy[m] - sy[k]);
             if dx * dx + dy * dy > span2 {
-                return;
+                continue;
             }
             let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
             let (mi, mj) = (moved[i], moved[j]);
             if !(mi || mj) {
-                return;
+                continue;
             }
             // The robot the box scan would look from, and the other, by its place.
             let (l, o, ko) = if mi && (!mj || i < j) { (i, j, m) } else { (j, i, k) };
@@ -215,19 +220,11 @@ impl Collisions {
             let near2 = near * near * 1.000_001;
             let (ex, ey) = (sx[ko] - x[l], sy[ko] - y[l]);
             if ex * ex + ey * ey > near2 {
-                return;
+                continue;
             }
             let d = crate::route::axis_dist(x[o] - x[l], y[o] - y[l]);
             closest = closest.min(d);
             count += u64::from(d < radius[l] + radius[o]);
-        };
-        if span2 <= self.pairs_r2 {
-            // The collision test collected them this step, at least this wide.
-            for &(k, m) in &self.pairs {
-                judge(k as usize, m as usize);
-            }
-        } else {
-            self.neighbour_pairs(span2, judge);
         }
         Some((count, closest))
     }

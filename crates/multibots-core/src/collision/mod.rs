@@ -146,6 +146,7 @@ pub struct Collisions {
     /// from [`Collisions::resolve`] until the next grid is built; `pairs_r2` is -∞ when
     /// there are none to read.
     pairs: Vec<(u32, u32)>,
+    pairs_len: usize,
     pairs_r2: f64,
     /// The widest squared distance the contact count has looked at in a dense grid: the
     /// pairs are collected this wide, so that the count can reuse them.
@@ -233,6 +234,7 @@ impl Collisions {
             blocked: Vec::new(),
             bay: Vec::new(),
             pairs: Vec::new(),
+            pairs_len: 0,
             pairs_r2: f64::NEG_INFINITY,
             contact_span2: 0.0,
             pair_edges: Vec::new(),

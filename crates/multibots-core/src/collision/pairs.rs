@@ -11,30 +11,6 @@
 use super::{blocks, Collisions};
 
 impl Collisions {
-    /// Calls `f(k, m)` for each pair of places `k < m` in the sorted order whose positions
-    /// are not farther apart than `sqrt(r2)` (a NaN distance counts as near). Every pair
-    /// within the cell size, less rounding, is among them.
-    #[inline]
-    pub(super) fn neighbour_pairs(&self, r2: f64, mut f: impl FnMut(usize, usize)) {
-        let placed = self.placed;
-        let cols = self.grid.cols;
-        let (first, by_cell, sx, sy, cell_of) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.cell_of[..]);
-        for k in 0..placed {
-            let c = cell_of[by_cell[k] as usize] as usize;
-            let (px, py) = (sx[k], sy[k]);
-            // The grid keeps a free cell on every side: `c + cols + 2` is still a cell index.
-            for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
-                for m in m0..m1 {
-                    let (dx, dy) = (sx[m] - px, sy[m] - py);
-                    let far = dx * dx + dy * dy > r2;
-                    if !far {
-                        f(k, m);
-                    }
-                }
-            }
-        }
-    }
-
     /// Whether the pairs of this step's grid can stand in for the search boxes: a dense
     /// grid whose cells are wider than every contact distance (radii `r_max` at most, and
     /// `margin`) and than what the contact count looked at last, with room for rounding.
@@ -56,12 +32,36 @@ impl Collisions {
         (r2.sqrt() * 1.001 < size).then_some(r2)
     }
 
-    /// This step's pairs within `sqrt(r2)`, kept for the contact count after the moves.
+    /// Collects the pairs of places `k < m` in the sorted order whose positions are not
+    /// farther apart than `sqrt(r2)` (a NaN distance counts as near): every pair within the
+    /// cell size, less rounding, is among them. They stay for the contact count after the
+    /// moves, until the next grid is built.
     pub(super) fn collect_pairs(&mut self, r2: f64) {
-        let mut pairs = std::mem::take(&mut self.pairs);
-        pairs.clear();
-        self.neighbour_pairs(r2, |k, m| pairs.push((k as u32, m as u32)));
-        self.pairs = pairs;
+        let placed = self.placed;
+        let cols = self.grid.cols;
+        let (first, by_cell, sx, sy, cell_of) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.cell_of[..]);
+        // Written in place at `len`, which grows by one for a near pair: no branch per
+        // candidate (whether it is near is hard to predict). `pairs` only grows.
+        let pairs = &mut self.pairs;
+        let mut len = 0;
+        for k in 0..placed {
+            let c = cell_of[by_cell[k] as usize] as usize;
+            let (px, py) = (sx[k], sy[k]);
+            // The grid keeps a free cell on every side: `c + cols + 2` is still a cell index.
+            for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
+                let need = len + m1.saturating_sub(m0);
+                if pairs.len() < need {
+                    pairs.resize(need.max(2 * pairs.len()), (0, 0));
+                }
+                for m in m0..m1 {
+                    let (dx, dy) = (sx[m] - px, sy[m] - py);
+                    let far = dx * dx + dy * dy > r2;
+                    pairs[len] = (k as u32, m as u32);
+                    len += usize::from(!far);
+                }
+            }
+        }
+        self.pairs_len = len;
         self.pairs_r2 = r2;
     }
 
@@ -78,7 +78,7 @@ impl Collisions {
         // Which robots have an edge, as bits of their ids (all clear between steps).
         let has_edge = &mut self.has_edge;
         has_edge.resize(n.div_ceil(64), 0);
-        for &(k, m) in &self.pairs {
+        for &(k, m) in &self.pairs[..self.pairs_len] {
             let (k, m) = (k as usize, m as usize);
             let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
             let (wi, wj) = (wants[i], wants[j]);
