@@ -7,8 +7,8 @@ impl Collisions {
     /// Marks `released` the smallest robot of each strongly connected component of two or
     /// more robots (Tarjan's algorithm without recursion), over the robots in `blocked`, by
     /// their places there. A robot that is not blocked has no way out, so it is never on a
-    /// cycle, and edges to it are skipped. Expects `slot_of` to give the places of this
-    /// step's blocked robots.
+    /// cycle, and edges to it are skipped. Expects `place` to give the
+    /// places of this step's blocked robots.
     pub(super) fn release_cycles(&mut self) {
         let m = self.blocked.len();
         for (v, value) in [(&mut self.index, u32::MAX), (&mut self.low, 0)] {
@@ -35,7 +35,7 @@ impl Collisions {
             while let Some(&mut (v, ref mut e)) = self.call.last_mut() {
                 let v = v as usize;
                 if *e < self.edge_start[v + 1] {
-                    let w = self.slot_of[self.edge_to[*e as usize] as usize];
+                    let w = super::place(&self.blocked_bits, &self.rank, self.edge_to[*e as usize] as usize);
                     *e += 1;
                     if w == u32::MAX {
                         continue;

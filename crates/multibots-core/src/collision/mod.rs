@@ -70,6 +70,31 @@ mod cycles;
 mod grid;
 mod pairs;
 
+/// Robot `i`'s place among the robots marked in `bits`, with `rank` counting the marks of
+/// the bytes before each; `u32::MAX` if `i` is not marked. Bytes and a table rather than
+/// words and `count_ones`: without a CPU feature the build does not assume, that is a
+/// dozen instructions, and the release asks once for every edge.
+#[inline]
+fn place(bits: &[u8], rank: &[u32], i: usize) -> u32 {
+    let (b, bit) = (bits[i >> 3], 1u8 << (i & 7));
+    if b & bit == 0 {
+        u32::MAX
+    } else {
+        rank[i >> 3] + u32::from(ONES[usize::from(b & (bit - 1))])
+    }
+}
+
+/// The number of bits set in each byte.
+const ONES: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut b = 0;
+    while b < 256 {
+        t[b] = (b as u8).count_ones() as u8;
+        b += 1;
+    }
+    t
+};
+
 /// Fleets of at most this many robots use no cells (see [`Collisions`]): with 32 robots a
 /// pass over all of them is as cheap as reading a few cells.
 const TINY: usize = 32;
@@ -138,10 +163,11 @@ pub struct Collisions {
     // `blocked[s]`'s blockers, `edge_to[edge_start[s]..edge_start[s + 1]]` (robot ids).
     edge_start: Vec<u32>,
     edge_to: Vec<u32>,
-    /// Each robot's place in `blocked`, `u32::MAX` for robots not blocked (the resting state
-    /// between steps). The one per-robot column of the release: everything else of it is
-    /// sized to the blocked robots.
-    slot_of: Vec<u32>,
+    /// The blocked robots as bits of their ids (all clear between steps), and for each byte
+    /// of bits how many are blocked in the bytes before it: a robot's place in `blocked`
+    /// is a count of bits (`place`), with no per-robot column.
+    blocked_bits: Vec<u8>,
+    rank: Vec<u32>,
     /// Dense grids: this step's pairs of places within `sqrt(pairs_r2)` (see `pairs.rs`),
     /// from [`Collisions::resolve`] until the next grid is built; `pairs_r2` is -∞ when
     /// there are none to read.
@@ -153,8 +179,6 @@ pub struct Collisions {
     contact_span2: f64,
     /// "Blocked by" edges from the pairs, `(from, to)`, before they are sorted into rows.
     pair_edges: Vec<(u32, u32)>,
-    /// Robots with an edge this step, as bits of their ids; all clear between steps.
-    has_edge: Vec<u64>,
     /// Where the next edge of each row goes, while they are sorted into rows.
     cursor: Vec<u32>,
     /// Output: robots that wait this step.
@@ -223,7 +247,8 @@ impl Collisions {
             sr: Vec::new(),
             edge_start: Vec::new(),
             edge_to: Vec::new(),
-            slot_of: vec![u32::MAX; robots],
+            blocked_bits: vec![0; robots.div_ceil(8)],
+            rank: vec![0; robots.div_ceil(8)],
             waits: vec![false; robots],
             index: Vec::new(),
             low: Vec::new(),
@@ -238,7 +263,6 @@ impl Collisions {
             pairs_r2: f64::NEG_INFINITY,
             contact_span2: 0.0,
             pair_edges: Vec::new(),
-            has_edge: Vec::new(),
             cursor: Vec::new(),
         }
     }
@@ -381,7 +405,7 @@ impl Collisions {
         let w = (self.reach * self.sin_angle.1 * 1.000_001 + 1e-9) * grid.inv_size;
         // Build the "blocked by" edges (in no particular order: the components, and so who
         // is released, do not depend on it).
-        let (edge_to, edge_start, blocked, slot_of) = (&mut self.edge_to, &mut self.edge_start, &mut self.blocked, &mut self.slot_of[..n]);
+        let (edge_to, edge_start, blocked, bits_of_blocked) = (&mut self.edge_to, &mut self.edge_start, &mut self.blocked, &mut self.blocked_bits[..]);
         edge_to.clear();
         edge_start.clear();
         blocked.clear();
@@ -389,7 +413,7 @@ impl Collisions {
         // place (robots come in id order, so `blocked` is ascending).
         let mut row = |i: usize, before: usize, after: usize| {
             if after > before {
-                slot_of[i] = blocked.len() as u32;
+                bits_of_blocked[i >> 3] |= 1 << (i & 7);
                 blocked.push(i as u32);
                 edge_start.push(before as u32);
             }
@@ -514,13 +538,30 @@ impl Collisions {
         }
         // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's
         // work is in proportion to them, not to the fleet.
+        self.rank_blocked();
         self.release_cycles();
         for (&i, &released) in self.blocked.iter().zip(&self.released) {
             let i = i as usize;
             self.waits[i] = !released;
             // Back to the resting state for the next step.
-            self.slot_of[i] = u32::MAX;
+            self.blocked_bits[i >> 3] = 0;
         }
+    }
+
+    /// Counts the blocked robots byte by byte of `blocked_bits`, for [`Collisions::place`].
+    fn rank_blocked(&mut self) {
+        let mut total = 0;
+        for (r, &b) in self.rank.iter_mut().zip(&self.blocked_bits) {
+            *r = total;
+            total += u32::from(ONES[usize::from(b)]);
+        }
+    }
+
+    /// Robot `i`'s place in `blocked` (ascending ids), `u32::MAX` if it is not blocked.
+    /// Needs [`Collisions::rank_blocked`] after the last robot was marked.
+    #[inline]
+    fn place(&self, i: usize) -> u32 {
+        place(&self.blocked_bits, &self.rank, i)
     }
 }
 
@@ -655,7 +696,7 @@ mod tests {
 
     #[test]
     fn one_collisions_kept_from_step_to_step_decides_as_a_fresh_one() {
-        // The release keeps its places (`slot_of`) only for the step: a kept `Collisions`
+        // The release keeps its marks (`blocked_bits`) only for the step: a kept `Collisions`
         // must decide each step as a new one would, whichever robots were blocked before.
         // Dense clouds with random headings give cycles of every size.
         let mut rnd = uniform(99);

@@ -75,9 +75,8 @@ impl Collisions {
         let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
         let edges = &mut self.pair_edges;
         edges.clear();
-        // Which robots have an edge, as bits of their ids (all clear between steps).
-        let has_edge = &mut self.has_edge;
-        has_edge.resize(n.div_ceil(64), 0);
+        // Which robots have an edge: bits of their ids (all clear between steps).
+        let bits = &mut self.blocked_bits;
         for &(k, m) in &self.pairs[..self.pairs_len] {
             let (k, m) = (k as usize, m as usize);
             let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
@@ -94,45 +93,46 @@ impl Collisions {
             }
             if wi && blocks(sx[k], sy[k], alpha[i], sx[m], sy[m], r, angle) {
                 edges.push((i as u32, j as u32));
-                has_edge[i >> 6] |= 1 << (i & 63);
+                bits[i >> 3] |= 1 << (i & 7);
             }
             if wj && blocks(sx[m], sy[m], alpha[j], sx[k], sy[k], r, angle) {
                 edges.push((j as u32, i as u32));
-                has_edge[j >> 6] |= 1 << (j & 63);
+                bits[j >> 3] |= 1 << (j & 7);
             }
         }
-        // The blocked robots in ascending order from the bits (clearing them for the next
-        // step), then the edges counting-sorted into their rows.
-        let (edge_to, edge_start, blocked, slot_of, cursor) =
-            (&mut self.edge_to, &mut self.edge_start, &mut self.blocked, &mut self.slot_of[..n], &mut self.cursor);
-        blocked.clear();
-        for (w, bits) in has_edge.iter_mut().enumerate() {
-            let mut b = std::mem::take(bits);
+        // The blocked robots in ascending order from the bits, then the edges counting-sorted
+        // into their rows.
+        self.blocked.clear();
+        for (w, &byte) in self.blocked_bits.iter().enumerate() {
+            let mut b = byte;
             while b != 0 {
-                let i = w * 64 + b.trailing_zeros() as usize;
+                self.blocked.push((w * 8 + b.trailing_zeros() as usize) as u32);
                 b &= b - 1;
-                slot_of[i] = blocked.len() as u32;
-                blocked.push(i as u32);
             }
         }
+        self.rank_blocked();
+        let mut edge_start = std::mem::take(&mut self.edge_start);
         edge_start.clear();
-        edge_start.resize(blocked.len() + 1, 0);
-        for &(i, _) in edges.iter() {
-            edge_start[slot_of[i as usize] as usize + 1] += 1;
+        edge_start.resize(self.blocked.len() + 1, 0);
+        for &(i, _) in &self.pair_edges {
+            edge_start[self.place(i as usize) as usize + 1] += 1;
         }
         let mut total = 0;
-        for e in edge_start.iter_mut() {
+        for e in &mut edge_start {
             total += *e;
             *e = total;
         }
+        let mut cursor = std::mem::take(&mut self.cursor);
         cursor.clear();
-        cursor.extend_from_slice(&edge_start[..blocked.len()]);
+        cursor.extend_from_slice(&edge_start[..self.blocked.len()]);
+        let mut edge_to = std::mem::take(&mut self.edge_to);
         edge_to.clear();
-        edge_to.resize(edges.len(), 0);
-        for &(i, j) in edges.iter() {
-            let s = slot_of[i as usize] as usize;
+        edge_to.resize(self.pair_edges.len(), 0);
+        for &(i, j) in &self.pair_edges {
+            let s = self.place(i as usize) as usize;
             edge_to[cursor[s] as usize] = j;
             cursor[s] += 1;
         }
+        (self.edge_start, self.cursor, self.edge_to) = (edge_start, cursor, edge_to);
     }
 }
