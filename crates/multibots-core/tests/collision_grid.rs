@@ -159,3 +159,44 @@ fn grid_agrees_with_the_definition_in_a_pile_of_more_than_64_robots() {
     assert_eq!(c.waits, brute(&x, &y, &vec![12.5; n], 0.0, &wants, &alpha, 30f64.to_radians()));
     assert!(c.waits.iter().any(|&w| w), "the pile must block someone");
 }
+
+#[test]
+fn a_dense_grid_kept_from_step_to_step_agrees_with_the_definition() {
+    // One `Collisions` over several steps of a crowded floor (a dense grid: its neighbour
+    // pairs stand in for the search boxes): robots walk a few px a step, some step into bays
+    // and out again, and in some steps a pile forms on one spot, with more pairs than the
+    // list keeps (the boxes decide that step). No step may see another step's pairs.
+    let mut rnd = xorshift(20_261_123);
+    let n = 300;
+    let (side, reach) = (400.0, 25.0);
+    let headings = [0.0, PI, FRAC_PI_2, -FRAC_PI_2, 1.0, -2.5];
+    let mut x: Vec<f64> = (0..n).map(|_| (rnd() % 400) as f64).collect();
+    let mut y: Vec<f64> = (0..n).map(|_| (rnd() % 8) as f64 * 50.0).collect();
+    let radius = vec![12.5; n];
+    let mut c = Collisions::new([-50.0, -50.0, side + 50.0, side + 50.0], reach, n);
+    let mut waited = 0;
+    for step in 0..12 {
+        let alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() % headings.len() as u64) as usize]).collect();
+        let wants: Vec<bool> = (0..n).map(|_| rnd() % 4 != 0).collect();
+        let bay: Vec<bool> = (0..n).map(|_| step % 3 == 1 && rnd() % 10 == 0).collect();
+        c.bay.clone_from(&bay);
+        let (mut px, mut py) = (x.clone(), y.clone());
+        if step % 4 == 2 {
+            // 200 robots on one spot: 19,900 pairs, past the list's limit for 300 robots.
+            for i in 0..200 {
+                (px[i], py[i]) = (200.0, 200.0);
+            }
+        }
+        c.resolve(&px, &py, &radius, &wants, &alpha, 0.0, 30f64.to_radians());
+        let want = brute_with_bays(&px, &py, &radius, 0.0, &wants, &alpha, 30f64.to_radians(), &bay);
+        assert_eq!(c.waits, want, "step {step}");
+        waited += want.iter().filter(|&&w| w).count();
+        for i in 0..n {
+            if wants[i] && !c.waits[i] {
+                x[i] = (x[i] + 4.0 * alpha[i].cos()).clamp(0.0, side);
+                y[i] = (y[i] + 4.0 * alpha[i].sin()).clamp(0.0, side);
+            }
+        }
+    }
+    assert!(waited > 300, "the floor is crowded enough to block: {waited}");
+}

@@ -177,6 +177,8 @@ impl Collisions {
     /// [`Collisions::contacts_within`] for dense grids: each pair of neighbouring robots is
     /// found once, from the cell of the first in grid order (the rest of its cell, the next
     /// cell of its row and the three cells below), instead of once from each robot's box.
+    /// The pairs the collision test collected this step are read again where they reach
+    /// far enough; else the count collects its own (`pairs.rs`).
     /// Each pair found is then judged exactly as the box scan judges it, from the same robot
     /// (the one that moved; of two that moved, the smaller id), so the pairs looked at, the
     /// count and the closest approach are the same to the bit. `None` where that cannot be
@@ -196,9 +198,10 @@ impl Collisions {
         // From the next step on, the collision test collects its pairs this wide too.
         self.contact_span2 = self.contact_span2.max(span2);
         let half = 0.5 * slack;
-        if span2 > self.pairs_r2 {
-            // The collision test did not collect them this step, or not this wide.
-            self.collect_pairs(span2);
+        if span2 > self.pairs_r2 && !self.collect_pairs(span2) {
+            // The collision test did not collect them this step, or not this wide, and there
+            // are too many to keep: the boxes count without keeping them.
+            return None;
         }
         let placed = self.placed;
         let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);

@@ -7,8 +7,8 @@ impl Collisions {
     /// Marks `released` the smallest robot of each strongly connected component of two or
     /// more robots (Tarjan's algorithm without recursion), over the robots in `blocked`, by
     /// their places there. A robot that is not blocked has no way out, so it is never on a
-    /// cycle, and edges to it are skipped. Expects `place` to give the
-    /// places of this step's blocked robots.
+    /// cycle, and edges to it are skipped. Expects `blocked_bits` and `rank` to give the
+    /// places of this step's blocked robots (`Collisions::rank_blocked`).
     pub(super) fn release_cycles(&mut self) {
         let m = self.blocked.len();
         for (v, value) in [(&mut self.index, u32::MAX), (&mut self.low, 0)] {

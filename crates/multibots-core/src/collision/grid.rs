@@ -1,5 +1,6 @@
 //! The collision phase's uniform grid: positions to cells, and the robots sorted by cell so
-//! that the cells a search box covers in one grid row are one contiguous run.
+//! that the cells a search box covers in one grid row are one contiguous run, and so that
+//! the pairs of neighbouring robots can be read from it (`pairs.rs`).
 
 use super::Collisions;
 
@@ -26,11 +27,18 @@ impl Grid {
 
     /// The cell column and row of a point in grid units, clamped into the grid (robots never
     /// leave it: it has a free cell around everything they can reach). `as i32` truncates
-    /// like `floor` for the non-negative values that occur, and saturates on the rest.
+    /// like `floor` for the non-negative values that positions in bounds give; any other
+    /// value (out of bounds; NaN goes to 0) ends in a border cell.
     #[inline]
     pub(super) fn cell(&self, tx: f64, ty: f64) -> (u32, u32) {
         ((tx as i32).clamp(0, self.last_col) as u32, (ty as i32).clamp(0, self.last_row) as u32)
     }
+}
+
+/// The largest radius, NaN if any is NaN (then every contact test passes, as in the
+/// definition).
+pub(super) fn max_radius(radius: &[f64]) -> f64 {
+    radius.iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) })
 }
 
 /// The range of cells from `c` (the cell of `t`, in grid units) that a box from `t - lo` to
@@ -84,7 +92,7 @@ impl Collisions {
     /// `contacts.rs`). A NaN radius or margin (scenarios refuse them; the public API does
     /// not) makes every contact test pass, as in the definition: then every pair is flagged.
     pub(super) fn cover_of(&self, radius: &[f64]) -> f64 {
-        let r_max = radius.iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) });
+        let r_max = max_radius(radius);
         let widest = 2.0 * r_max + self.margin;
         if widest.is_nan() {
             f64::INFINITY

@@ -6,16 +6,18 @@
 //! strongly connected component of two or more robots of the "blocked by" graph, the robot
 //! with the smallest id is released. Everyone else who is blocked waits.
 //!
-//! Candidates come from a uniform grid whose cells are twice the largest contact distance
-//! wide, so the cost grows with N, not N². Each step the robots are counting-sorted by cell,
-//! with their positions copied alongside, so the cells a search box covers in a grid row are
-//! one contiguous run. In a dense grid whose cells are wider than every contact distance, the
-//! pairs of neighbouring robots are found once from the sorted order instead (`pairs.rs`),
-//! and the contact count after the moves reads the same pairs. The speed-ups are exact: shortcuts (distances along the axes, the
-//! cone box, the "clearly far" filter) only skip work whose outcome is certain, and `blocks`
-//! decides every case near a boundary, so results are bit-identical to the brute-force
-//! definition (tested in `tests/collision_grid.rs`). All buffers live in [`Collisions`] and
-//! are reused from step to step.
+//! Candidates come from a uniform grid whose cells are twice the `reach` given to
+//! [`Collisions::new`] wide (the largest contact distance; wider where the cell count is
+//! capped), so the cost grows with N, not N². Each step the robots are sorted by cell, with
+//! their positions copied alongside, so the cells a search box covers in a grid row are one
+//! contiguous run. In a dense grid the pairs of neighbouring robots are found once from the
+//! sorted order instead of a box per robot (`pairs.rs`), and the contact count after the
+//! moves reads the same pairs. The speed-ups are exact: shortcuts (distances along the axes,
+//! the cone box, the "clearly far" filter) only skip work whose outcome is certain, and
+//! `blocks` decides every case near a boundary, so results are bit-identical to the
+//! brute-force definition (tested in `tests/collision_grid.rs`) as long as every contact
+//! distance is within `reach`. All buffers live in [`Collisions`] and are reused from step
+//! to step.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -141,7 +143,7 @@ pub struct Collisions {
     /// The farthest a coordinate can be from 0 (robots never leave the bounds): rounding
     /// in a move is at most a few units in the last place of it.
     far_coordinate: f64,
-    /// The widest distance [`Collisions::contacts`] has looked at.
+    /// Tiny fleets: the widest distance [`Collisions::contacts`] has looked at.
     contact_need: f64,
     /// Robots in the grid (bays aside): `by_cell[..placed]`.
     placed: usize,
@@ -169,13 +171,15 @@ pub struct Collisions {
     blocked_bits: Vec<u8>,
     rank: Vec<u32>,
     /// Dense grids: this step's pairs of places within `sqrt(pairs_r2)` (see `pairs.rs`),
-    /// from [`Collisions::resolve`] until the next grid is built; `pairs_r2` is -∞ when
-    /// there are none to read.
+    /// `pairs[..pairs_len]` (the buffer only grows), collected by [`Collisions::resolve`] or
+    /// by the contact count, and kept until the next grid is built. `pairs_r2` is 0 when
+    /// there are none to read (every distance asked for is wider).
     pairs: Vec<(u32, u32)>,
     pairs_len: usize,
     pairs_r2: f64,
-    /// The widest squared distance the contact count has looked at in a dense grid: the
-    /// pairs are collected this wide, so that the count can reuse them.
+    /// Dense grids: the widest squared distance the contact count has ever looked at, so
+    /// that the collision test collects its pairs wide enough for the count to reuse them
+    /// (`contact_need` is the same for tiny fleets, as a distance).
     contact_span2: f64,
     /// "Blocked by" edges from the pairs, `(from, to)`, before they are sorted into rows.
     pair_edges: Vec<(u32, u32)>,
@@ -260,7 +264,7 @@ impl Collisions {
             bay: Vec::new(),
             pairs: Vec::new(),
             pairs_len: 0,
-            pairs_r2: f64::NEG_INFINITY,
+            pairs_r2: 0.0,
             contact_span2: 0.0,
             pair_edges: Vec::new(),
             cursor: Vec::new(),
@@ -270,14 +274,21 @@ impl Collisions {
     /// Sorts the robots (bays aside) into the grid by their positions; returns whether the
     /// fleet shares one radius. [`Collisions::resolve`] and [`Collisions::contacts`] read it.
     pub fn build_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64]) -> bool {
+        self.sort_into_grid(x, y, radius).0
+    }
+
+    /// [`Collisions::build_grid`]; also returns whether a robot in the grid stands at a NaN
+    /// coordinate.
+    fn sort_into_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64]) -> (bool, bool) {
         let n = x.len();
         let (y, radius) = (&y[..n], &radius[..n]);
-        self.pairs_r2 = f64::NEG_INFINITY;
+        self.pairs_r2 = 0.0;
         let grid = self.grid;
         let bay: &[bool] = if self.bay.is_empty() { &[] } else { &self.bay[..n] };
         let cell_of = &mut self.cell_of[..n];
         // Every robot can block, so every robot goes into the grid (bays aside).
         let mut placed = 0;
+        let mut nan = false;
         for i in 0..n {
             if !bay.is_empty() && bay[i] {
                 cell_of[i] = u32::MAX;
@@ -289,6 +300,7 @@ impl Collisions {
                 cell_of[i] = 0;
                 continue;
             }
+            nan |= x[i].is_nan() | y[i].is_nan();
             let (tx, ty) = grid.scaled(x[i], y[i]);
             let (cx, cy) = grid.cell(tx, ty);
             cell_of[i] = (cy as usize * grid.cols + cx as usize) as u32;
@@ -307,7 +319,7 @@ impl Collisions {
         } else {
             self.repair_order(x, y, radius, uniform, placed);
         }
-        uniform
+        (uniform, nan)
     }
 
     /// For how many steps from now collision waiting surely blocks nobody and
@@ -374,16 +386,17 @@ impl Collisions {
         // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
         let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
         self.waits[..n].fill(false);
-        self.pairs_r2 = f64::NEG_INFINITY;
+        self.pairs_r2 = 0.0;
         // A robot alone is never blocked (the paper's N = 1 runs: 40% of its steps).
         if n < 2 || !wants.contains(&true) {
             return;
         }
         self.margin = margin;
-        let uniform = self.build_grid(x, y, radius);
-        let r_max = if uniform { radius[0] } else { radius.iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) }) };
-        if let Some(r2) = self.pair_reach2(r_max, margin) {
-            self.collect_pairs(r2);
+        let (uniform, nan) = self.sort_into_grid(x, y, radius);
+        // A robot at a NaN coordinate lands in a cell of its own choosing: the boxes decide
+        // what it finds, as they always did.
+        let pairs = if nan { None } else { self.pair_reach2(radius, uniform, margin) };
+        if pairs.is_some_and(|r2| self.collect_pairs(r2)) {
             self.edges_from_pairs(wants, alpha, radius, margin, angle);
             self.release_blocked();
             return;
@@ -803,6 +816,34 @@ mod tests {
         }
         // The test means something: the pass was skipped in many steps, and robots met.
         assert!(skipped * 3 > steps && waited > 100 && touched > 10, "skipped {skipped} of {steps}, waited {waited}, touched {touched}");
+    }
+
+    #[test]
+    fn the_pairs_stand_in_for_the_boxes_only_where_they_find_the_same() {
+        // A dense grid of robots on aisles: the pairs are collected (and the contact count
+        // can read them). A robot at a NaN coordinate, a contact distance wider than the
+        // boxes reach, or a pile with more pairs than the list keeps: the boxes decide.
+        let n = 300;
+        let mut rnd = uniform(7);
+        let x: Vec<f64> = (0..n).map(|_| (rnd() * 400.0).round()).collect();
+        let y: Vec<f64> = (0..n).map(|_| (rnd() * 8.0).floor() * 50.0).collect();
+        let (wants, alpha, radius) = (vec![true; n], vec![0.0; n], vec![12.5; n]);
+        let kept_pairs = |x: &[f64], y: &[f64], margin: f64| {
+            let mut c = Collisions::new([-50.0, -50.0, 450.0, 450.0], 25.0, n);
+            assert!(c.dense);
+            c.resolve(x, y, &radius, &wants, &alpha, margin, ANGLE);
+            c.pairs_r2 > 0.0
+        };
+        assert!(kept_pairs(&x, &y, 0.0), "the usual case uses the pairs");
+        let mut nan_y = y.clone();
+        nan_y[17] = f64::NAN;
+        assert!(!kept_pairs(&x, &nan_y, 0.0), "a NaN coordinate");
+        assert!(!kept_pairs(&x, &y, 1.0), "contacts wider than the boxes reach");
+        let (mut px, mut py) = (x.clone(), y.clone());
+        for i in 0..200 {
+            (px[i], py[i]) = (200.0, 200.0);
+        }
+        assert!(!kept_pairs(&px, &py, 0.0), "a pile past the list's limit");
     }
 
     #[test]

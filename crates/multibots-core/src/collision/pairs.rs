@@ -1,30 +1,37 @@
 //! Dense grids: the pairs of neighbouring robots, found once a step from the sorted order
 //! and shared by the collision test and the contact count.
 //!
-//! Cells are at least twice the contact distance wide, so two robots within it stand in the
-//! same cell or in two neighbouring ones. Each pair is found once, from the cell of the first
-//! in grid order: the rest of its cell, the next cell of its row and the three cells below.
-//! A robot's own search box costs more than its share of these reads when, as in a crowded
-//! warehouse, it holds one or two others: it is computed for every robot that wants to move,
-//! in rows that each need their own run.
+//! Two robots within a cell's width of each other stand in the same cell or in two
+//! neighbouring ones. Each pair is found once, from the cell of the first in grid order: the
+//! rest of its cell, the next cell of its row and the three cells below. A robot's own
+//! search box costs more than its share of these reads when, as in a crowded warehouse, it
+//! holds one or two others: it is computed for every robot that wants to move, in rows that
+//! each need their own run.
 
-use super::{blocks, Collisions};
+use super::{blocks, grid::max_radius, Collisions};
+
+/// Pairs kept per robot in the grid (and a few more for small fleets) before a step gives
+/// up on the list and falls back to the search boxes: a pile of robots on one spot has
+/// pairs in the square of its size, which the boxes test without keeping.
+const PAIRS_PER_ROBOT: usize = 32;
 
 impl Collisions {
-    /// Whether the pairs of this step's grid can stand in for the search boxes: a dense
-    /// grid whose cells are wider than every contact distance (radii `r_max` at most, and
-    /// `margin`) and than what the contact count looked at last, with room for rounding.
-    /// Then returns the squared distance to collect pairs within.
-    pub(super) fn pair_reach2(&self, r_max: f64, margin: f64) -> Option<f64> {
+    /// Whether the pairs of this step's grid can stand in for the search boxes, and how wide
+    /// to collect them (squared): a dense grid, with every contact distance (the radii and
+    /// `margin`) within the boxes' `reach` (wider ones the boxes miss, and so must the
+    /// pairs), and the cells wider than that and than the contact count's widest look, with
+    /// room for rounding.
+    pub(super) fn pair_reach2(&self, radius: &[f64], uniform: bool, margin: f64) -> Option<f64> {
         if !self.dense {
             return None;
         }
+        let r_max = if uniform { radius[0] } else { max_radius(radius) };
         // The widest contact distance `blocks` is given, and the collision test's filter on
         // it (`d² > r² · 1.000001` is far): contact distances are sums of two radii and the
-        // margin, and rounding keeps their order.
+        // margin, and for values that can block rounding keeps their order.
         let widest = r_max + r_max + margin;
-        if widest.is_nan() {
-            // The boxes' NaN handling decides.
+        if widest.is_nan() || widest * (1.0 + 1e-9) + 1e-9 > self.reach {
+            // NaN: every contact test passes, and the boxes look only so far.
             return None;
         }
         let r2 = (widest * widest * 1.000_001).max(self.contact_span2);
@@ -35,8 +42,10 @@ impl Collisions {
     /// Collects the pairs of places `k < m` in the sorted order whose positions are not
     /// farther apart than `sqrt(r2)` (a NaN distance counts as near): every pair within the
     /// cell size, less rounding, is among them. They stay for the contact count after the
-    /// moves, until the next grid is built.
-    pub(super) fn collect_pairs(&mut self, r2: f64) {
+    /// moves, until the next grid is built. `false`, with no pairs kept, where there would
+    /// be more than `PAIRS_PER_ROBOT` a robot.
+    pub(super) fn collect_pairs(&mut self, r2: f64) -> bool {
+        self.pairs_r2 = 0.0;
         let placed = self.placed;
         let cols = self.grid.cols;
         let (first, by_cell, sx, sy, cell_of) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.cell_of[..]);
@@ -51,7 +60,11 @@ impl Collisions {
             for (m0, m1) in [(k + 1, first[c + 2] as usize), (first[c + cols - 1] as usize, first[c + cols + 2] as usize)] {
                 let need = len + m1.saturating_sub(m0);
                 if pairs.len() < need {
-                    pairs.resize(need.max(2 * pairs.len()), (0, 0));
+                    let limit = PAIRS_PER_ROBOT * placed + 1024;
+                    if need > limit {
+                        return false;
+                    }
+                    pairs.resize(need.max(2 * pairs.len()).min(limit), (0, 0));
                 }
                 for m in m0..m1 {
                     let (dx, dy) = (sx[m] - px, sy[m] - py);
@@ -63,6 +76,7 @@ impl Collisions {
         }
         self.pairs_len = len;
         self.pairs_r2 = r2;
+        true
     }
 
     /// The "blocked by" edges from this step's pairs: in compressed rows over the blocked
