@@ -275,12 +275,16 @@ mod tests {
             let pairs = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             let boxes = c.contacts_by_boxes(&x, &y, &radius, &moved, r_max, 8.0);
             assert_eq!((pairs.0, pairs.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}");
-            // The same grid through the collision test, which collects the pairs this wide
-            // (the count above asked for it): the count reads them instead.
+            // A grid as the simulation builds it (reaching the widest contact distance)
+            // through the collision test, which collects the pairs as wide as the count
+            // asked for once: the count reads them instead of collecting its own.
+            let mut k = Collisions::new([0.0, 0.0, side, side], 2.0 * r_max, n);
+            k.build_grid(&px, &py, &radius);
+            let _ = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             let heading = vec![0.0; n];
-            c.resolve(&px, &py, &radius, &vec![true; n], &heading, 0.0, 0.5);
-            assert!(c.pairs_r2 >= 0.0, "case {case}: the collision test collected pairs");
-            let kept = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
+            k.resolve(&px, &py, &radius, &vec![true; n], &heading, 0.0, 0.5);
+            assert!(k.pairs_r2 > 0.0, "case {case}: the collision test collected pairs");
+            let kept = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             assert_eq!((kept.0, kept.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}, pairs kept");
             found += pairs.0;
         }

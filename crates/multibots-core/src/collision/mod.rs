@@ -541,17 +541,20 @@ impl Collisions {
             }
         }
         edge_start.push(edge_to.len() as u32);
+        if !self.edge_to.is_empty() {
+            self.rank_blocked();
+        }
         self.release_blocked();
     }
 
-    /// Who of the blocked robots waits: all but the released, from this step's edges.
+    /// Who of the blocked robots waits: all but the released, from this step's edges (and
+    /// the places that [`Collisions::rank_blocked`] counted for them).
     fn release_blocked(&mut self) {
         if self.edge_to.is_empty() {
             return;
         }
         // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's
         // work is in proportion to them, not to the fleet.
-        self.rank_blocked();
         self.release_cycles();
         for (&i, &released) in self.blocked.iter().zip(&self.released) {
             let i = i as usize;
