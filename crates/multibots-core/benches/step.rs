@@ -22,7 +22,7 @@ const SIZES: [(&str, &str); 4] = [
     ("huge", include_str!("../../../benchmarks/sizes/huge.toml")),
 ];
 
-use multibots_core::scenario::PAPER_TASKS as GROUPS;
+use multibots_core::input::scenario::PAPER_TASKS as GROUPS;
 
 fn scenario(name: &str) -> Scenario {
     let text = SIZES.iter().find(|s| s.0 == name).expect("a named size").1;

@@ -2,7 +2,7 @@
 //! policies, plus 10 seeded random lists of 10 goods: a fingerprint of the strategies'
 //! behaviour (benchmarks/fingerprints.sh hashes it).
 use multibots_core::alloc::BUILT_INS;
-use multibots_core::scenario::{ChargingPolicy, Tasks, PAPER_TASKS};
+use multibots_core::input::scenario::{ChargingPolicy, Tasks, PAPER_TASKS};
 use multibots_core::{Scenario, Simulation};
 
 fn main() {

@@ -8,7 +8,7 @@ use std::time::Instant;
 fn main() {
     let envs: usize = std::env::args().nth(1).map_or(16, |s| s.parse().expect("envs"));
     let secs: f64 = std::env::args().nth(2).map_or(3.0, |s| s.parse().expect("secs"));
-    let s = Scenario::paper(3, &multibots_core::scenario::PAPER_TASKS[0]);
+    let s = Scenario::paper(3, &multibots_core::input::scenario::PAPER_TASKS[0]);
     let mut ds: Vec<Dispatcher> = (0..envs).map(|_| Dispatcher::new(&s, Settings::of(&s)).unwrap()).collect();
     let mut obs = Observation::zeros(3, 10);
     let mut rng: u64 = 1;

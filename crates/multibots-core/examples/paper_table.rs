@@ -1,7 +1,7 @@
 //! Prints the paper's 30-run table (N = 1..6 × TABLE III) from the engine alone.
 use multibots_core::{Scenario, Simulation};
 
-use multibots_core::scenario::PAPER_TASKS as GROUPS;
+use multibots_core::input::scenario::PAPER_TASKS as GROUPS;
 
 fn main() {
     let margin: f64 = std::env::args().nth(1).map_or(0.0, |s| s.parse().expect("margin"));

@@ -2,7 +2,7 @@
 //! tables of `docs/scenario-format.md`, all generated from the engine's schema types:
 //! `cargo run -p multibots-core --example schema`, or with `-- --check` to fail when a
 //! shipped copy is stale (`make lint`; `cargo test` checks it too).
-use multibots_core::schema;
+use multibots_core::input::schema;
 use std::path::Path;
 
 fn main() {

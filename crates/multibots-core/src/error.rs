@@ -39,18 +39,18 @@ pub enum Error {
 
 impl Error {
     /// A scenario field's value refused for `reason`; the value is shortened and made inert
-    /// ([`crate::limits::shown`]).
+    /// ([`crate::input::limits::shown`]).
     #[must_use]
     pub fn scenario(field: impl Into<String>, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
-        Error::Scenario { field: crate::limits::shown(&field.into()), value: crate::limits::shown(&value.to_string()), reason: reason.into() }
+        Error::Scenario { field: crate::input::limits::shown(&field.into()), value: crate::input::limits::shown(&value.to_string()), reason: reason.into() }
     }
 
     pub(crate) fn layout(field: impl Into<String>, reason: impl Into<String>) -> Self {
-        Error::Layout { field: crate::limits::shown(&field.into()), reason: crate::limits::inert(&reason.into()) }
+        Error::Layout { field: crate::input::limits::shown(&field.into()), reason: crate::input::limits::inert(&reason.into()) }
     }
 
     pub(crate) fn io(path: impl Into<String>, err: &std::io::Error) -> Self {
-        Error::Io { path: crate::limits::shown(&path.into()), message: crate::limits::inert(&err.to_string()) }
+        Error::Io { path: crate::input::limits::shown(&path.into()), message: crate::input::limits::inert(&err.to_string()) }
     }
 }
 
@@ -60,9 +60,9 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 /// a syntax error, then the first line of the parser's message.
 pub(crate) fn toml_message(text: &str, e: serde_path_to_error::Error<toml::de::Error>) -> String {
     // The path holds the user's keys, which may be anything (a control character, 10 MB).
-    let path = crate::limits::shown(&e.path().to_string());
+    let path = crate::input::limits::shown(&e.path().to_string());
     let inner = e.into_inner();
-    let msg = crate::limits::inert(inner.message().lines().next().unwrap_or_default().trim());
+    let msg = crate::input::limits::inert(inner.message().lines().next().unwrap_or_default().trim());
     if !path.is_empty() && path != "." {
         return format!("{path}: {msg}");
     }

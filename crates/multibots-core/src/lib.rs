@@ -9,36 +9,15 @@
 //! ```
 
 pub mod alloc;
-pub mod batch;
-pub mod charging;
-pub mod codec;
 pub mod collision;
-mod cruise;
-pub mod decision_point;
-pub mod energy;
 pub mod error;
-pub mod events;
-pub mod files;
-pub mod goods_queue;
-pub mod graph;
+pub mod fleet;
 pub mod ids;
-pub mod layout;
-pub mod layout_file;
+pub mod input;
 pub mod learning;
-pub mod lifelong;
-pub mod limits;
-pub mod metrics;
-pub mod original;
+pub mod output;
 pub mod people;
-pub mod placement;
-pub mod replay;
-pub mod robot;
-pub mod route;
-pub mod scenario;
-pub mod schema;
-pub mod sim;
-pub mod simulation;
-pub mod tasks;
+pub mod rules;
 pub mod traffic;
 pub mod world;
 
@@ -53,13 +32,13 @@ pub(crate) fn xorshift(s: &mut u64) -> u64 {
 
 pub use alloc::{AllocView, Allocator, Assignment, Decisions, Goods};
 pub use error::{Error, Result};
-pub use events::{Event, EventKind};
-pub use graph::HighwayGraph;
+pub use fleet::robot::{State, Target};
 pub use ids::{CellId, GoodsId, NodeId, RobotId};
-pub use layout::{Layout, LayoutParams};
-pub use metrics::{Outcome, RobotStats, RunResult};
-pub use original::Original;
-pub use robot::{State, Target};
-pub use scenario::{Rules, Scenario, Traffic, Unload};
-pub use simulation::Simulation;
+pub use input::scenario::{Rules, Scenario, Traffic, Unload};
+pub use output::events::{Event, EventKind};
+pub use output::metrics::{Outcome, RobotStats, RunResult};
+pub use rules::original::Original;
+pub use rules::Simulation;
+pub use world::graph::HighwayGraph;
+pub use world::layout::{Layout, LayoutParams};
 pub use world::World;

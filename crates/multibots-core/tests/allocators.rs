@@ -2,8 +2,8 @@
 //! validation by the engine, determinism, and in-turn against the paper model.
 
 use multibots_core::alloc::{self, AllocView, Auction, EnergyAware, EnergyModel, Goods, Hungarian, InTurn, MinCost, Nearest, TaskModel};
-use multibots_core::robot::{Robots, State};
-use multibots_core::scenario::{ChargingPolicy, CostWeights, Tasks};
+use multibots_core::fleet::robot::{Robots, State};
+use multibots_core::input::scenario::{ChargingPolicy, CostWeights, Tasks};
 use multibots_core::{Allocator, Assignment, CellId, Decisions, Error, GoodsId, HighwayGraph, Layout, NodeId, RobotId, Scenario, Simulation};
 
 /// A hand-made fleet on the paper layout: robots standing on named nodes, idle.
@@ -178,7 +178,7 @@ fn traffic_counts_where_other_robots_paths_meet_the_route() {
     robots.state[1] = State::ToPickup;
     robots.cell[1] = 1;
     robots.goods[1] = 0;
-    multibots_core::route::assign(&mut robots, &graph, 1, alloc::service_target(&layout, CellId(1)));
+    multibots_core::fleet::route::assign(&mut robots, &graph, 1, alloc::service_target(&layout, CellId(1)));
     let v = AllocView::new(1, &idle, &[], &robots, &layout, &graph, m, energy);
     let shared = v.traffic(RobotId(0), CellId(1));
     assert!(shared >= 2, "{shared}");
@@ -281,7 +281,7 @@ fn a_robot_that_is_not_idle_is_rejected() {
     assert!(e.starts_with("allocator 'busy-test': ") && e.contains("is not idle"), "{e}");
 }
 
-use multibots_core::scenario::PAPER_TASKS as PAPER;
+use multibots_core::input::scenario::PAPER_TASKS as PAPER;
 
 #[test]
 fn every_built_in_completes_the_paper_runs_and_is_deterministic() {

@@ -1,8 +1,8 @@
 //! Layouts as data: the generator against the spec's paper layout, the layout file's round
 //! trip, and every validation error.
 
-use multibots_core::layout::NodeKind;
-use multibots_core::layout_file::{self, LayoutFile};
+use multibots_core::input::layout_file::{self, LayoutFile};
+use multibots_core::world::layout::NodeKind;
 use multibots_core::{Layout, LayoutParams, NodeId, Scenario, Simulation};
 
 /// The paper layout written out from docs/model.md section 1, independently of the generator.

@@ -143,7 +143,7 @@ fn bad_lifelong_and_placement_fields_are_named() {
     assert!(s.check_values().unwrap_err().to_string().starts_with("orders.rate = 0: no orders"));
     assert!(err("starts = [\"A\"]\n").starts_with("starts = [\"A\"]: not used with placement = \"spread\""));
     let mut s = lifelong("");
-    s.charging.chargers = multibots_core::scenario::ChargerUse::Home;
+    s.charging.chargers = multibots_core::input::scenario::ChargerUse::Home;
     assert!(Simulation::new(&s).err().unwrap().to_string().starts_with("placement = \"spread\": robots placed on aisles share chargers"));
     let mut s = lifelong("");
     s.robots = 5000;
@@ -154,9 +154,9 @@ fn bad_lifelong_and_placement_fields_are_named() {
 fn paper_scenarios_are_untouched_by_the_extensions() {
     // Shared chargers in the paper layout: one robot per charger anyway; the worked example.
     let mut s = Scenario::paper(1, &[42]);
-    s.charging.chargers = multibots_core::scenario::ChargerUse::Shared;
+    s.charging.chargers = multibots_core::input::scenario::ChargerUse::Shared;
     assert_eq!(Simulation::new(&s).unwrap().run().unwrap().t, Some(726));
-    let s = Scenario::paper(6, &multibots_core::scenario::PAPER_TASKS[0]);
+    let s = Scenario::paper(6, &multibots_core::input::scenario::PAPER_TASKS[0]);
     let r = Simulation::new(&s).unwrap().run().unwrap();
     assert_eq!(r.lifelong, None);
     assert_eq!(r.outcome, Some(Outcome::Complete));

@@ -6,7 +6,7 @@
 mod common;
 
 use common::PAPER_TASKS;
-use multibots_core::metrics::Outcome::{self, Complete, Deadlock, Fault};
+use multibots_core::output::metrics::Outcome::{self, Complete, Deadlock, Fault};
 use multibots_core::EventKind;
 use multibots_core::{Original, Rules, Scenario, State};
 
@@ -273,7 +273,7 @@ fn random_goods_lists() {
 
 #[test]
 fn every_fault_is_reached() {
-    use multibots_core::original::Fault as F;
+    use multibots_core::rules::original::Fault as F;
     let mut kinds = Vec::new();
     for &(n, goods, _, _, _, outcome, _) in RANDOM_RUNS {
         if outcome == Fault {
@@ -363,15 +363,15 @@ fn refusal(edit: impl FnOnce(&mut Scenario)) -> String {
 
 #[test]
 fn what_the_original_cannot_run_is_refused_in_one_line() {
-    use multibots_core::scenario::{ChargerUse, ChargingPolicy, Orders, Placement};
+    use multibots_core::input::scenario::{ChargerUse, ChargingPolicy, Orders, Placement};
     let cases: Vec<(String, &str)> = vec![
         (refusal(|s| s.robots = 7), "robots = 7: the original rules run at most 6 robots (one per start A..F)"),
         (
-            refusal(|s| s.tasks = multibots_core::scenario::Tasks::Cells(vec![11, 8])),
+            refusal(|s| s.tasks = multibots_core::input::scenario::Tasks::Cells(vec![11, 8])),
             "tasks = 2 goods: the original rules need at least one goods per robot (3 robots)",
         ),
         (
-            refusal(|s| s.tasks = multibots_core::scenario::Tasks::Cells((0..51).collect())),
+            refusal(|s| s.tasks = multibots_core::input::scenario::Tasks::Cells((0..51).collect())),
             "tasks = 51 goods: the original rules deliver at most 50 goods (the code's cart has 50 boxes)",
         ),
         (refusal(|s| s.layout = "big.toml".into()), "layout = \"big.toml\": the original rules run only the paper layout"),
@@ -412,7 +412,7 @@ fn what_the_original_cannot_run_is_refused_in_one_line() {
         (refusal(|s| s.dwell.loading = 5), "dwell.loading = 5: the original rules load for 10 ticks"),
         (refusal(|s| s.dwell.unloading = 30), "dwell.unloading = 30: the original rules unload for 20 ticks"),
         (refusal(|s| s.robots = 0), "robots = 0: must be at least 1"),
-        (refusal(|s| s.tasks = multibots_core::scenario::Tasks::Cells(vec![11, 8, 80])), "tasks[2] = 80: cell id out of range 0..79"),
+        (refusal(|s| s.tasks = multibots_core::input::scenario::Tasks::Cells(vec![11, 8, 80])), "tasks[2] = 80: cell id out of range 0..79"),
     ];
     for (got, want) in cases {
         assert_eq!(got, want);
@@ -464,7 +464,7 @@ fn the_simulation_runs_the_original_rules_with_every_figure() {
 
 #[test]
 fn a_replay_of_the_original_rules_holds_every_tick() {
-    use multibots_core::{replay, Simulation};
+    use multibots_core::{output::replay, Simulation};
     let s = original(3, &PAPER_TASKS[1]);
     let path = std::env::temp_dir().join(format!("mb-original-{}.mbr", std::process::id()));
     let mut sim = Simulation::new(&s).unwrap();

@@ -4,8 +4,8 @@
 mod common;
 
 use common::PAPER_TASKS;
-use multibots_core::robot::Target;
-use multibots_core::route::{self, Place};
+use multibots_core::fleet::robot::Target;
+use multibots_core::fleet::route::{self, Place};
 use multibots_core::{HighwayGraph, Layout, Outcome, Scenario, Simulation};
 
 fn ceil4(d: f64) -> u64 {

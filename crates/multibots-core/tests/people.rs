@@ -2,7 +2,7 @@
 //! person in a robot's path stops it, and it resumes; the figures agree with each other; and
 //! a scenario without people is unchanged.
 
-use multibots_core::scenario::{Humans, Scenario};
+use multibots_core::input::scenario::{Humans, Scenario};
 use multibots_core::Simulation;
 
 fn paper_with(count: u32, robots: u32, seed: u64) -> Scenario {

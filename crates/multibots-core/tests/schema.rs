@@ -1,6 +1,6 @@
 //! The shipped JSON Schemas and the field tables of docs/scenario-format.md are generated
 //! from the engine's schema; this fails when they are stale.
-use multibots_core::schema;
+use multibots_core::input::schema;
 use std::path::Path;
 
 #[test]

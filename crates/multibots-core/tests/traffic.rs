@@ -5,9 +5,9 @@
 mod common;
 
 use common::PAPER_TASKS;
-use multibots_core::layout::Aisles;
-use multibots_core::metrics::Outcome;
-use multibots_core::scenario::{ChargerUse, Orders, Placement, Tasks};
+use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
+use multibots_core::output::metrics::Outcome;
+use multibots_core::world::layout::Aisles;
 use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
 
 #[allow(clippy::too_many_arguments)]

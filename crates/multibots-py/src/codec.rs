@@ -1,7 +1,7 @@
 //! The engine's names and its replay codec, for the Python reader and the viewer.
 
 use crate::errors::MultibotsError;
-use multibots_core::codec;
+use multibots_core::output::codec;
 use multibots_core::{EventKind, State};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -49,7 +49,7 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
         events.set_item(k.code(), k.name())?;
     }
     m.add("EVENT_NAMES", events)?;
-    m.add("PAPER_TASKS", pyo3::types::PyTuple::new(py, multibots_core::scenario::PAPER_TASKS.iter().map(|g| g.to_vec()))?)?;
+    m.add("PAPER_TASKS", pyo3::types::PyTuple::new(py, multibots_core::input::scenario::PAPER_TASKS.iter().map(|g| g.to_vec()))?)?;
     m.add("BYTES_PER_ROBOT_STEP", codec::BYTES_PER_ROBOT_STEP)?;
     m.add("REPLAY_VERSION", codec::VERSION)?;
     m.add("MOVING_STATES", pyo3::types::PyTuple::new(py, State::ALL.iter().filter(|s| s.travels()).map(|&s| s as u8).collect::<Vec<_>>())?)?;

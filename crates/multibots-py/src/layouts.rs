@@ -3,7 +3,8 @@
 
 use crate::errors::{engine, ScenarioError};
 use crate::scenario::PyScenario;
-use multibots_core::{layout_file, HighwayGraph, Layout, LayoutParams, Scenario};
+use multibots_core::input::layout_file;
+use multibots_core::{HighwayGraph, Layout, LayoutParams, Scenario};
 use pyo3::prelude::*;
 
 /// Generates a grid layout and returns its layout file text (TOML), checked.

@@ -1,6 +1,6 @@
 //! A run's result as a Python dictionary (NumPy arrays for per-robot columns).
 
-use multibots_core::metrics::RunResult;
+use multibots_core::output::metrics::RunResult;
 use multibots_core::State;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;

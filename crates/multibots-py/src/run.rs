@@ -4,8 +4,8 @@
 use crate::errors::{engine, SIGNAL_EVERY};
 use crate::results::result_dict;
 use crate::scenario::PyScenario;
-use multibots_core::batch;
-use multibots_core::replay::{self, ReplayWriter};
+use multibots_core::output::replay::{self, ReplayWriter};
+use multibots_core::rules::batch;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;

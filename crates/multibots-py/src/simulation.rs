@@ -3,7 +3,7 @@
 use crate::errors::{engine, SIGNAL_EVERY};
 use crate::results::result_dict;
 use crate::scenario::PyScenario;
-use multibots_core::codec::Frames;
+use multibots_core::output::codec::Frames;
 use multibots_core::Simulation;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -188,7 +188,7 @@ impl PySimulation {
     }
     /// What a viewer needs before the first frame (the replay header), as JSON.
     fn viewer_header(&self, scenario_toml: &str) -> String {
-        multibots_core::replay::header(&self.sim, scenario_toml).to_string()
+        multibots_core::output::replay::header(&self.sim, scenario_toml).to_string()
     }
     /// Robot `i`'s remaining route as (K, 2) waypoints, starting at its position.
     fn route<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {

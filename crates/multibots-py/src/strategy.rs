@@ -10,7 +10,7 @@
 //! query once `allocate` has returned.
 
 use multibots_core::alloc::{self, AllocView, EnergyModel, Goods, TaskModel};
-use multibots_core::robot::Robots;
+use multibots_core::fleet::robot::Robots;
 use multibots_core::{Allocator, Assignment, CellId, Decisions, Error, GoodsId, NodeId, RobotId, Scenario, Simulation, World};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};

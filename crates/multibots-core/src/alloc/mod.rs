@@ -31,12 +31,12 @@ pub use min_cost::MinCost;
 pub use nearest::Nearest;
 
 use crate::error::{Error, Result};
-use crate::graph::HighwayGraph;
+use crate::fleet::robot::{Robots, State, Target};
+use crate::fleet::route::{self, Place};
 use crate::ids::{CellId, GoodsId, NodeId, RobotId, NONE};
-use crate::layout::{Layout, NodeKind};
-use crate::robot::{Robots, State, Target};
-use crate::route::{self, Place};
-use crate::scenario::{CostWeights, Scenario};
+use crate::input::scenario::{CostWeights, Scenario};
+use crate::world::graph::HighwayGraph;
+use crate::world::layout::{Layout, NodeKind};
 
 /// One open goods item: its id and the cell that holds it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -26,7 +26,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 #[must_use]
 pub fn blocks(xi: f64, yi: f64, alpha: f64, xj: f64, yj: f64, reach: f64, angle: f64) -> bool {
     let (dx, dy) = (xj - xi, yj - yi);
-    let d = crate::route::axis_dist(dx, dy);
+    let d = crate::fleet::route::axis_dist(dx, dy);
     if d > reach {
         return false;
     }
@@ -212,7 +212,7 @@ impl Collisions {
         let (w, h) = ((bounds[2] - bounds[0]).max(0.0), (bounds[3] - bounds[1]).max(0.0));
         // Tiny robots in a big warehouse would want billions of cells: past the limit the
         // cells grow, which only adds candidates (every test is still `blocks`).
-        let size = (2.0 * reach.max(1e-6)).max((w * h / crate::limits::MAX_GRID_CELLS as f64).sqrt() * 1.01);
+        let size = (2.0 * reach.max(1e-6)).max((w * h / crate::input::limits::MAX_GRID_CELLS as f64).sqrt() * 1.01);
         // One free cell on every side: a search box never reaches past the grid.
         let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 3;
         let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;
@@ -623,7 +623,7 @@ mod tests {
             for a in [v, -v, v * 1.000_000_1, -v * 0.999_999_9] {
                 for z in [0.0, -0.0] {
                     for (dx, dy) in [(a, z), (z, a)] {
-                        assert_eq!(crate::route::axis_dist(dx, dy).to_bits(), (dx * dx + dy * dy).sqrt().to_bits(), "dist {dx} {dy}");
+                        assert_eq!(crate::fleet::route::axis_dist(dx, dy).to_bits(), (dx * dx + dy * dy).sqrt().to_bits(), "dist {dx} {dy}");
                         assert_eq!(bearing(dx, dy).to_bits(), dy.atan2(dx).to_bits(), "bearing {dx} {dy}");
                     }
                 }

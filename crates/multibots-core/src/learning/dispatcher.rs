@@ -14,9 +14,9 @@ use super::{check_rules, Settings};
 use crate::alloc::{Decisions, InTurn};
 use crate::error::{Error, Result};
 use crate::ids::RobotId;
-use crate::metrics::{Outcome, RunResult};
-use crate::scenario::Scenario;
-use crate::sim::Paper;
+use crate::input::scenario::Scenario;
+use crate::output::metrics::{Outcome, RunResult};
+use crate::rules::paper::Paper;
 use crate::world::World;
 use std::sync::Arc;
 
@@ -267,9 +267,9 @@ impl Dispatcher {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::scenario::PAPER_TASKS;
     use crate::learning::observation::Observation;
     use crate::learning::{Action, InvalidAction};
-    use crate::scenario::PAPER_TASKS;
     use crate::Simulation;
 
     /// In-turn as actions: each robot takes the front open slot.
@@ -357,7 +357,7 @@ mod tests {
         s.robots = 4;
         assert_eq!(d.reset(Some(&s)).unwrap_err().to_string(), "robots = 4: the environment's spaces are for 3 robots");
         s.robots = 3;
-        s.rules = crate::scenario::Rules::Original;
+        s.rules = crate::input::scenario::Rules::Original;
         assert!(Dispatcher::new(&s, Settings::of(&s)).err().unwrap().to_string().starts_with("rules = \"original\""));
     }
 }

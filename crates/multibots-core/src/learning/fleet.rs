@@ -14,9 +14,9 @@ use super::{Action, InvalidAction, Settings};
 use crate::alloc::{Assignment, Decisions, InTurn};
 use crate::error::{Error, Result};
 use crate::ids::{RobotId, NONE};
-use crate::metrics::RunResult;
-use crate::scenario::Scenario;
-use crate::sim::Paper;
+use crate::input::scenario::Scenario;
+use crate::output::metrics::RunResult;
+use crate::rules::paper::Paper;
 use crate::world::World;
 use std::sync::Arc;
 
@@ -282,7 +282,7 @@ impl Fleet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenario::PAPER_TASKS;
+    use crate::input::scenario::PAPER_TASKS;
 
     #[test]
     fn front_slots_in_id_order_reproduce_in_turn_and_shares_add_up() {

@@ -1,6 +1,6 @@
 //! Learning environments, engine side: what `multibots.envs` (Gymnasium and PettingZoo) runs.
 //!
-//! A run pauses at its decision points ([`crate::decision_point`]); there every idle robot
+//! A run pauses at its decision points ([`crate::rules::paper::decision_point`]); there every idle robot
 //! takes one *action*: the goods in one of the first `max_queue` slots of the queue, "charge
 //! now", or "wait". The engine keeps everything between two actions: the order robots decide
 //! in, which goods robots before them took, the observation features, the action mask, the
@@ -17,7 +17,7 @@
 //! | [`vector`] | many dispatchers stepped in one call, on threads |
 //!
 //! The paper rules only: the original rules hand out goods inside the authors' code and
-//! take no decisions ([`crate::decision_point`]).
+//! take no decisions ([`crate::rules::paper::decision_point`]).
 
 pub mod dispatcher;
 pub mod fleet;
@@ -34,7 +34,7 @@ pub use round::decide_each;
 pub use vector::VectorDispatch;
 
 use crate::error::{Error, Result};
-use crate::scenario::{Rules, Scenario};
+use crate::input::scenario::{Rules, Scenario};
 
 /// Queue slots an observation shows by default: the paper's task lists hold 10 goods.
 pub const DEFAULT_MAX_QUEUE: usize = 10;
@@ -90,7 +90,7 @@ impl Settings {
 /// Refuses a scenario whose rules take no decisions.
 pub(crate) fn check_rules(scenario: &Scenario) -> Result<()> {
     if scenario.rules == Rules::Original {
-        return Err(crate::decision_point::no_decisions());
+        return Err(crate::rules::paper::decision_point::no_decisions());
     }
     Ok(())
 }

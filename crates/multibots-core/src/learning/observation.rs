@@ -8,12 +8,12 @@
 //! step counts in units of L / speed (the steps to drive L).
 
 use crate::alloc::{service_place, service_target, AllocView, TaskModel};
-use crate::energy;
+use crate::fleet::energy;
+use crate::fleet::robot::{Robots, State, Target};
+use crate::fleet::route::{self, Place};
 use crate::ids::{CellId, NodeId, RobotId, NONE};
-use crate::robot::{Robots, State, Target};
-use crate::route::{self, Place};
-use crate::scenario::Scenario;
-use crate::sim::Paper;
+use crate::input::scenario::Scenario;
+use crate::rules::paper::Paper;
 use crate::world::World;
 
 /// One feature: its name (as `docs/learning.md` lists it) and its range.
@@ -277,7 +277,7 @@ impl Encoder {
         let n = rb.len();
         let e = rb.energy[i];
         let home = Target::Node(rb.home[i]);
-        let on_charger = rb.at_node[i] != NONE && view.layout().nodes[rb.at_node[i] as usize].kind == crate::layout::NodeKind::Charger;
+        let on_charger = rb.at_node[i] != NONE && view.layout().nodes[rb.at_node[i] as usize].kind == crate::world::layout::NodeKind::Charger;
         let robot = [
             e / self.energy_full,
             (e - self.threshold) / self.energy_full,
@@ -301,7 +301,7 @@ impl Encoder {
     /// The fleet table, `stride` features a row: the one-hot state, energy, x, y, route left,
     /// carrying, and with `decider` the marks of the decision point and which row is the
     /// decider.
-    fn fleet(&self, g: &crate::graph::HighwayGraph, rb: &Robots, decider: Option<(usize, &Marks)>, out: &mut [f32], stride: usize) {
+    fn fleet(&self, g: &crate::world::graph::HighwayGraph, rb: &Robots, decider: Option<(usize, &Marks)>, out: &mut [f32], stride: usize) {
         out.fill(0.0);
         for j in 0..rb.len() {
             let row = &mut out[j * stride..(j + 1) * stride];
@@ -367,7 +367,7 @@ impl Encoder {
         mine.clear();
         crate::alloc::route_nodes(view.graph(), Place::of(view.robots(), r.index()), service_target(view.layout(), cell), mine);
         crate::alloc::route_nodes(view.graph(), service_place(view.layout(), cell), Target::Node(view.unload()), mine);
-        mine.retain(|&u| view.layout().nodes[u as usize].kind == crate::layout::NodeKind::Highway);
+        mine.retain(|&u| view.layout().nodes[u as usize].kind == crate::world::layout::NodeKind::Highway);
         mine.sort_unstable();
         mine.dedup();
         mine.iter().map(|&u| marks.cover[u as usize] - u32::from(own.contains(&u))).sum()
@@ -417,7 +417,7 @@ impl Encoder {
 
 /// Length in px of what is left of robot `i`'s route, without allocating: to its waypoint,
 /// along the node path to its goal, then to its final point.
-fn remaining_length(r: &Robots, g: &crate::graph::HighwayGraph, i: usize) -> f64 {
+fn remaining_length(r: &Robots, g: &crate::world::graph::HighwayGraph, i: usize) -> f64 {
     if !r.routing[i] {
         return 0.0;
     }
@@ -435,7 +435,7 @@ fn remaining_length(r: &Robots, g: &crate::graph::HighwayGraph, i: usize) -> f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenario::PAPER_TASKS;
+    use crate::input::scenario::PAPER_TASKS;
     use crate::Simulation;
 
     #[test]

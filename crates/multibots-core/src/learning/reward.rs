@@ -20,9 +20,9 @@
 //! on to the limit; [`Failure::Fixed`] sets a constant instead.
 
 use crate::error::{Error, Result};
-use crate::metrics::{Outcome, RobotStats};
-use crate::scenario::CostWeights;
-use crate::sim::Paper;
+use crate::input::scenario::CostWeights;
+use crate::output::metrics::{Outcome, RobotStats};
+use crate::rules::paper::Paper;
 
 /// The failure penalty.
 #[derive(Clone, Copy, Debug, PartialEq)]

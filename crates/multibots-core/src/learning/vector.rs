@@ -9,13 +9,13 @@
 //!
 //! All actions are checked before any environment moves, so a refused action changes
 //! nothing. Environments are split into one contiguous chunk per worker thread (scoped
-//! threads, as in [`crate::batch`]); with one worker everything runs on the calling thread.
+//! threads, as in [`crate::rules::batch`]); with one worker everything runs on the calling thread.
 
 use super::dispatcher::Dispatcher;
 use super::observation::{ObsMut, FLEET_FEATURES, GOODS_FEATURES, ROBOT_FEATURES};
 use super::Settings;
 use crate::error::{Error, Result};
-use crate::scenario::Scenario;
+use crate::input::scenario::Scenario;
 use crate::world::World;
 
 /// Where one call's results go: one row per environment in every array.
@@ -171,7 +171,7 @@ impl VectorDispatch {
     fn run(&mut self, actions: Option<&[i64]>, out: Batch<'_>) -> Result<()> {
         let n = self.envs.len();
         let sizes = self.sizes();
-        let workers = crate::batch::worker_count(self.workers, n);
+        let workers = crate::rules::batch::worker_count(self.workers, n);
         let per = n.div_ceil(workers);
         let mut results: Vec<Result<()>> = Vec::with_capacity(workers);
         std::thread::scope(|scope| {
@@ -258,8 +258,8 @@ fn step_chunk(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::scenario::PAPER_TASKS;
     use crate::learning::observation::Observation;
-    use crate::scenario::PAPER_TASKS;
 
     struct Buffers {
         robot: Vec<f32>,

@@ -2,7 +2,7 @@
 //! pick at storage cells and return to a station, and the safety zones robots keep around
 //! them.
 //!
-//! Each step, around the robots' phases 3 and 4 (crate::sim):
+//! Each step, around the robots' phases 3 and 4 (crate::rules::paper):
 //! 1. [`People::guard`] (before robots move): a robot with a person ahead or beside it
 //!    inside its protective zone stops (a protective stop, counted apart from S); one with a
 //!    person inside its warning zone slows down ([`zones`]).
@@ -23,8 +23,8 @@ mod zones;
 pub use zones::PeopleFigures;
 
 use crate::error::Result;
-use crate::robot::Robots;
-use crate::scenario::Humans;
+use crate::fleet::robot::Robots;
+use crate::input::scenario::Humans;
 use crate::world::World;
 use buckets::Buckets;
 use tours::Tours;

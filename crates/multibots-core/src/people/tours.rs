@@ -7,10 +7,10 @@
 //! cell's service point, then the pick point at the shelf face.
 
 use crate::error::{Error, Result};
+use crate::fleet::robot::Robots;
 use crate::ids::NONE;
-use crate::layout::NodeKind;
-use crate::robot::Robots;
-use crate::scenario::Humans;
+use crate::input::scenario::Humans;
+use crate::world::layout::NodeKind;
 use crate::world::World;
 use rand::{Rng, SeedableRng};
 use std::cmp::Reverse;
@@ -299,9 +299,9 @@ fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
 /// Reads `person,cell` rows (a first line that is not two integers is a header; blank lines
 /// and `#` lines are skipped).
 fn read_csv(path: &std::path::Path, people: usize, cells: usize) -> Result<Vec<(u32, u32)>> {
-    let shown = crate::limits::shown(&path.display().to_string());
+    let shown = crate::input::limits::shown(&path.display().to_string());
     let fail = |why: String| Error::scenario("humans.csv", format!("\"{shown}\""), why);
-    let text = crate::files::read_text(path, crate::files::MAX_INPUT_BYTES).map_err(|e| fail(format!("cannot read: {e}")))?;
+    let text = crate::input::files::read_text(path, crate::input::files::MAX_INPUT_BYTES).map_err(|e| fail(format!("cannot read: {e}")))?;
     let mut rows = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -317,7 +317,7 @@ fn read_csv(path: &std::path::Path, people: usize, cells: usize) -> Result<Vec<(
             if rows.is_empty() && k == 0 {
                 continue;
             }
-            return Err(fail(format!("line {}: expected `person,cell` with integers, got \"{}\"", k + 1, crate::limits::shown(line))));
+            return Err(fail(format!("line {}: expected `person,cell` with integers, got \"{}\"", k + 1, crate::input::limits::shown(line))));
         };
         if person >= people as u64 {
             return Err(fail(format!("line {}: person {person} out of range 0..{}", k + 1, people.saturating_sub(1))));

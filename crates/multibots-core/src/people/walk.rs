@@ -14,7 +14,7 @@
 //! `px_per_m` and `step_seconds`.
 
 use super::{People, Phase};
-use crate::robot::Robots;
+use crate::fleet::robot::Robots;
 
 /// Relaxation time, seconds (Helbing and Molnár: 0.5 s).
 const TAU: f64 = 0.5;

@@ -15,8 +15,8 @@
 
 use super::walk::CLEAR;
 use super::People;
-use crate::robot::Robots;
-use crate::scenario::Humans;
+use crate::fleet::robot::Robots;
+use crate::input::scenario::Humans;
 
 /// Width of the histogram's bins, px: the 1st percentile is known to this.
 const BIN: f64 = 0.25;

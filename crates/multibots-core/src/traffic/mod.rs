@@ -25,10 +25,10 @@
 
 mod lanes;
 
-use crate::graph::HighwayGraph;
+use crate::fleet::robot::Robots;
 use crate::ids::NONE;
-use crate::robot::Robots;
-use crate::scenario::Traffic;
+use crate::input::scenario::Traffic;
+use crate::world::graph::HighwayGraph;
 use lanes::{Ahead, Lanes};
 
 /// Steps a robot waits for room on its exit lane before it takes another exit.
@@ -168,7 +168,7 @@ impl TrafficState {
                 }
                 let e = g.edge_id(r.edge_u[i], r.edge_v[i]);
                 let (ux, uy) = g.pos(g.edge(e).0);
-                let s = crate::route::axis_dist(r.x[i] - ux, r.y[i] - uy);
+                let s = crate::fleet::route::axis_dist(r.x[i] - ux, r.y[i] - uy);
                 let clear = self.lanes.lane(e).iter().all(|&j| (self.lanes.s[j as usize] - s).abs() >= r.radius[i] + r.radius[j as usize] + self.margin);
                 let (_, v, len) = g.edge(e);
                 let zones_free =
@@ -302,7 +302,7 @@ impl TrafficState {
                     continue;
                 }
                 if self.room_on(r, i, e) {
-                    crate::route::detour_at_node(r, g, i, w);
+                    crate::fleet::route::detour_at_node(r, g, i, w);
                     self.exit_refusals[i] = 0;
                     break;
                 }

@@ -2,4 +2,4 @@
 
 #![allow(dead_code)]
 
-pub use multibots_core::scenario::PAPER_TASKS;
+pub use multibots_core::input::scenario::PAPER_TASKS;

@@ -1,0 +1,241 @@
+//! Charging (spec section 2 and phase 7, paper III-D): the threshold rule with put-back,
+//! opportunistic charging, stranding, the charger pool, and the charging count C.
+//!
+//! - **Threshold rule.** A robot whose energy falls below the threshold goes to charge: at
+//!   once when idle; when heading for goods and not yet inside the service point's edge, it
+//!   puts the goods back at the front of the queue first; otherwise it is marked and goes
+//!   after unloading.
+//! - **Opportunistic charging** (extension): an idle robot below `charging.level` also goes.
+//! - **Stranding.** A robot whose energy reaches zero stops for good.
+//! - **C** counts arrivals at a charger to charge.
+//! - **Chargers.** In the paper every robot charges at its own home charger. Shared chargers
+//!   (extension) are a pool: a robot claims the nearest free charger by route (ties: the
+//!   first in the layout) until it is full; with none free it stops where it is,
+//!   WAIT_CHARGER, in a first-come-first-served queue.
+//!
+//! The arithmetic (ε comparisons, consumption, charging per step) is in [`crate::fleet::energy`].
+
+use crate::alloc::{service_target, Goods};
+use crate::error::{Error, Result};
+use crate::fleet::energy;
+use crate::fleet::robot::{State, Target};
+use crate::fleet::route::{self, Place};
+use crate::ids::CellId as Cell;
+use crate::ids::{CellId, GoodsId, NodeId, NONE};
+use crate::input::scenario::{ChargerUse, Scenario};
+use crate::output::events::EventKind;
+use crate::rules::paper::Paper;
+use crate::world::placement::Homes;
+use crate::world::World;
+use std::collections::VecDeque;
+
+/// Who holds which charger, and who waits for one (shared chargers only).
+#[derive(Clone, Debug)]
+pub(crate) struct Chargers {
+    shared: bool,
+    /// Charger node → its index in `layout.chargers` (`NONE` for other nodes).
+    slot_of_node: Vec<u32>,
+    /// The robot holding each charger, or `NONE`.
+    claim: Vec<u32>,
+    /// Robots waiting for a charger, first come first served.
+    queue: VecDeque<u32>,
+    /// `to_charger[k * nodes + u]`: path length from node `u` to charger `k`, for O(1)
+    /// nearest-charger choices inside the step loop.
+    to_charger: Vec<f64>,
+}
+
+impl Chargers {
+    pub fn new(world: &World, scenario: &Scenario) -> Chargers {
+        let layout = &world.layout;
+        let mut slot_of_node = vec![NONE; layout.nodes.len()];
+        for (k, &c) in layout.chargers.iter().enumerate() {
+            slot_of_node[c.index()] = k as u32;
+        }
+        let shared = scenario.charging.chargers == ChargerUse::Shared;
+        let to_charger = if shared { layout.chargers.iter().flat_map(|&c| world.graph.lengths_to(c)).collect() } else { Vec::new() };
+        Chargers { shared, slot_of_node, claim: vec![NONE; layout.chargers.len()], queue: VecDeque::new(), to_charger }
+    }
+
+    /// The nearest free charger from `from` by route (ties: the first in the layout).
+    fn nearest_free(&self, world: &World, from: Place) -> Option<usize> {
+        let nodes = world.layout.nodes.len();
+        let mut best: Option<(f64, usize)> = None;
+        for (k, &c) in world.layout.chargers.iter().enumerate() {
+            if self.claim[k] != NONE {
+                continue;
+            }
+            let d = route::length_via_row(&world.graph, from, c, &self.to_charger[k * nodes..(k + 1) * nodes]);
+            if best.map_or(true, |(b, _)| d < b) {
+                best = Some((d, k));
+            }
+        }
+        best.map(|(_, k)| k)
+    }
+}
+
+impl Paper {
+    /// The threshold rule (with put-back), opportunistic charging and stranding, for robot
+    /// `i` after its task transition (phase 7).
+    pub(crate) fn energy_rules(&mut self, i: usize) {
+        if energy::below(self.robots.energy[i], self.p.threshold) {
+            match self.robots.state[i] {
+                State::Idle => self.send_to_charge(i),
+                State::ToPickup if !self.inside_service_edge(i) => {
+                    let g = Goods { id: GoodsId(self.robots.goods[i]), cell: CellId(self.robots.cell[i]) };
+                    self.goods.put_back(g);
+                    self.alloc_due = true;
+                    self.event(EventKind::PutBack, i, g.cell.0);
+                    self.robots.goods[i] = NONE;
+                    self.robots.cell[i] = NONE;
+                    self.send_to_charge(i);
+                }
+                State::ToPickup | State::Loading | State::ToDrop | State::Unloading => self.robots.marked[i] = true,
+                _ => {}
+            }
+        }
+        if let Some(level) = self.p.opportunistic {
+            if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], level) {
+                self.send_to_charge(i);
+            }
+        }
+        if energy::exhausted(self.robots.energy[i]) && self.robots.state[i] != State::Stranded {
+            if self.chargers.shared && self.robots.state[i] == State::ToCharger {
+                self.release_charger(self.robots.charger[i]);
+            }
+            self.robots.state[i] = State::Stranded;
+            self.robots.energy[i] = 0.0;
+            self.robots.routing[i] = false;
+            self.event(EventKind::Strand, i, NONE);
+        }
+    }
+
+    /// Whether robot `i` is strictly inside the edge of the service point it is fetching from
+    /// (past the point of putting goods back).
+    fn inside_service_edge(&self, i: usize) -> bool {
+        let r = &self.robots;
+        // A robot fetching goods always has their cell (they are set and cleared together).
+        debug_assert!(r.cell[i] != NONE, "robot {i} fetches goods without a cell");
+        let (u, v) = self.world.layout.cells[r.cell[i] as usize].edge;
+        r.at_node[i] == NONE && r.edge_u[i] == u.0 && r.edge_v[i] == v.0
+    }
+
+    /// Sends robot `i` to charge: to its home charger, or to the pool's nearest free one.
+    pub(crate) fn send_to_charge(&mut self, i: usize) {
+        if !self.chargers.shared {
+            let charger = self.robots.home[i];
+            self.head_for_charger(i, charger);
+            return;
+        }
+        if let Some(k) = self.chargers.nearest_free(&self.world, Place::of(&self.robots, i)) {
+            self.claim_charger(i, k);
+        } else {
+            self.robots.state[i] = State::WaitCharger;
+            self.robots.routing[i] = false;
+            self.chargers.queue.push_back(i as u32);
+        }
+    }
+
+    fn head_for_charger(&mut self, i: usize, charger: NodeId) {
+        self.robots.state[i] = State::ToCharger;
+        self.robots.charger[i] = charger.0;
+        self.route(i, Target::Node(charger));
+    }
+
+    fn claim_charger(&mut self, i: usize, k: usize) {
+        self.chargers.claim[k] = i as u32;
+        let charger = self.world.layout.chargers[k];
+        self.head_for_charger(i, charger);
+    }
+
+    /// A charger became free: the longest-waiting robot (still waiting) takes it.
+    fn release_charger(&mut self, charger: u32) {
+        let k = self.chargers.slot_of_node[charger as usize];
+        if k == NONE {
+            return;
+        }
+        self.chargers.claim[k as usize] = NONE;
+        while let Some(j) = self.chargers.queue.pop_front() {
+            if self.robots.state[j as usize] == State::WaitCharger {
+                self.claim_charger(j as usize, k as usize);
+                break;
+            }
+        }
+    }
+
+    /// Robot `i` reached its charger: it charges, and C counts one.
+    pub(crate) fn arrive_at_charger(&mut self, i: usize) {
+        self.robots.state[i] = State::Charging;
+        self.tally.c += 1;
+        self.tally.stats.charges[i] += 1;
+        self.event(EventKind::Charge, i, NONE);
+    }
+
+    /// Robot `i` is full: it is idle again, and frees a shared charger.
+    pub(crate) fn leave_charger(&mut self, i: usize) {
+        self.robots.state[i] = State::Idle;
+        self.alloc_due = true;
+        if self.chargers.shared {
+            self.release_charger(self.robots.charger[i]);
+        }
+    }
+}
+
+/// A cell a scenario can ask for, and how to name it in an error.
+pub(crate) struct Asked {
+    pub field: String,
+    pub value: String,
+    pub note: String,
+    pub cell: u32,
+}
+
+/// Refuses a scenario whose battery cannot carry a robot through even the easiest of its
+/// tasks: from the best charger to the goods and on to the unloading zone and back to that
+/// charger, or even to the goods with energy above the threshold (a robot would turn back to
+/// charge before every pickup, for ever). Then nothing can ever be delivered; the error names
+/// that task and the energy it needs. `cells` are the cells the scenario can ask for, with
+/// the field and value to name and a note before the reason. A single impossible task among
+/// feasible ones is left to the run, which ends `livelock` on it (docs/metrics.md).
+pub(crate) fn check_reach(world: &World, scenario: &Scenario, homes: &Homes, cells: &[Asked]) -> Result<()> {
+    let (g, layout, r) = (&world.graph, &world.layout, &scenario.robot);
+    let steps = |d: f64| (d / r.speed).ceil();
+    let dwell = f64::from(scenario.dwell.loading + scenario.dwell.unloading);
+    let mut memo: Vec<Option<(f64, f64, String)>> = vec![None; layout.cells.len()];
+    let mut easiest: Option<(f64, Error)> = None;
+    for Asked { field, value, note, cell } in cells {
+        let c = *cell as usize;
+        if memo[c].is_none() {
+            let service = service_target(layout, Cell(*cell));
+            let Target::Point { u, v, x, y } = service else { unreachable!("service points are points") };
+            let at = Place { x, y, at_node: NONE, edge_u: u.0, edge_v: v.0 };
+            let zone = homes.unload_of(*cell);
+            let d2 = route::length(g, at, Target::Node(zone));
+            let mut best = (f64::INFINITY, f64::INFINITY, String::new());
+            for &ch in &layout.chargers {
+                let d1 = route::length(g, Place::node(g, ch), service);
+                let d3 = route::length(g, Place::node(g, zone), Target::Node(ch));
+                let out = steps(d1) * r.consumption;
+                let total = (steps(d1) + dwell + steps(d2) + steps(d3)) * r.consumption;
+                if (total, out) < (best.0, best.1) {
+                    let name = |n: NodeId| layout.nodes[n.index()].name.clone();
+                    best = (total, out, format!("{} → cell {cell} → {} → {}", name(ch), name(zone), name(ch)));
+                }
+            }
+            memo[c] = Some(best);
+        }
+        let (total, out, way) = memo[c].clone().expect("filled above");
+        let fault = if out > r.energy_full - r.threshold + energy::EPS {
+            format!(
+                "{note}reaching it takes {out:.4} energy from the nearest charger, more than robot.energy_full − robot.threshold = {:.4}: a robot would turn back to charge before every pickup",
+                r.energy_full - r.threshold
+            )
+        } else if total > r.energy_full + energy::EPS {
+            format!("{note}a round trip ({way}) takes {total:.4} energy; a full battery (robot.energy_full) holds {}", r.energy_full)
+        } else {
+            return Ok(());
+        };
+        if easiest.as_ref().map_or(true, |(t, _)| total < *t) {
+            easiest = Some((total, Error::scenario(field.clone(), value, fault)));
+        }
+    }
+    easiest.map_or(Ok(()), |(_, e)| Err(e))
+}

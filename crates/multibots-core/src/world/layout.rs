@@ -1,0 +1,497 @@
+//! Warehouse layouts: storage cells, the one-way highway graph, zones and chargers.
+//!
+//! A layout is data. The paper's warehouse (spec section 1) is what [`LayoutParams::paper`]
+//! generates; any other grid of storage groups comes from the same generator, so the paper
+//! layout is not a special case anywhere in the engine.
+
+use crate::error::{Error, Result};
+use crate::ids::{CellId, NodeId};
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+/// What a node of the graph is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NodeKind {
+    /// An aisle crossing.
+    Highway,
+    /// A charger: a dead end joined to one highway node by a two-way spur.
+    Charger,
+}
+
+/// A node of the graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    pub name: String,
+    pub x: f64,
+    pub y: f64,
+    pub kind: NodeKind,
+}
+
+/// A storage cell and where a robot stands to load it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cell {
+    pub id: CellId,
+    /// Top-left corner and size of the cell's square.
+    pub x: f64,
+    pub y: f64,
+    pub w: f64,
+    pub h: f64,
+    /// The service point: strictly inside the directed edge `edge`.
+    pub service: (f64, f64),
+    pub edge: (NodeId, NodeId),
+}
+
+/// A whole warehouse.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub name: String,
+    /// `[x0, y0, x1, y1]` of the warehouse rectangle; chargers may stand outside it.
+    pub bounds: [f64; 4],
+    pub aisle_width: f64,
+    pub cell_size: f64,
+    pub nodes: Vec<Node>,
+    /// Directed highway edges, grouped by their tail in the order a search expands them.
+    pub edges: Vec<(NodeId, NodeId)>,
+    /// `(charger, node)`: the two-way spur that joins a charger to a highway node.
+    pub spurs: Vec<(NodeId, NodeId)>,
+    pub cells: Vec<Cell>,
+    pub departure: Vec<NodeId>,
+    pub unloading: Vec<NodeId>,
+    pub chargers: Vec<NodeId>,
+}
+
+/// The generator's parameters: a grid of storage groups between one-way aisles. Omitted
+/// fields take the paper's values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct LayoutParams {
+    /// Rows of storage groups (R).
+    pub group_rows: u32,
+    /// Columns of storage groups (C).
+    pub group_cols: u32,
+    /// Cells across a group (1 or 2: every cell must touch a vertical aisle).
+    pub group_width: u32,
+    /// Cells down a group.
+    pub group_height: u32,
+    /// Aisle width, px.
+    pub aisle: f64,
+    /// Side of a storage cell, px.
+    pub cell: f64,
+    /// Number of chargers along the top aisle (at most C + 1), spread evenly.
+    pub chargers: u32,
+    /// Length of a charger's spur, px.
+    pub spur: f64,
+    /// Rows of crossings whose crossings are unloading zones, spread evenly from the bottom
+    /// row up (1: the bottom row, as in the paper; at most `group_rows`). More rows let
+    /// unloading capacity grow with the warehouse. Default: 1.
+    #[serde(skip_serializing_if = "LayoutParams::one_row")]
+    pub unloading_rows: u32,
+    /// Directions of the horizontal aisles: `"paper"` (every row east but the bottom one,
+    /// which runs west) or `"alternate"` (rows alternate east and west, the top east and the
+    /// bottom west), which gives big warehouses as many westward aisles as eastward ones.
+    /// Vertical aisles alternate north and south either way, the rightmost south. Default:
+    /// `"paper"`.
+    #[serde(skip_serializing_if = "Aisles::is_paper")]
+    pub aisles: Aisles,
+}
+
+/// Directions of a generated layout's horizontal aisles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Aisles {
+    /// Every row east but the bottom one, which runs west (the paper's).
+    #[default]
+    Paper,
+    /// Rows alternate east and west, the top east and the bottom west.
+    Alternate,
+}
+
+impl Aisles {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn is_paper(&self) -> bool {
+        *self == Aisles::Paper
+    }
+}
+
+impl Default for LayoutParams {
+    fn default() -> Self {
+        LayoutParams::paper()
+    }
+}
+
+impl LayoutParams {
+    /// The paper's warehouse: 2 × 5 groups of 2 × 4 cells, 50 px aisles, six chargers.
+    #[must_use]
+    pub fn paper() -> Self {
+        LayoutParams {
+            group_rows: 2,
+            group_cols: 5,
+            group_width: 2,
+            group_height: 4,
+            aisle: 50.0,
+            cell: 50.0,
+            chargers: 6,
+            spur: 40.0,
+            unloading_rows: 1,
+            aisles: Aisles::Paper,
+        }
+    }
+
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn one_row(n: &u32) -> bool {
+        *n == 1
+    }
+
+    /// Checks every parameter; errors name the field as `layout.FIELD`.
+    pub fn check(&self) -> Result<()> {
+        let bad = |field: &str, value: String, reason: &str| Err(Error::scenario(format!("layout.{field}"), value, reason));
+        if self.group_rows == 0 {
+            return bad("group_rows", self.group_rows.to_string(), "must be at least 1");
+        }
+        if self.group_cols == 0 {
+            return bad("group_cols", self.group_cols.to_string(), "must be at least 1");
+        }
+        if !(1..=2).contains(&self.group_width) {
+            return bad("group_width", self.group_width.to_string(), "must be 1 or 2 (every cell needs an aisle beside it)");
+        }
+        if self.group_height == 0 {
+            return bad("group_height", self.group_height.to_string(), "must be at least 1");
+        }
+        if !(self.aisle.is_finite() && self.aisle > 0.0) {
+            return bad("aisle", self.aisle.to_string(), "must be greater than 0");
+        }
+        if !(self.cell.is_finite() && self.cell > 0.0) {
+            return bad("cell", self.cell.to_string(), "must be greater than 0");
+        }
+        if !(self.spur.is_finite() && self.spur > 0.0) {
+            return bad("spur", self.spur.to_string(), "must be greater than 0");
+        }
+        if self.unloading_rows == 0 || self.unloading_rows > self.group_rows {
+            return bad("unloading_rows", self.unloading_rows.to_string(), &format!("must be between 1 and group_rows ({})", self.group_rows));
+        }
+        if self.chargers == 0 || self.chargers > self.group_cols + 1 {
+            return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {} (one per top-aisle crossing)", self.group_cols + 1));
+        }
+        let cells = u64::from(self.group_rows) * u64::from(self.group_cols) * u64::from(self.group_width) * u64::from(self.group_height);
+        if cells > crate::input::limits::MAX_CELLS as u64 {
+            return bad(
+                "group_rows",
+                self.group_rows.to_string(),
+                &format!("layout too large: {cells} storage cells (at most {})", crate::input::limits::MAX_CELLS),
+            );
+        }
+        let width = f64::from(self.group_cols) * (f64::from(self.group_width) * self.cell + self.aisle) + self.aisle;
+        let height = f64::from(self.group_rows) * (f64::from(self.group_height) * self.cell + self.aisle) + self.aisle + self.spur;
+        for (field, value, extent) in [("cell", self.cell, width.max(height)), ("aisle", self.aisle, width.max(height)), ("spur", self.spur, self.spur)] {
+            if extent > crate::input::limits::MAX_COORD {
+                return bad(field, value.to_string(), &format!("layout too large: {extent:.3e} px across (at most {:.0e})", crate::input::limits::MAX_COORD));
+            }
+        }
+        let nodes = u64::from(self.group_rows + 1) * u64::from(self.group_cols + 1);
+        // The next-hop table takes one byte per (node, target) pair: 10,000 crossings are 100 MB.
+        if nodes > 10_000 {
+            return bad("group_rows", self.group_rows.to_string(), &format!("layout too large: {nodes} aisle crossings (at most 10,000)"));
+        }
+        Ok(())
+    }
+}
+
+/// Spreadsheet-style names: A..Z, AA..AZ, BA.. so that the paper's 18 nodes are A..R.
+#[must_use]
+pub fn node_name(mut i: usize) -> String {
+    let mut s = Vec::new();
+    loop {
+        s.push(b'A' + (i % 26) as u8);
+        if i < 26 {
+            break;
+        }
+        i = i / 26 - 1;
+    }
+    s.reverse();
+    String::from_utf8(s).expect("ASCII letters")
+}
+
+impl Layout {
+    /// Checks the sizes that the engine allocates for, before it builds anything: nodes
+    /// (the routing table grows with their square), cells and coordinates
+    /// ([`crate::input::limits`]).
+    pub fn check_size(&self) -> Result<()> {
+        use crate::input::limits::{MAX_CELLS, MAX_COORD, MAX_NODES};
+        if self.nodes.len() > MAX_NODES {
+            return Err(Error::layout(
+                "nodes",
+                format!("{} nodes: at most {MAX_NODES} (the routing table takes one byte per pair of nodes)", self.nodes.len()),
+            ));
+        }
+        if self.cells.len() > MAX_CELLS {
+            return Err(Error::layout("cells", format!("{} storage cells: at most {MAX_CELLS}", self.cells.len())));
+        }
+        let far = |v: f64| !v.is_finite() || v.abs() > MAX_COORD;
+        if let Some(n) = self.nodes.iter().find(|n| far(n.x) || far(n.y)) {
+            return Err(Error::layout("nodes", format!("\"{}\" at ({}, {}): coordinates must be finite and within ±{MAX_COORD:.0e} px", n.name, n.x, n.y)));
+        }
+        if self.bounds.iter().any(|&v| far(v)) {
+            return Err(Error::layout("bounds", format!("{:?}: coordinates must be finite and within ±{MAX_COORD:.0e} px", self.bounds)));
+        }
+        Ok(())
+    }
+
+    /// Checks that the layout can be real: at least one storage cell, every cell inside the
+    /// bounds, no two cells overlapping, no node (crossing or charger) inside a cell.
+    pub fn check_geometry(&self) -> Result<()> {
+        if self.cells.is_empty() {
+            return Err(Error::layout("cells", "no storage cell (at least one is needed)"));
+        }
+        let [x0, y0, x1, y1] = self.bounds;
+        for c in &self.cells {
+            if c.x < x0 || c.y < y0 || c.x + c.w > x1 || c.y + c.h > y1 {
+                return Err(Error::layout(format!("cells[{}]", c.id), format!("lies outside the bounds {:?}", self.bounds)));
+            }
+        }
+        // A hash grid of cells, with buckets as large as the largest cell: a cell can only
+        // meet cells and nodes in its own and the neighbouring buckets.
+        let size = self.cells.iter().map(|c| c.w.max(c.h)).fold(0.0, f64::max);
+        let key = |x: f64, y: f64| (((x - x0) / size).floor() as i64, ((y - y0) / size).floor() as i64);
+        let mut grid: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+        for (k, c) in self.cells.iter().enumerate() {
+            grid.entry(key(c.x, c.y)).or_default().push(k);
+        }
+        let near = |x: f64, y: f64| {
+            let (gx, gy) = key(x, y);
+            (-1..=1).flat_map(move |dx| (-1..=1).map(move |dy| (gx + dx, gy + dy)))
+        };
+        for (k, a) in self.cells.iter().enumerate() {
+            for b in near(a.x, a.y).filter_map(|g| grid.get(&g)).flatten().filter(|&&j| j > k).map(|&j| &self.cells[j]) {
+                if a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h {
+                    return Err(Error::layout(format!("cells[{}]", b.id), format!("overlaps cells[{}]", a.id)));
+                }
+            }
+        }
+        for n in &self.nodes {
+            for c in near(n.x, n.y).filter_map(|g| grid.get(&g)).flatten().map(|&j| &self.cells[j]) {
+                if n.x > c.x && n.x < c.x + c.w && n.y > c.y && n.y < c.y + c.h {
+                    return Err(Error::layout(format!("cells[{}]", c.id), format!("covers the node \"{}\" at ({}, {})", n.name, n.x, n.y)));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The paper's layout (spec section 1).
+    #[must_use]
+    pub fn paper() -> Layout {
+        Layout::generate(&LayoutParams::paper(), "paper").expect("the paper layout is valid")
+    }
+
+    /// Generates a grid warehouse. Rows of aisles run east except the bottom one, which runs
+    /// west; vertical aisles alternate north (even) and south (odd), and the rightmost one
+    /// always runs south, so every crossing can reach every other one.
+    pub fn generate(p: &LayoutParams, name: &str) -> Result<Layout> {
+        p.check()?;
+        let (rows, cols) = (p.group_rows as usize, p.group_cols as usize);
+        let (w, h) = (f64::from(p.group_width), f64::from(p.group_height));
+        let pitch_x = w * p.cell + p.aisle;
+        let pitch_y = h * p.cell + p.aisle;
+        let half = p.aisle / 2.0;
+        let kn = cols + 1; // crossings per aisle row
+        let node_of = |m: usize, k: usize| NodeId((m * kn + k) as u32);
+        let north = |k: usize| k % 2 == 0 && !(k == cols && cols % 2 == 0);
+        let east = |m: usize| match p.aisles {
+            Aisles::Paper => m < rows,
+            Aisles::Alternate => m % 2 == 0 && m < rows,
+        };
+
+        let mut nodes = Vec::with_capacity((rows + 1) * kn + p.chargers as usize);
+        for m in 0..=rows {
+            for k in 0..kn {
+                nodes.push(Node { name: node_name(m * kn + k), x: half + k as f64 * pitch_x, y: half + m as f64 * pitch_y, kind: NodeKind::Highway });
+            }
+        }
+        // Out-edges in expansion order: the horizontal edge first, then the vertical one.
+        let mut edges = Vec::new();
+        for m in 0..=rows {
+            for k in 0..kn {
+                let u = node_of(m, k);
+                if east(m) {
+                    if k + 1 < kn {
+                        edges.push((u, node_of(m, k + 1)));
+                    }
+                } else if k > 0 {
+                    edges.push((u, node_of(m, k - 1)));
+                }
+                if north(k) {
+                    if m > 0 {
+                        edges.push((u, node_of(m - 1, k)));
+                    }
+                } else if m < rows {
+                    edges.push((u, node_of(m + 1, k)));
+                }
+            }
+        }
+        let mut chargers = Vec::new();
+        let mut spurs = Vec::new();
+        for i in 0..p.chargers as usize {
+            let k = i * kn / p.chargers as usize;
+            let at = node_of(0, k);
+            let id = NodeId(nodes.len() as u32);
+            nodes.push(Node { name: format!("CH{i}"), x: nodes[at.index()].x, y: nodes[at.index()].y - p.spur, kind: NodeKind::Charger });
+            chargers.push(id);
+            spurs.push((id, at));
+        }
+        let cells_per_group = p.group_width * p.group_height;
+        let mut cells = Vec::with_capacity(rows * cols * cells_per_group as usize);
+        for c in 0..cols {
+            for r in 0..rows {
+                for b in 0..p.group_height as usize {
+                    for a in 0..p.group_width as usize {
+                        let id = CellId(cells.len() as u32);
+                        let x = p.aisle + c as f64 * pitch_x + a as f64 * p.cell;
+                        let y = p.aisle + r as f64 * pitch_y + b as f64 * p.cell;
+                        let k = c + a;
+                        let sy = y + p.cell / 2.0;
+                        let edge = if north(k) { (node_of(r + 1, k), node_of(r, k)) } else { (node_of(r, k), node_of(r + 1, k)) };
+                        cells.push(Cell { id, x, y, w: p.cell, h: p.cell, service: (half + k as f64 * pitch_x, sy), edge });
+                    }
+                }
+            }
+        }
+        let layout = Layout {
+            name: name.to_string(),
+            bounds: [0.0, 0.0, p.aisle + cols as f64 * pitch_x, p.aisle + rows as f64 * pitch_y],
+            aisle_width: p.aisle,
+            cell_size: p.cell,
+            nodes,
+            edges,
+            spurs,
+            cells,
+            departure: (0..kn).map(|k| node_of(0, k)).collect(),
+            // The bottom row first (its first crossing is the default zone), then rows evenly
+            // spaced above it.
+            unloading: (0..p.unloading_rows as usize)
+                .map(|j| rows - (j * rows).div_ceil(p.unloading_rows as usize))
+                .flat_map(|m| (0..kn).map(move |k| node_of(m, k)))
+                .collect(),
+            chargers,
+        };
+        Ok(layout)
+    }
+
+    /// Number of highway nodes (chargers excluded).
+    #[must_use]
+    pub fn highway_nodes(&self) -> usize {
+        self.nodes.iter().filter(|n| n.kind == NodeKind::Highway).count()
+    }
+
+    /// The node with this name.
+    #[must_use]
+    pub fn node_named(&self, name: &str) -> Option<NodeId> {
+        self.nodes.iter().position(|n| n.name == name).map(|i| NodeId(i as u32))
+    }
+
+    /// The charger joined to this highway node, if any.
+    #[must_use]
+    pub fn charger_at(&self, node: NodeId) -> Option<NodeId> {
+        self.spurs.iter().find(|&&(_, n)| n == node).map(|&(c, _)| c)
+    }
+
+    /// The highway node a charger's spur leads to.
+    #[must_use]
+    pub fn spur_node(&self, charger: NodeId) -> Option<NodeId> {
+        self.spurs.iter().find(|&&(c, _)| c == charger).map(|&(_, n)| n)
+    }
+
+    /// Position of a node.
+    #[must_use]
+    pub fn pos(&self, n: NodeId) -> (f64, f64) {
+        let node = &self.nodes[n.index()];
+        (node.x, node.y)
+    }
+
+    /// The layout JSON of `docs/replay-format.md`, shared by replays, the viewer and figures.
+    #[must_use]
+    pub fn to_json(&self) -> Value {
+        let ids = |v: &[NodeId]| v.iter().map(|n| n.0).collect::<Vec<_>>();
+        json!({
+            "name": self.name,
+            "bounds": self.bounds,
+            "aisle_width": self.aisle_width,
+            "cell_size": self.cell_size,
+            "nodes": self.nodes.iter().map(|n| json!({
+                "name": n.name, "x": n.x, "y": n.y,
+                "kind": match n.kind { NodeKind::Highway => "highway", NodeKind::Charger => "charger" },
+            })).collect::<Vec<_>>(),
+            "edges": self.edges.iter().map(|(u, v)| [u.0, v.0]).collect::<Vec<_>>(),
+            "spurs": self.spurs.iter().map(|(c, n)| [c.0, n.0]).collect::<Vec<_>>(),
+            "cells": self.cells.iter().map(|c| json!({
+                "id": c.id.0, "x": c.x, "y": c.y, "w": c.w, "h": c.h,
+                "service": [c.service.0, c.service.1], "edge": [c.edge.0 .0, c.edge.1 .0],
+            })).collect::<Vec<_>>(),
+            "departure": ids(&self.departure),
+            "unloading": ids(&self.unloading),
+            "chargers": ids(&self.chargers),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_run_like_spreadsheet_columns() {
+        assert_eq!(node_name(0), "A");
+        assert_eq!(node_name(17), "R");
+        assert_eq!(node_name(25), "Z");
+        assert_eq!(node_name(26), "AA");
+        assert_eq!(node_name(27), "AB");
+        assert_eq!(node_name(26 + 26 * 26), "AAA");
+    }
+
+    #[test]
+    fn paper_geometry_matches_the_spec_formulas() {
+        let l = Layout::paper();
+        assert_eq!(l.bounds, [0.0, 0.0, 800.0, 550.0]);
+        assert_eq!(l.cells.len(), 80);
+        assert_eq!(l.highway_nodes(), 18);
+        assert_eq!(l.edges.len(), 27);
+        for r in 0..2usize {
+            for c in 0..5usize {
+                for b in 0..4usize {
+                    for a in 0..2usize {
+                        let g = 2 * c + r;
+                        let id = 8 * g + 2 * b + a;
+                        let cell = &l.cells[id];
+                        assert_eq!(cell.id.index(), id);
+                        let centre = (cell.x + cell.w / 2.0, cell.y + cell.h / 2.0);
+                        let expect = ((75 + 150 * c + 50 * a) as f64, (75 + 250 * r + 50 * b) as f64);
+                        assert_eq!(centre, expect, "centre of cell {id}");
+                        let service = ((25 + 150 * (c + a)) as f64, (75 + 250 * r + 50 * b) as f64);
+                        assert_eq!(cell.service, service, "service point of cell {id}");
+                    }
+                }
+            }
+        }
+        for (i, ch) in l.chargers.iter().enumerate() {
+            assert_eq!(l.pos(*ch), ((25 + 150 * i) as f64, -15.0));
+            assert_eq!(l.nodes[ch.index()].name, format!("CH{i}"));
+        }
+        assert_eq!(l.node_named("A"), Some(NodeId(0)));
+        assert_eq!(l.node_named("R"), Some(NodeId(17)));
+        assert_eq!(l.node_named("CH0"), Some(NodeId(18)));
+    }
+
+    #[test]
+    fn service_point_of_cell_42_lies_on_edge_o_to_i() {
+        let l = Layout::paper();
+        let c = &l.cells[42];
+        assert_eq!(c.service, (325.0, 375.0));
+        assert_eq!(l.nodes[c.edge.0.index()].name, "O");
+        assert_eq!(l.nodes[c.edge.1.index()].name, "I");
+    }
+
+    #[test]
+    fn generator_rejects_cells_without_an_aisle() {
+        let p = LayoutParams { group_width: 3, ..LayoutParams::paper() };
+        assert!(Layout::generate(&p, "x").unwrap_err().to_string().contains("group_width"));
+    }
+}
