@@ -17,6 +17,7 @@ use crate::ids::RobotId;
 use crate::input::scenario::Scenario;
 use crate::output::metrics::{Outcome, RunResult};
 use crate::rules::paper::Paper;
+use crate::rules::Engine;
 use crate::world::World;
 use std::sync::Arc;
 
@@ -45,6 +46,21 @@ pub struct Progress {
     pub distance: f64,
     /// Actions taken in this episode.
     pub decisions: u64,
+}
+
+impl Progress {
+    /// The counts of `paper` so far, with `decisions` actions taken.
+    pub(crate) fn of(paper: &Paper, decisions: u64) -> Progress {
+        Progress {
+            t: paper.t(),
+            s: paper.s(),
+            c: paper.c(),
+            delivered: paper.delivered(),
+            goods_total: paper.goods_total(),
+            distance: paper.stats().distance.iter().sum(),
+            decisions,
+        }
+    }
 }
 
 /// The single-agent environment's engine.
@@ -85,15 +101,22 @@ impl Dispatcher {
     /// An environment on `scenario`, at its first decision point.
     pub fn new(scenario: &Scenario, settings: Settings) -> Result<Dispatcher> {
         check_scenario(scenario, None)?;
-        Dispatcher::with_world(World::of(scenario)?, scenario, settings)
+        let world = World::of(scenario)?;
+        settings.check()?;
+        Dispatcher::build(world, scenario, settings)
     }
 
     /// The same on an already built world.
     pub fn with_world(world: Arc<World>, scenario: &Scenario, settings: Settings) -> Result<Dispatcher> {
         settings.check()?;
         check_scenario(scenario, None)?;
-        let paper = Box::new(Paper::with_world(Arc::clone(&world), scenario, Box::new(InTurn))?);
-        let n = paper.robots.len();
+        Dispatcher::build(world, scenario, settings)
+    }
+
+    /// The one way in, for checked settings and scenario.
+    fn build(world: Arc<World>, scenario: &Scenario, settings: Settings) -> Result<Dispatcher> {
+        let paper = Box::new(Paper::build(Arc::clone(&world), scenario, Box::new(InTurn))?);
+        let n = paper.robots().len();
         let mut d = Dispatcher {
             enc: Encoder::new(&world, scenario, settings.max_queue),
             scenario: scenario.clone(),
@@ -118,7 +141,7 @@ impl Dispatcher {
             self.enc = Encoder::new(&self.world, s, self.settings.max_queue);
             self.scenario = s.clone();
         }
-        *self.paper = Paper::with_world(Arc::clone(&self.world), &self.scenario, Box::new(InTurn))?;
+        *self.paper = Paper::build(Arc::clone(&self.world), &self.scenario, Box::new(InTurn))?;
         self.account.restart(self.robots());
         self.last = RobotId(0);
         self.ended = false;
@@ -157,7 +180,7 @@ impl Dispatcher {
 
     fn ensure_running(&self) -> Result<()> {
         if self.ended {
-            return Err(Error::Decision { step: self.paper.tally.t, reason: "the episode has ended: reset() starts the next".into() });
+            return Err(Error::Decision { step: self.paper.t(), reason: "the episode has ended: reset() starts the next".into() });
         }
         Ok(())
     }
@@ -179,7 +202,7 @@ impl Dispatcher {
             self.advance()?;
         }
         let reward = self.account.pay(&self.paper, &self.settings.reward, None);
-        let e = Ending::of(self.paper.outcome);
+        let e = Ending::of(self.paper.outcome());
         Ok(Transition { reward, terminated: e.terminated, truncated: e.truncated, invalid })
     }
 
@@ -215,7 +238,7 @@ impl Dispatcher {
     /// The run's outcome, once it has ended.
     #[must_use]
     pub fn outcome(&self) -> Option<Outcome> {
-        self.paper.outcome
+        self.paper.outcome()
     }
 
     /// The run's result so far (docs/metrics.md).
@@ -227,22 +250,13 @@ impl Dispatcher {
     /// The run's counts.
     #[must_use]
     pub fn progress(&self) -> Progress {
-        let t = &self.paper.tally;
-        Progress {
-            t: t.t,
-            s: t.s,
-            c: t.c,
-            delivered: t.delivered,
-            goods_total: t.goods_total,
-            distance: t.stats.distance.iter().sum(),
-            decisions: self.decisions,
-        }
+        Progress::of(&*self.paper, self.decisions)
     }
 
     /// Robots in the fleet.
     #[must_use]
     pub fn robots(&self) -> usize {
-        self.paper.robots.len()
+        self.paper.robots().len()
     }
 
     /// The settings.

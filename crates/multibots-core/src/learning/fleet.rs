@@ -17,6 +17,7 @@ use crate::ids::{RobotId, NONE};
 use crate::input::scenario::Scenario;
 use crate::output::metrics::RunResult;
 use crate::rules::paper::Paper;
+use crate::rules::Engine;
 use crate::world::World;
 use std::sync::Arc;
 
@@ -55,8 +56,8 @@ impl Fleet {
         settings.check()?;
         check_scenario(scenario, None)?;
         let world = World::of(scenario)?;
-        let paper = Box::new(Paper::with_world(Arc::clone(&world), scenario, Box::new(InTurn))?);
-        let n = paper.robots.len();
+        let paper = Box::new(Paper::build(Arc::clone(&world), scenario, Box::new(InTurn))?);
+        let n = paper.robots().len();
         let mut f = Fleet {
             enc: Encoder::new(&world, scenario, settings.max_queue),
             scenario: scenario.clone(),
@@ -82,7 +83,7 @@ impl Fleet {
             self.enc = Encoder::new(&self.world, s, self.settings.max_queue);
             self.scenario = s.clone();
         }
-        *self.paper = Paper::with_world(Arc::clone(&self.world), &self.scenario, Box::new(InTurn))?;
+        *self.paper = Paper::build(Arc::clone(&self.world), &self.scenario, Box::new(InTurn))?;
         self.account.restart(self.robots());
         self.ended = false;
         self.calls = 0;
@@ -133,7 +134,7 @@ impl Fleet {
     }
 
     fn resolve(&self, codes: &[i64]) -> Result<Vec<(Action, bool)>> {
-        let t = self.paper.tally.t;
+        let t = self.paper.t();
         if self.ended {
             return Err(Error::Decision { step: t, reason: "the episode has ended: reset() starts the next".into() });
         }
@@ -194,7 +195,7 @@ impl Fleet {
         for (o, &s) in out.iter_mut().zip(&self.shares) {
             o.reward = s;
         }
-        Ok(Ending::of(self.paper.outcome))
+        Ok(Ending::of(self.paper.outcome()))
     }
 
     /// Writes robot `i`'s observation (at the end, with only "wait" allowed).
@@ -262,14 +263,13 @@ impl Fleet {
     /// The run's counts (`decisions` counts calls).
     #[must_use]
     pub fn progress(&self) -> Progress {
-        let t = &self.paper.tally;
-        Progress { t: t.t, s: t.s, c: t.c, delivered: t.delivered, goods_total: t.goods_total, distance: t.stats.distance.iter().sum(), decisions: self.calls }
+        Progress::of(&*self.paper, self.calls)
     }
 
     /// Robots in the fleet.
     #[must_use]
     pub fn robots(&self) -> usize {
-        self.paper.robots.len()
+        self.paper.robots().len()
     }
 
     /// The settings.

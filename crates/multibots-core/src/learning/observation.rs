@@ -14,6 +14,7 @@ use crate::fleet::route::{self, Place};
 use crate::ids::{CellId, NodeId, RobotId, NONE};
 use crate::input::scenario::Scenario;
 use crate::rules::paper::Paper;
+use crate::rules::Engine;
 use crate::world::World;
 
 /// One feature: its name (as `docs/learning.md` lists it) and its range.
@@ -376,18 +377,18 @@ impl Encoder {
     /// The global state: every robot's features, the queue's first slots, and the run's
     /// progress (see the bounds constants for the order).
     pub(crate) fn state(&self, paper: &Paper, out: &mut [f32]) {
-        let rb = &paper.robots;
+        let rb = paper.robots();
         let n = rb.len();
         let fleet_len = n * STATE_ROBOT_FEATURES;
-        self.fleet(&paper.world.graph, rb, None, &mut out[..fleet_len], STATE_ROBOT_FEATURES);
+        self.fleet(&paper.world().graph, rb, None, &mut out[..fleet_len], STATE_ROBOT_FEATURES);
         let q = self.max_queue;
         let slots = &mut out[fleet_len..fleet_len + q * STATE_GOODS_FEATURES];
         slots.fill(0.0);
-        let layout = &paper.world.layout;
-        for (k, g) in paper.goods.queue.iter().take(q).enumerate() {
+        let layout = &paper.world().layout;
+        for (k, g) in paper.queue().iter().take(q).enumerate() {
             let row = &mut slots[k * STATE_GOODS_FEATURES..(k + 1) * STATE_GOODS_FEATURES];
-            let zone = paper.homes.unload_of(g.cell.0);
-            let to_unload = route::length(&paper.world.graph, service_place(layout, g.cell), Target::Node(zone));
+            let zone = paper.unload_of(g.cell.0);
+            let to_unload = route::length(&paper.world().graph, service_place(layout, g.cell), Target::Node(zone));
             let (sx, sy) = layout.cells[g.cell.index()].service;
             row[0] = 1.0;
             row[1] = clip(to_unload / self.length, (0.0, 4.0));
@@ -399,8 +400,8 @@ impl Encoder {
         let idle = rb.state.iter().filter(|&&s| s == State::Idle).count();
         let v = [
             paper.tally.t as f64 / paper.limit().max(1) as f64,
-            paper.tally.delivered as f64 / paper.tally.goods_total.max(1) as f64,
-            paper.goods.queue.len() as f64 / q as f64,
+            paper.delivered() as f64 / paper.goods_total().max(1) as f64,
+            paper.queue().len() as f64 / q as f64,
             idle as f64 / n as f64,
         ];
         for (k, (x, o)) in v.iter().zip(run.iter_mut()).enumerate() {

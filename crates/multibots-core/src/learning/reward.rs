@@ -23,6 +23,7 @@ use crate::error::{Error, Result};
 use crate::input::scenario::CostWeights;
 use crate::output::metrics::{Outcome, RobotStats};
 use crate::rules::paper::Paper;
+use crate::rules::Engine;
 
 /// The failure penalty.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,17 +137,17 @@ impl Account {
     /// deliveries, and an equal share of the time and the failure penalty). The parts add up
     /// to the fleet's reward up to float rounding.
     pub fn pay(&mut self, paper: &Paper, w: &RewardWeights, mut shares: Option<&mut [f64]>) -> f64 {
-        let st: &RobotStats = &paper.tally.stats;
+        let st: &RobotStats = paper.stats();
         let n = st.distance.len();
-        let steps = (paper.tally.t - self.t) as f64;
+        let steps = (paper.t() - self.t) as f64;
         let mut common = -w.time * steps;
-        if Ending::of(paper.outcome).failed {
+        if Ending::of(paper.outcome()).failed {
             common -= match w.failure {
-                Failure::Clock => w.time * paper.limit().saturating_sub(paper.tally.t) as f64,
+                Failure::Clock => w.time * paper.limit().saturating_sub(paper.t()) as f64,
                 Failure::Fixed(v) => v,
             };
         }
-        self.t = paper.tally.t;
+        self.t = paper.t();
         let mut total = common;
         for i in 0..n {
             let d = st.distance[i] - self.distance[i];
@@ -162,14 +163,6 @@ impl Account {
             }
         }
         total
-    }
-}
-
-impl Paper {
-    /// The step an unfinished run would stop at: the horizon of a lifelong run, else the step
-    /// limit.
-    pub(crate) fn limit(&self) -> u64 {
-        self.lifelong.as_ref().map_or(self.p.step_limit, |ll| ll.horizon)
     }
 }
 

@@ -9,10 +9,7 @@
 //!   weights; none where T is none.
 
 use crate::fleet::robot::State;
-use crate::ids::NONE;
 use crate::input::scenario::{CostWeights, MetricsParams};
-use crate::rules::paper::lifelong::{self, Lifelong};
-use crate::rules::paper::Paper;
 
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -363,64 +360,6 @@ impl Tally {
         let after = self.windows.get(first..).unwrap_or(&[]);
         let last_half = &after[after.len() / 2..];
         (!last_half.is_empty()).then(|| last_half.iter().sum::<u64>() as f64 * 1000.0 / (last_half.len() as u64 * self.window) as f64)
-    }
-}
-
-impl Paper {
-    /// The indicators and per-robot statistics so far.
-    #[must_use]
-    pub fn result(&self) -> RunResult {
-        let r = &self.robots;
-        let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
-        let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
-        let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
-        result.people = self.people.as_ref().map(|p| p.figures(self.tally.t));
-        result
-    }
-
-    /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),
-    /// stranded robots, or robots standing idle.
-    pub(crate) fn declare_stall(&mut self, waits: &[bool]) {
-        let r = &self.robots;
-        let layout = &self.world.layout;
-        let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
-        if waiting.is_empty() {
-            let stranded = r.state.contains(&crate::fleet::robot::State::Stranded);
-            self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
-            return;
-        }
-        let mut per_node = vec![0u32; layout.nodes.len()];
-        for &i in &waiting {
-            let i = i as usize;
-            let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
-            if node != NONE {
-                per_node[node as usize] += 1;
-            }
-        }
-        let mut crossings: Vec<(String, u32)> = per_node.iter().enumerate().filter(|(_, &c)| c > 0).map(|(k, &c)| (layout.nodes[k].name.clone(), c)).collect();
-        crossings.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
-        crossings.truncate(10);
-        self.tally.gridlock = Some(Gridlock { step: self.tally.t, waiting, crossings });
-        self.outcome = Some(Outcome::Gridlock);
-    }
-
-    fn lifelong_stats(&self, ll: &Lifelong) -> LifelongStats {
-        let mut lat = ll.latencies.clone();
-        lat.sort_unstable();
-        let tally = &self.tally;
-        let energy: f64 = tally.stats.energy_used.iter().sum();
-        let r = &self.robots;
-        LifelongStats {
-            ordered: ll.ordered(),
-            in_flight: (0..r.len()).filter(|&i| r.goods[i] != crate::ids::NONE).count() as u64,
-            queued: self.goods.queue.len() as u64,
-            waiting: ll.waiting,
-            latency_p50: lifelong::percentile(&lat, 50.0),
-            latency_p95: lifelong::percentile(&lat, 95.0),
-            latency_p99: lifelong::percentile(&lat, 99.0),
-            latency_mean: (!lat.is_empty()).then(|| lat.iter().sum::<u64>() as f64 / lat.len() as f64),
-            energy_per_delivery: (tally.delivered > 0).then(|| energy / tally.delivered as f64),
-        }
     }
 }
 

@@ -36,6 +36,7 @@ mod charging;
 mod collision;
 mod dispatch;
 mod map;
+pub(crate) mod measured;
 mod strategy;
 mod validate;
 mod view;

@@ -112,6 +112,7 @@ mod tests {
     use crate::ids::RobotId;
     use crate::input::scenario::{ChargerUse, ChargingPolicy, PAPER_TASKS};
     use crate::rules::paper::Paper;
+    use crate::rules::Engine;
     use crate::xorshift as next;
     use crate::Scenario;
 
@@ -276,7 +277,7 @@ mod tests {
             s.robot.consumption = 1e-12;
             s.step_limit = 4_000_000_000;
             let new = || {
-                let mut p = Paper::with_world(world.clone(), &s, built_in(&s).unwrap()).unwrap();
+                let mut p = Paper::build(world.clone(), &s, built_in(&s).unwrap()).unwrap();
                 let g = &p.world.graph;
                 let pts = waypoints(g, Place::node(g, p.robots.home[0]), service_target(&p.world.layout, CellId(42)));
                 let ((ax, ay), (bx, by)) = (pts[2], pts[3]);

@@ -231,6 +231,15 @@ impl GoodsQueue {
 }
 
 impl Paper {
+    /// Phase 0 (lifelong): restocks and arrivals of this step join the queue.
+    pub(super) fn orders(&mut self) {
+        let Some(ll) = self.lifelong.as_mut() else { return };
+        if self.goods.take_orders(ll, self.tally.t, &mut self.events) {
+            self.alloc_due = true;
+        }
+        self.tally.goods_total = ll.ordered();
+    }
+
     /// Phase 1 with the allocator: idle robots get goods or go to charge, or go home when no
     /// goods are open.
     pub(crate) fn hand_out(&mut self) -> Result<()> {

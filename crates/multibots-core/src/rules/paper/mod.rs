@@ -1,153 +1,52 @@
-//! The step: the phases of the model in their order (spec section 4).
+//! The paper rules (`rules = "paper"`, `docs/model.md`): the engine [`Paper`], and the step,
+//! the phases of the model in their order (spec section 4), each in its own file.
 //!
 //! | phase | what | where |
 //! | --- | --- | --- |
-//! | 0 | lifelong orders and restocks arrive | [`crate::rules::paper::goods_queue`], [`crate::rules::paper::lifelong`] |
-//! | 1 | idle robots get goods, or go home | [`crate::rules::paper::goods_queue`], [`crate::alloc`] |
-//! | 2 | who wants to move, and where each is heading | here |
-//! | 3 | collision waiting, and the count S | [`crate::collision`] |
-//! | 4 | robots that may move travel along their routes | [`crate::fleet::route`] |
-//! | 5, 6 | dwell counters; charging and consumption | [`crate::fleet::energy`] |
-//! | 7 | the task cycle, then the charging rules | [`crate::rules::paper::tasks`], [`crate::rules::paper::charging`] |
-//! | 8 | completion, then the step limit | here |
+//! | 0 | lifelong orders and restocks arrive | `goods_queue.rs`, `lifelong.rs` |
+//! | 1 | idle robots get goods, or go home | `goods_queue.rs`, [`crate::alloc`] (or a caller, `decision_point.rs`) |
+//! | 2 | who wants to move, and where each is heading | `intend.rs` |
+//! | 3 | collision waiting and the count S, or a traffic policy | `moves.rs`, [`crate::collision`], [`crate::traffic`] |
+//! | 4 | robots that may move travel along their routes | `moves.rs`, [`crate::fleet::route`] |
+//! | 5, 6 | dwell counters; charging and consumption | `moves.rs`, `params.rs`, [`crate::fleet::energy`] |
+//! | 7 | the task cycle, then the charging rules | `tasks.rs`, `charging.rs` |
+//! | 8 | completion, then the step limit; the result | `end.rs` |
 //!
-//! Start positions, parking and unloading zones are in [`crate::world::placement`]; T, S, C and the
-//! run's result in [`crate::output::metrics`].
+//! Stretches of quiet steps run in one pass (`cruise.rs`). Start positions, parking and
+//! unloading zones are in [`crate::world::placement`]; what T, S, C and the other figures mean
+//! in [`crate::output::metrics`].
 
 pub(crate) mod charging;
 mod cruise;
 pub mod decision_point;
+mod end;
 pub(crate) mod goods_queue;
+mod intend;
 pub mod lifelong;
+mod moves;
+mod params;
 mod tasks;
 
-use crate::alloc::{self, Allocator, Goods};
-use crate::collision::{bearing, Collisions};
+use params::livelock_after;
+pub(crate) use params::Params;
+
+use crate::alloc::Allocator;
+use crate::collision::Collisions;
 use crate::error::{Error, Result};
-use crate::fleet::energy;
-use crate::fleet::robot::{Robots, State, Target};
-use crate::fleet::route::{self, Place};
-use crate::ids::{NodeId, NONE};
-use crate::input::scenario::{ChargingPolicy, CostWeights, Scenario, Traffic};
+use crate::fleet::robot::{Robots, Target};
+use crate::fleet::route;
+use crate::input::scenario::{CostWeights, Scenario, Traffic};
 use crate::output::events::{Event, EventKind};
 use crate::output::metrics::{Outcome, RobotStats, RunResult, Tally};
 use crate::people::People;
 use crate::rules::paper::goods_queue::GoodsQueue;
+use crate::rules::Engine;
 use crate::traffic::TrafficState;
 use crate::world::placement::{self, Homes};
 use crate::world::World;
 use charging::{Asked, Chargers};
 use lifelong::Lifelong;
-use std::collections::VecDeque;
 use std::sync::Arc;
-
-/// The model's numbers, taken from a validated scenario.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Params {
-    pub speed: f64,
-    pub energy_full: f64,
-    pub threshold: f64,
-    pub consumption: f64,
-    pub charge_rate: f64,
-    pub loading: u32,
-    pub unloading: u32,
-    pub margin: f64,
-    /// The collision angle, radians.
-    pub angle: f64,
-    pub step_limit: u64,
-    /// Opportunistic charging: idle robots below this level go to charge.
-    pub opportunistic: Option<f64>,
-}
-
-impl Params {
-    /// Whether phase 7 has anything to do for a robot in `state`, after this step's phases
-    /// 2 to 6. Most robots have nothing due: under way, dwelling or charging, with energy to
-    /// spare. Only the others take the full rules.
-    #[inline]
-    pub(crate) fn due(&self, state: State, routing: bool, dwell: u32, e: f64) -> bool {
-        self.task_done(state, routing, dwell, e) || energy::below(e, self.threshold) || self.energy_acts(state, e)
-    }
-
-    /// A trip, a dwell or a charge that ended: the task cycle's transition is due.
-    #[inline]
-    fn task_done(&self, state: State, routing: bool, dwell: u32, e: f64) -> bool {
-        match state {
-            State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome => !routing,
-            State::Loading => dwell >= self.loading,
-            State::Unloading => dwell >= self.unloading,
-            State::Charging => energy::is_full(e, self.energy_full),
-            _ => false,
-        }
-    }
-
-    /// Stranding, or opportunistic charging, for a robot with energy `e`.
-    #[inline]
-    fn energy_acts(&self, state: State, e: f64) -> bool {
-        energy::exhausted(e) || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
-    }
-
-    /// Whether phase 7 would change anything for a robot (`marked` by the threshold rule):
-    /// [`Params::due`] less robots below the threshold that the threshold rule has nothing
-    /// left to do for (`Paper::energy_rules`): marked already, or going to charge, charging,
-    /// waiting for a charger, parked or going home. A robot fetching goods below it counts as
-    /// acting (whether it puts them back depends on where it is). A charging robot below the
-    /// threshold is due every step until it is full: without this, no run of steps could
-    /// cruise through a charge.
-    #[inline]
-    pub(crate) fn acts(&self, state: State, routing: bool, dwell: u32, e: f64, marked: bool) -> bool {
-        let threshold = energy::below(e, self.threshold)
-            && match state {
-                State::Idle | State::ToPickup => true,
-                State::Loading | State::ToDrop | State::Unloading => !marked,
-                _ => false,
-            };
-        // A stranded robot stays stranded.
-        self.task_done(state, routing, dwell, e) || threshold || (state != State::Stranded && self.energy_acts(state, e))
-    }
-
-    /// Phases 5 and 6 for one robot in `state`: its dwell counter, charging, and consumption
-    /// (counted in `energy_used`).
-    #[inline]
-    pub(crate) fn dwell_and_energy(&self, state: State, dwell: &mut u32, energy: &mut f64, energy_used: &mut f64) {
-        match state {
-            State::Loading | State::Unloading => *dwell += 1,
-            State::Charging => *energy = energy::charge(*energy, self.charge_rate, self.energy_full),
-            _ => {}
-        }
-        if !matches!(state, State::Charging | State::Parked | State::Stranded) {
-            let e = energy::consume(*energy, self.consumption);
-            *energy_used += *energy - e;
-            *energy = e;
-        }
-    }
-
-    fn of(scenario: &Scenario) -> Params {
-        let r = &scenario.robot;
-        Params {
-            speed: r.speed,
-            energy_full: r.energy_full,
-            threshold: r.threshold,
-            consumption: r.consumption,
-            charge_rate: r.charge_rate,
-            loading: scenario.dwell.loading,
-            unloading: scenario.dwell.unloading,
-            margin: scenario.collision.margin,
-            angle: scenario.collision.angle.to_radians(),
-            step_limit: scenario.step_limit,
-            opportunistic: (scenario.charging.policy == ChargingPolicy::Opportunistic).then_some(scenario.charging.level),
-        }
-    }
-}
-
-/// Steps without a pickup or a delivery that make a livelock: two full battery cycles (a
-/// full charge used up, and a full charge), with gridlock detection; 0 without it.
-fn livelock_after(scenario: &Scenario) -> u64 {
-    let r = &scenario.robot;
-    if scenario.metrics.gridlock == 0 {
-        return 0;
-    }
-    (2.0 * (r.energy_full / r.consumption + r.energy_full / r.charge_rate)).ceil().min(1e15) as u64
-}
 
 /// The cells a scenario can ask for: its task list, and with Poisson orders every cell (CSV
 /// orders are checked row by row when read).
@@ -167,7 +66,7 @@ fn asked_cells(scenario: &Scenario, tasks: &[u32], cell_count: usize) -> Vec<Ask
 
 /// A run under the paper rules (`rules = "paper"`), in progress. Users drive it through
 /// [`crate::Simulation`], which also runs the original rules.
-pub struct Paper {
+pub(crate) struct Paper {
     pub(crate) world: Arc<World>,
     pub(crate) p: Params,
     pub(crate) cost_weights: CostWeights,
@@ -200,22 +99,26 @@ pub struct Paper {
 }
 
 impl Paper {
-    /// A run of `scenario` with its named built-in allocator.
-    pub fn new(scenario: &Scenario) -> Result<Paper> {
+    /// A run of `scenario` with its named built-in allocator (the crate's tests; users go
+    /// through [`crate::Simulation`]).
+    #[cfg(test)]
+    pub(crate) fn new(scenario: &Scenario) -> Result<Paper> {
         scenario.check_values()?;
-        let allocator = alloc::built_in(scenario)?;
-        Paper::with_world(World::of(scenario)?, scenario, allocator)
+        let allocator = crate::alloc::built_in(scenario)?;
+        Paper::build(World::of(scenario)?, scenario, allocator)
     }
 
-    /// A run of `scenario` with a given allocator (such as one written in Python).
-    pub fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
+    /// A run of `scenario` with a given allocator (the crate's tests).
+    #[cfg(test)]
+    pub(crate) fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
         scenario.check_values()?;
-        Paper::with_world(World::of(scenario)?, scenario, allocator)
+        Paper::build(World::of(scenario)?, scenario, allocator)
     }
 
-    /// A run on an already built world, with any allocator.
-    pub fn with_world(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
-        scenario.check_values()?;
+    /// A run on an already built world, with any allocator, for a scenario whose values
+    /// [`Scenario::check_values`] has passed: [`crate::Simulation`]'s one way in, and the
+    /// learning environments'.
+    pub(crate) fn build(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
         let layout = &world.layout;
         let unload = placement::unload_zone(layout, &scenario.unload)?;
         let starts = placement::start_nodes(layout, scenario)?;
@@ -258,8 +161,9 @@ impl Paper {
         })
     }
 
-    /// Runs until the run completes or reaches the step limit.
-    pub fn run(&mut self) -> Result<RunResult> {
+    /// Runs until the run completes or reaches the step limit (the crate's tests).
+    #[cfg(test)]
+    pub(crate) fn run(&mut self) -> Result<RunResult> {
         self.steps(u64::MAX)?;
         Ok(self.result())
     }
@@ -343,278 +247,79 @@ impl Paper {
     pub(crate) fn route(&mut self, i: usize, target: Target) {
         route::assign(&mut self.robots, &self.world.graph, i, target);
     }
+}
 
-    /// Phase 0 (lifelong): restocks and arrivals of this step join the queue.
-    fn orders(&mut self) {
-        let Some(ll) = self.lifelong.as_mut() else { return };
-        if self.goods.take_orders(ll, self.tally.t, &mut self.events) {
-            self.alloc_due = true;
-        }
-        self.tally.goods_total = ll.ordered();
-    }
+impl Paper {
+    // What the learning environments read beyond [`Engine`].
 
-    /// Phase 2: who wants to move, and where each is heading.
-    fn intend(&mut self) {
-        let n = self.robots.len();
-        let r = &mut self.robots;
-        // Slices of exactly `n` (here and in the phases below): indexing by `i < n` needs
-        // no bounds checks.
-        let (routing, state, x, y, wp_x, wp_y) = (&r.routing[..n], &r.state[..n], &r.x[..n], &r.y[..n], &r.wp_x[..n], &r.wp_y[..n]);
-        // The heading is the collision test's direction too (`resolve` reads it only where
-        // a robot wants to move, and so was set just now): no column of its own.
-        let (wants, head) = (&mut self.wants[..n], &mut r.heading[..n]);
-        for i in 0..n {
-            let w = routing[i] && state[i].travels();
-            wants[i] = w;
-            if w {
-                head[i] = bearing(wp_x[i] - x[i], wp_y[i] - y[i]);
-            }
-        }
-        if self.homes.spread() {
-            // Spread placement: parked robots and robots waiting for a charger stand in a
-            // bay beside the aisle, out of the traffic (docs/model.md section 7).
-            self.collisions.bay.resize(n, false);
-            for (b, s) in self.collisions.bay.iter_mut().zip(state) {
-                *b = matches!(s, State::Parked | State::WaitCharger);
-            }
-        }
-    }
-
-    /// Phases 3 to 6: collision waiting and the count S, then travel, dwell counters,
-    /// charging and consumption. After the collision decision every robot's phases 3 to 6
-    /// touch only that robot, so one pass does them all, robot by robot.
-    fn block_and_move(&mut self) {
-        let n = self.robots.len();
-        let p = &self.p;
-        let r = &self.robots;
-        // Who waits and how far each robot may travel: the paper's collision waiting, or a
-        // traffic policy (crate::traffic), which may also stop a robot short.
-        match self.traffic.as_mut() {
-            None => self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle),
-            Some(ts) => {
-                let cone = if ts.policy == Traffic::Gate {
-                    self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle);
-                    Some(&self.collisions.waits[..])
-                } else {
-                    None
-                };
-                let bays = &self.collisions.bay;
-                for (o, k) in ts.out.iter_mut().zip(0..) {
-                    *o = bays.get(k).copied().unwrap_or(false);
-                }
-                ts.decide(&mut self.robots, &self.world.graph, self.tally.t, &self.wants, cone);
-                if ts.policy == Traffic::Reserve {
-                    // Robots waiting to leave a bay are still in it; the grid serves to count
-                    // contacts after the moves.
-                    if !self.collisions.bay.is_empty() {
-                        self.collisions.bay.copy_from_slice(&ts.out);
-                    }
-                    let r = &self.robots;
-                    self.collisions.build_grid(&r.x, &r.y, &r.radius);
-                }
-            }
-        }
-        let (waits, budget) = match self.traffic.as_ref() {
-            None => (&self.collisions.waits[..n], None),
-            Some(ts) => (&ts.waits[..n], Some(&ts.budget[..n])),
-        };
-        // People: robots that stop for a person (not a collision) or slow down near one.
-        let (halt, slow, slow_factor) = match self.people.as_deref() {
-            Some(pp) => (Some(&pp.stop[..n]), Some(&pp.slow[..n]), pp.slow_factor),
-            None => (None, None, 1.0),
-        };
-        let mut progress = false;
-        let g = &self.world.graph;
-        let wants = &self.wants[..n];
-        let st = &mut self.tally.stats;
-        let (wait_steps, collisions, distance, energy_used, order_waits) =
-            (&mut st.wait_steps[..n], &mut st.collisions[..n], &mut st.distance[..n], &mut st.energy_used[..n], &mut st.order_waits[..n]);
-        let (mut motion, r) = self.robots.split();
-        let events = &mut self.events;
-        let (t, s) = (self.tally.t, &mut self.tally.s);
-        for i in 0..n {
-            let state = r.state[i];
-            // Phase 3: a wait that begins is a collision.
-            let w = waits[i];
-            if w {
-                wait_steps[i] += 1;
-                if matches!(state, State::ToPickup | State::ToDrop) {
-                    order_waits[i] += 1;
-                }
-                if !r.waited[i] {
-                    *s += 1;
-                    collisions[i] += 1;
-                    events.push(Event { step: t, kind: EventKind::Wait, robot: i as u32, cell: NONE });
-                }
-            }
-            r.waited[i] = w;
-            // Phase 4: robots that may move travel `speed` px along their routes (or what the
-            // traffic policy allows).
-            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]);
-            if moves {
-                let mut step = budget.map_or(r.speed[i], |b| b[i]);
-                if slow.is_some_and(|s| s[i]) {
-                    step = step.min(r.speed[i] * slow_factor);
-                }
-                distance[i] += motion.advance(g, i, step);
-            }
-            p.dwell_and_energy(state, &mut r.dwell[i], &mut r.energy[i], &mut energy_used[i]);
-            progress |= moves | state.busy_in_place();
-        }
-        self.progress |= progress;
-        if progress {
-            self.count_contacts();
-        }
-    }
-
-    /// Contacts after the moves of this step (see [`Collisions::contacts`]).
-    fn count_contacts(&mut self) {
-        let n = self.robots.len();
-        // Robots that moved: wanted to and did not wait (reusing the phase's buffer).
-        let waits = self.traffic.as_ref().map_or(&self.collisions.waits[..n], |ts| &ts.waits[..n]);
-        for (w, &waited) in self.wants[..n].iter_mut().zip(waits) {
-            *w &= !waited;
-        }
-        if !self.wants.contains(&true) {
-            return;
-        }
-        let r = &self.robots;
-        let (r_max, slack) = self.contact_reach;
-        let (count, closest) = self.collisions.contacts_within(&r.x, &r.y, &r.radius, &self.wants, r_max, slack);
-        self.tally.contacts += count;
-        self.tally.closest = self.tally.closest.min(closest);
-    }
-
-    /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
-    pub(crate) fn transitions(&mut self) {
-        let p = self.p;
-        for i in 0..self.robots.len() {
-            let r = &self.robots;
-            if p.due(r.state[i], r.routing[i], r.dwell[i], r.energy[i]) {
-                self.task_transition(i);
-                self.energy_rules(i);
-            }
-            self.tally.stats.state_steps[i][self.robots.state[i] as usize] += 1;
-        }
-    }
-
-    /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
-    /// jammed), then the step limit (or the horizon).
-    pub(crate) fn end(&mut self) {
-        let complete =
-            self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
-        let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
-        let jammed = self.tally.end_step(self.progress, work_remains);
-        if complete {
-            self.outcome = Some(Outcome::Complete);
-        } else if work_remains && self.robots.state.iter().all(|&s| s == State::Stranded) {
-            self.outcome = Some(Outcome::Stranded);
-        } else if jammed {
-            let waits = std::mem::take(&mut self.collisions.waits);
-            self.declare_stall(&waits);
-            self.collisions.waits = waits;
-        } else if self.tally.livelocked(work_remains) {
-            self.outcome = Some(Outcome::Livelock);
-        } else if let Some(ll) = &self.lifelong {
-            if self.tally.t >= ll.horizon {
-                self.outcome = Some(Outcome::Horizon);
-            }
-        } else if self.tally.t >= self.p.step_limit {
-            self.outcome = Some(Outcome::Incomplete);
-        }
-    }
-
-    // Read-only state, for the bindings, viewers and replays.
-
-    /// The current step (0 before the first).
-    #[must_use]
-    pub fn t(&self) -> u64 {
-        self.tally.t
-    }
-    /// Whether the run has ended.
-    #[must_use]
-    pub fn done(&self) -> bool {
-        self.outcome.is_some()
-    }
-    /// The run's outcome, once it has ended.
-    #[must_use]
-    pub fn outcome(&self) -> Option<Outcome> {
-        self.outcome
-    }
-    /// Collisions S so far.
-    #[must_use]
-    pub fn s(&self) -> u64 {
-        self.tally.s
-    }
-    /// Charging count C so far.
-    #[must_use]
-    pub fn c(&self) -> u64 {
-        self.tally.c
-    }
-    /// Goods delivered so far.
-    #[must_use]
-    pub fn delivered(&self) -> u64 {
-        self.tally.delivered
-    }
-    /// Goods in the task list.
-    #[must_use]
-    pub fn goods_total(&self) -> u64 {
-        self.tally.goods_total
-    }
-    /// The fleet's columns.
-    #[must_use]
-    pub fn robots(&self) -> &Robots {
-        &self.robots
-    }
-    /// Per-robot statistics so far.
-    #[must_use]
-    pub fn stats(&self) -> &RobotStats {
-        &self.tally.stats
-    }
-    /// Which cells hold goods.
-    #[must_use]
-    pub fn cells_full(&self) -> &[bool] {
-        &self.goods.cells_full
-    }
     /// Goods not yet taken, front first.
-    #[must_use]
-    pub fn queue(&self) -> &VecDeque<Goods> {
+    pub(crate) fn queue(&self) -> &std::collections::VecDeque<crate::alloc::Goods> {
         &self.goods.queue
     }
-    /// Events of the last step.
-    #[must_use]
-    pub fn events(&self) -> &[Event] {
+
+    /// The unloading zone that goods from `cell` go to.
+    pub(crate) fn unload_of(&self, cell: u32) -> crate::ids::NodeId {
+        self.homes.unload_of(cell)
+    }
+}
+
+impl Engine for Paper {
+    fn steps(&mut self, max: u64) -> Result<u64> {
+        Paper::steps(self, max)
+    }
+    fn step(&mut self) -> Result<()> {
+        Paper::step(self)
+    }
+    fn result(&self) -> RunResult {
+        Paper::result(self)
+    }
+    fn t(&self) -> u64 {
+        self.tally.t
+    }
+    fn outcome(&self) -> Option<Outcome> {
+        self.outcome
+    }
+    fn s(&self) -> u64 {
+        self.tally.s
+    }
+    fn c(&self) -> u64 {
+        self.tally.c
+    }
+    fn delivered(&self) -> u64 {
+        self.tally.delivered
+    }
+    fn goods_total(&self) -> u64 {
+        self.tally.goods_total
+    }
+    fn robots(&self) -> &Robots {
+        &self.robots
+    }
+    fn people(&self) -> Option<&People> {
+        self.people.as_deref()
+    }
+    fn stats(&self) -> &RobotStats {
+        &self.tally.stats
+    }
+    fn cells_full(&self) -> &[bool] {
+        &self.goods.cells_full
+    }
+    fn queue_cells(&self) -> Vec<u32> {
+        self.goods.queue.iter().map(|g| g.cell.0).collect()
+    }
+    fn events(&self) -> &[Event] {
         &self.events
     }
-    /// The layout and graph.
-    #[must_use]
-    pub fn world(&self) -> &Arc<World> {
+    fn world(&self) -> &Arc<World> {
         &self.world
     }
-    /// Full energy and the threshold.
-    #[must_use]
-    pub fn energy_levels(&self) -> (f64, f64) {
+    fn energy_levels(&self) -> (f64, f64) {
         (self.p.energy_full, self.p.threshold)
     }
-    /// The allocator's name.
-    #[must_use]
-    pub fn allocator_name(&self) -> &str {
+    fn allocator_name(&self) -> &str {
         self.allocator.name()
     }
-    /// Robot `i`'s remaining route as waypoints, starting at its position.
-    #[must_use]
-    pub fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
+    fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
         route::remaining(&self.robots, &self.world.graph, i)
-    }
-    /// Route length from a node to a target, for callers outside the step loop.
-    #[must_use]
-    pub fn route_length_from_node(&self, from: NodeId, target: Target) -> f64 {
-        route::length(&self.world.graph, Place::node(&self.world.graph, from), target)
-    }
-    /// Whether a node is a charger.
-    #[must_use]
-    pub fn is_charger(&self, n: NodeId) -> bool {
-        self.world.is_charger(n)
     }
 }
 
@@ -622,7 +327,10 @@ impl Paper {
 mod tests {
     use super::*;
     use crate::alloc::service_target;
+    use crate::fleet::robot::State;
+    use crate::fleet::route::Place;
     use crate::ids::CellId;
+    use crate::ids::NONE;
 
     #[test]
     fn a_robot_behind_a_stranded_one_is_a_gridlock_that_says_where() {

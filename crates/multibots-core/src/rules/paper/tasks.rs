@@ -13,6 +13,19 @@ use crate::output::events::EventKind;
 use crate::rules::paper::Paper;
 
 impl Paper {
+    /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
+    pub(crate) fn transitions(&mut self) {
+        let p = self.p;
+        for i in 0..self.robots.len() {
+            let r = &self.robots;
+            if p.due(r.state[i], r.routing[i], r.dwell[i], r.energy[i]) {
+                self.task_transition(i);
+                self.energy_rules(i);
+            }
+            self.tally.stats.state_steps[i][self.robots.state[i] as usize] += 1;
+        }
+    }
+
     /// The task transition of robot `i` in phase 7, if one is due.
     pub(crate) fn task_transition(&mut self, i: usize) {
         let arrived = !self.robots.routing[i];

@@ -1,0 +1,99 @@
+//! Phase 8 (spec section 4): completion, then a fleet that can do nothing more (all
+//! stranded, or jammed), then the step limit or the horizon; and the run's result so far
+//! ([`crate::output::metrics`] says what each figure means).
+
+use crate::fleet::robot::State;
+use crate::ids::NONE;
+use crate::output::metrics::{Gridlock, LifelongStats, Outcome, RunResult};
+use crate::rules::paper::lifelong::{self, Lifelong};
+use crate::rules::paper::Paper;
+
+impl Paper {
+    /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
+    /// jammed), then the step limit (or the horizon).
+    pub(crate) fn end(&mut self) {
+        let complete =
+            self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
+        let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
+        let jammed = self.tally.end_step(self.progress, work_remains);
+        if complete {
+            self.outcome = Some(Outcome::Complete);
+        } else if work_remains && self.robots.state.iter().all(|&s| s == State::Stranded) {
+            self.outcome = Some(Outcome::Stranded);
+        } else if jammed {
+            let waits = std::mem::take(&mut self.collisions.waits);
+            self.declare_stall(&waits);
+            self.collisions.waits = waits;
+        } else if self.tally.livelocked(work_remains) {
+            self.outcome = Some(Outcome::Livelock);
+        } else if let Some(ll) = &self.lifelong {
+            if self.tally.t >= ll.horizon {
+                self.outcome = Some(Outcome::Horizon);
+            }
+        } else if self.tally.t >= self.p.step_limit {
+            self.outcome = Some(Outcome::Incomplete);
+        }
+    }
+
+    /// The indicators and per-robot statistics so far.
+    #[must_use]
+    pub fn result(&self) -> RunResult {
+        let r = &self.robots;
+        let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
+        let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
+        let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
+        result.people = self.people.as_ref().map(|p| p.figures(self.tally.t));
+        result
+    }
+
+    /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),
+    /// stranded robots, or robots standing idle.
+    pub(crate) fn declare_stall(&mut self, waits: &[bool]) {
+        let r = &self.robots;
+        let layout = &self.world.layout;
+        let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
+        if waiting.is_empty() {
+            let stranded = r.state.contains(&crate::fleet::robot::State::Stranded);
+            self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
+            return;
+        }
+        let mut per_node = vec![0u32; layout.nodes.len()];
+        for &i in &waiting {
+            let i = i as usize;
+            let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
+            if node != NONE {
+                per_node[node as usize] += 1;
+            }
+        }
+        let mut crossings: Vec<(String, u32)> = per_node.iter().enumerate().filter(|(_, &c)| c > 0).map(|(k, &c)| (layout.nodes[k].name.clone(), c)).collect();
+        crossings.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+        crossings.truncate(10);
+        self.tally.gridlock = Some(Gridlock { step: self.tally.t, waiting, crossings });
+        self.outcome = Some(Outcome::Gridlock);
+    }
+
+    fn lifelong_stats(&self, ll: &Lifelong) -> LifelongStats {
+        let mut lat = ll.latencies.clone();
+        lat.sort_unstable();
+        let tally = &self.tally;
+        let energy: f64 = tally.stats.energy_used.iter().sum();
+        let r = &self.robots;
+        LifelongStats {
+            ordered: ll.ordered(),
+            in_flight: (0..r.len()).filter(|&i| r.goods[i] != crate::ids::NONE).count() as u64,
+            queued: self.goods.queue.len() as u64,
+            waiting: ll.waiting,
+            latency_p50: lifelong::percentile(&lat, 50.0),
+            latency_p95: lifelong::percentile(&lat, 95.0),
+            latency_p99: lifelong::percentile(&lat, 99.0),
+            latency_mean: (!lat.is_empty()).then(|| lat.iter().sum::<u64>() as f64 / lat.len() as f64),
+            energy_per_delivery: (tally.delivered > 0).then(|| energy / tally.delivered as f64),
+        }
+    }
+
+    /// The step an unfinished run would stop at: the horizon of a lifelong run, else the step
+    /// limit.
+    pub(crate) fn limit(&self) -> u64 {
+        self.lifelong.as_ref().map_or(self.p.step_limit, |ll| ll.horizon)
+    }
+}

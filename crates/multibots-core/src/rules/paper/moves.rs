@@ -1,0 +1,116 @@
+//! Phases 3 to 6 (spec section 4): collision waiting and the count S (or a traffic policy,
+//! [`crate::traffic`]), travel along the routes, dwell counters, charging and consumption,
+//! then the contacts after the moves.
+
+use crate::fleet::robot::State;
+use crate::ids::NONE;
+use crate::input::scenario::Traffic;
+use crate::output::events::{Event, EventKind};
+use crate::rules::paper::Paper;
+
+impl Paper {
+    /// Phases 3 to 6: collision waiting and the count S, then travel, dwell counters,
+    /// charging and consumption. After the collision decision every robot's phases 3 to 6
+    /// touch only that robot, so one pass does them all, robot by robot.
+    pub(super) fn block_and_move(&mut self) {
+        let n = self.robots.len();
+        let p = &self.p;
+        let r = &self.robots;
+        // Who waits and how far each robot may travel: the paper's collision waiting, or a
+        // traffic policy (crate::traffic), which may also stop a robot short.
+        match self.traffic.as_mut() {
+            None => self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle),
+            Some(ts) => {
+                let cone = if ts.policy == Traffic::Gate {
+                    self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle);
+                    Some(&self.collisions.waits[..])
+                } else {
+                    None
+                };
+                let bays = &self.collisions.bay;
+                for (o, k) in ts.out.iter_mut().zip(0..) {
+                    *o = bays.get(k).copied().unwrap_or(false);
+                }
+                ts.decide(&mut self.robots, &self.world.graph, self.tally.t, &self.wants, cone);
+                if ts.policy == Traffic::Reserve {
+                    // Robots waiting to leave a bay are still in it; the grid serves to count
+                    // contacts after the moves.
+                    if !self.collisions.bay.is_empty() {
+                        self.collisions.bay.copy_from_slice(&ts.out);
+                    }
+                    let r = &self.robots;
+                    self.collisions.build_grid(&r.x, &r.y, &r.radius);
+                }
+            }
+        }
+        let (waits, budget) = match self.traffic.as_ref() {
+            None => (&self.collisions.waits[..n], None),
+            Some(ts) => (&ts.waits[..n], Some(&ts.budget[..n])),
+        };
+        // People: robots that stop for a person (not a collision) or slow down near one.
+        let (halt, slow, slow_factor) = match self.people.as_deref() {
+            Some(pp) => (Some(&pp.stop[..n]), Some(&pp.slow[..n]), pp.slow_factor),
+            None => (None, None, 1.0),
+        };
+        let mut progress = false;
+        let g = &self.world.graph;
+        let wants = &self.wants[..n];
+        let st = &mut self.tally.stats;
+        let (wait_steps, collisions, distance, energy_used, order_waits) =
+            (&mut st.wait_steps[..n], &mut st.collisions[..n], &mut st.distance[..n], &mut st.energy_used[..n], &mut st.order_waits[..n]);
+        let (mut motion, r) = self.robots.split();
+        let events = &mut self.events;
+        let (t, s) = (self.tally.t, &mut self.tally.s);
+        for i in 0..n {
+            let state = r.state[i];
+            // Phase 3: a wait that begins is a collision.
+            let w = waits[i];
+            if w {
+                wait_steps[i] += 1;
+                if matches!(state, State::ToPickup | State::ToDrop) {
+                    order_waits[i] += 1;
+                }
+                if !r.waited[i] {
+                    *s += 1;
+                    collisions[i] += 1;
+                    events.push(Event { step: t, kind: EventKind::Wait, robot: i as u32, cell: NONE });
+                }
+            }
+            r.waited[i] = w;
+            // Phase 4: robots that may move travel `speed` px along their routes (or what the
+            // traffic policy allows).
+            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]);
+            if moves {
+                let mut step = budget.map_or(r.speed[i], |b| b[i]);
+                if slow.is_some_and(|s| s[i]) {
+                    step = step.min(r.speed[i] * slow_factor);
+                }
+                distance[i] += motion.advance(g, i, step);
+            }
+            p.dwell_and_energy(state, &mut r.dwell[i], &mut r.energy[i], &mut energy_used[i]);
+            progress |= moves | state.busy_in_place();
+        }
+        self.progress |= progress;
+        if progress {
+            self.count_contacts();
+        }
+    }
+
+    /// Contacts after the moves of this step (see [`Collisions::contacts`]).
+    fn count_contacts(&mut self) {
+        let n = self.robots.len();
+        // Robots that moved: wanted to and did not wait (reusing the phase's buffer).
+        let waits = self.traffic.as_ref().map_or(&self.collisions.waits[..n], |ts| &ts.waits[..n]);
+        for (w, &waited) in self.wants[..n].iter_mut().zip(waits) {
+            *w &= !waited;
+        }
+        if !self.wants.contains(&true) {
+            return;
+        }
+        let r = &self.robots;
+        let (r_max, slack) = self.contact_reach;
+        let (count, closest) = self.collisions.contacts_within(&r.x, &r.y, &r.radius, &self.wants, r_max, slack);
+        self.tally.contacts += count;
+        self.tally.closest = self.tally.closest.min(closest);
+    }
+}
