@@ -178,7 +178,7 @@ fn traffic_counts_where_other_robots_paths_meet_the_route() {
     robots.state[1] = State::ToPickup;
     robots.cell[1] = 1;
     robots.goods[1] = 0;
-    multibots_core::fleet::route::assign(&mut robots, &graph, 1, alloc::service_target(&layout, CellId(1)));
+    multibots_core::fleet::route::assign(&mut robots, &graph, 1, multibots_core::fleet::route::service_target(&layout, CellId(1)));
     let v = AllocView::new(1, &idle, &[], &robots, &layout, &graph, m, energy);
     let shared = v.traffic(RobotId(0), CellId(1));
     assert!(shared >= 2, "{shared}");

@@ -32,7 +32,7 @@ pub use nearest::Nearest;
 
 use crate::error::{Error, Result};
 use crate::fleet::robot::{Robots, State, Target};
-use crate::fleet::route::{self, Place};
+use crate::fleet::route::{self, route_nodes, service_place, service_target, Place};
 use crate::ids::{CellId, GoodsId, NodeId, RobotId, NONE};
 use crate::input::scenario::{CostWeights, Scenario};
 use crate::world::graph::HighwayGraph;
@@ -339,42 +339,6 @@ impl AllocView<'_> {
         }
         out.retain(|&u| self.layout.nodes[u as usize].kind == NodeKind::Highway);
     }
-}
-
-/// The highway-graph nodes a planned route passes, in order (its start node too, if it
-/// starts on one).
-pub fn route_nodes(g: &HighwayGraph, from: Place, target: Target, out: &mut Vec<u32>) {
-    let p = route::plan(g, from, target);
-    if from.at_node != NONE {
-        out.push(from.at_node);
-    }
-    if !p.moving || p.wp_node == NONE {
-        return;
-    }
-    let goal = NodeId(p.goal);
-    let mut at = NodeId(p.wp_node);
-    out.push(at.0);
-    while at != goal {
-        match g.next_hop(at, goal) {
-            Some(v) => at = v,
-            None => break,
-        }
-        out.push(at.0);
-    }
-}
-
-/// The service point of a cell as a route target.
-#[must_use]
-pub fn service_target(layout: &Layout, cell: CellId) -> Target {
-    let c = &layout.cells[cell.index()];
-    Target::Point { u: c.edge.0, v: c.edge.1, x: c.service.0, y: c.service.1 }
-}
-
-/// Standing at a cell's service point, as a place to plan from.
-#[must_use]
-pub fn service_place(layout: &Layout, cell: CellId) -> Place {
-    let c = &layout.cells[cell.index()];
-    Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 }
 }
 
 /// A task-allocation strategy.

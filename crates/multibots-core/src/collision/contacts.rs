@@ -84,7 +84,7 @@ impl Collisions {
             // moved farther than the flags allow (or stands in a bay): then every robot in the
             // grid is looked at.
             let mut mask = 0u64;
-            if here && near * 1.000_001 + crate::fleet::route::axis_dist(xi - sx[p - 1], yi - sy[p - 1]) * (1.0 + 1e-9) + 1e-9 <= cover {
+            if here && near * 1.000_001 + crate::fleet::motion::axis_dist(xi - sx[p - 1], yi - sy[p - 1]) * (1.0 + 1e-9) + 1e-9 <= cover {
                 mask = u64::from(bits[p - 1]);
             } else {
                 // Flagged without a branch each (NaN counts as near, as ever).
@@ -99,7 +99,7 @@ impl Collisions {
                 if far(k) || (moved[j] && j < i) {
                     continue;
                 }
-                let d = crate::fleet::route::axis_dist(x[j] - xi, y[j] - yi);
+                let d = crate::fleet::motion::axis_dist(x[j] - xi, y[j] - yi);
                 closest = closest.min(d);
                 count += u64::from(d < ri + radius[j]);
             }
@@ -131,7 +131,7 @@ impl Collisions {
                 if moved[j] && j < i {
                     return;
                 }
-                let d = crate::fleet::route::axis_dist(x[j] - xi, y[j] - yi);
+                let d = crate::fleet::motion::axis_dist(x[j] - xi, y[j] - yi);
                 closest = closest.min(d);
                 count += u64::from(d < ri + radius[j]);
             };
@@ -225,7 +225,7 @@ impl Collisions {
             if ex * ex + ey * ey > near2 {
                 continue;
             }
-            let d = crate::fleet::route::axis_dist(x[o] - x[l], y[o] - y[l]);
+            let d = crate::fleet::motion::axis_dist(x[o] - x[l], y[o] - y[l]);
             closest = closest.min(d);
             count += u64::from(d < radius[l] + radius[o]);
         }
@@ -309,7 +309,7 @@ mod tests {
                 if dx * dx + dy * dy > near2 {
                     continue;
                 }
-                let d = crate::fleet::route::axis_dist(x[j] - x[i], y[j] - y[i]);
+                let d = crate::fleet::motion::axis_dist(x[j] - x[i], y[j] - y[i]);
                 closest = closest.min(d);
                 count += u64::from(d < radius[i] + radius[j]);
             }

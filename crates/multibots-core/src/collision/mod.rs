@@ -26,7 +26,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 #[must_use]
 pub fn blocks(xi: f64, yi: f64, alpha: f64, xj: f64, yj: f64, reach: f64, angle: f64) -> bool {
     let (dx, dy) = (xj - xi, yj - yi);
-    let d = crate::fleet::route::axis_dist(dx, dy);
+    let d = crate::fleet::motion::axis_dist(dx, dy);
     if d > reach {
         return false;
     }
@@ -623,7 +623,7 @@ mod tests {
             for a in [v, -v, v * 1.000_000_1, -v * 0.999_999_9] {
                 for z in [0.0, -0.0] {
                     for (dx, dy) in [(a, z), (z, a)] {
-                        assert_eq!(crate::fleet::route::axis_dist(dx, dy).to_bits(), (dx * dx + dy * dy).sqrt().to_bits(), "dist {dx} {dy}");
+                        assert_eq!(crate::fleet::motion::axis_dist(dx, dy).to_bits(), (dx * dx + dy * dy).sqrt().to_bits(), "dist {dx} {dy}");
                         assert_eq!(bearing(dx, dy).to_bits(), dy.atan2(dx).to_bits(), "bearing {dx} {dy}");
                     }
                 }

@@ -1,8 +1,9 @@
 //! The robots: their columns (struct of arrays, `robot`), how they follow routes on the
-//! highway graph (`route`, with [`route::Motion`], the mutable view of the columns a move
-//! writes) and their batteries (`energy`). The rules of a step decide what robots do; this
-//! layer says what a robot is and how it travels.
+//! highway graph (`route`), how a move is made (`motion`: [`motion::Motion`], the view of the
+//! columns a move writes) and their batteries (`energy`). The rules of a step decide what
+//! robots do; this layer says what a robot is and how it travels.
 
 pub mod energy;
+pub mod motion;
 pub mod robot;
 pub mod route;

@@ -1,6 +1,5 @@
 //! Robot states and the fleet's columns (struct of arrays).
 
-use crate::fleet::route::Motion;
 use crate::ids::{CellId, GoodsId, NodeId, NONE};
 
 /// The ten states of the paper model (plus one for shared chargers), with the codes that
@@ -127,48 +126,6 @@ pub struct Robots {
     pub via: Vec<u32>,
 }
 
-/// Motion's columns of a fleet `$r`, each sliced to `$n`: one list for [`Robots::split`],
-/// which borrows other columns beside them, and [`Robots::motion`]. Detours are empty, or as
-/// long as the fleet.
-macro_rules! motion_of {
-    ($r:expr, $n:expr) => {
-        Motion {
-            x: &mut $r.x[..$n],
-            y: &mut $r.y[..$n],
-            at_node: &mut $r.at_node[..$n],
-            edge_u: &mut $r.edge_u[..$n],
-            edge_v: &mut $r.edge_v[..$n],
-            routing: &mut $r.routing[..$n],
-            goal: &$r.goal[..$n],
-            has_final: &$r.has_final[..$n],
-            final_x: &$r.final_x[..$n],
-            final_y: &$r.final_y[..$n],
-            final_v: &$r.final_v[..$n],
-            wp_x: &mut $r.wp_x[..$n],
-            wp_y: &mut $r.wp_y[..$n],
-            wp_node: &mut $r.wp_node[..$n],
-            via: {
-                let via = $r.via.len().min($n);
-                &mut $r.via[..via]
-            },
-        }
-    };
-}
-
-/// The columns of phases 3 to 6 beside motion's, each a slice of the fleet's length.
-pub(crate) struct Pass<'a> {
-    pub state: &'a [State],
-    /// Phase 2's heading: written only by cruising steps (`crate::rules::paper::cruise`), which do phase
-    /// 2 in the same pass.
-    pub heading: &'a mut [f64],
-    pub waited: &'a mut [bool],
-    /// Read by cruising steps only (`crate::rules::paper::cruise`).
-    pub marked: &'a [bool],
-    pub speed: &'a [f64],
-    pub dwell: &'a mut [u32],
-    pub energy: &'a mut [f64],
-}
-
 impl Robots {
     /// Robot count.
     #[must_use]
@@ -211,31 +168,6 @@ impl Robots {
         self.marked.push(false);
         self.waited.push(false);
         self.charger.push(home.0);
-    }
-
-    /// The columns the step's pass over the robots (phases 3 to 6) reads and writes, each a
-    /// slice of the fleet's length: motion's (see [`Motion`]), then the rest of the pass's.
-    #[allow(clippy::inline_always)] // measured: inlined, the passes know every slice's length
-    #[inline(always)]
-    pub(crate) fn split(&mut self) -> (Motion<'_>, Pass<'_>) {
-        let n = self.x.len();
-        let pass = Pass {
-            state: &self.state[..n],
-            heading: &mut self.heading[..n],
-            waited: &mut self.waited[..n],
-            marked: &self.marked[..n],
-            speed: &self.speed[..n],
-            dwell: &mut self.dwell[..n],
-            energy: &mut self.energy[..n],
-        };
-        (motion_of!(self, n), pass)
-    }
-
-    /// Motion's columns alone (other columns may be shorter: [`crate::fleet::route::advance`] is
-    /// public, and a hand-built fleet need not fill them).
-    pub(crate) fn motion(&mut self) -> Motion<'_> {
-        let n = self.x.len();
-        motion_of!(self, n)
     }
 
     /// Positions as `[x0, y0, x1, y1, …]`, for arrays of shape (N, 2).

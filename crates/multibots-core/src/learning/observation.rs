@@ -7,10 +7,11 @@
 //! lengths are in units of L = its width + height; energies in units of a full battery;
 //! step counts in units of L / speed (the steps to drive L).
 
-use crate::alloc::{service_place, service_target, AllocView, TaskModel};
+use crate::alloc::{AllocView, TaskModel};
 use crate::fleet::energy;
 use crate::fleet::robot::{Robots, State, Target};
 use crate::fleet::route::{self, Place};
+use crate::fleet::route::{route_nodes, service_place, service_target};
 use crate::ids::{CellId, NodeId, RobotId, NONE};
 use crate::input::scenario::Scenario;
 use crate::rules::paper::Paper;
@@ -366,8 +367,8 @@ impl Encoder {
     /// route of robot `r` to fetch `cell` and unload it meets another robot's expected path.
     fn traffic(view: &AllocView<'_>, r: RobotId, cell: CellId, marks: &Marks, own: &[u32], mine: &mut Vec<u32>) -> u32 {
         mine.clear();
-        crate::alloc::route_nodes(view.graph(), Place::of(view.robots(), r.index()), service_target(view.layout(), cell), mine);
-        crate::alloc::route_nodes(view.graph(), service_place(view.layout(), cell), Target::Node(view.unload()), mine);
+        route_nodes(view.graph(), Place::of(view.robots(), r.index()), service_target(view.layout(), cell), mine);
+        route_nodes(view.graph(), service_place(view.layout(), cell), Target::Node(view.unload()), mine);
         mine.retain(|&u| view.layout().nodes[u as usize].kind == crate::world::layout::NodeKind::Highway);
         mine.sort_unstable();
         mine.dedup();

@@ -109,7 +109,7 @@ impl Lanes {
             let e = g.edge_id(r.edge_u[i], r.edge_v[i]);
             let (u, v, len) = g.edge(e);
             let (ux, uy) = g.pos(u);
-            let s = crate::fleet::route::axis_dist(r.x[i] - ux, r.y[i] - uy);
+            let s = crate::fleet::motion::axis_dist(r.x[i] - ux, r.y[i] - uy);
             self.edge_of[i] = e;
             self.s[i] = s;
             if s < zone {
@@ -179,14 +179,14 @@ impl Lanes {
         let s = self.s[i];
         if r.wp_node[i] == NONE {
             // The final point lies on this edge.
-            let stop = crate::fleet::route::axis_dist(r.final_x[i] - r.x[i], r.final_y[i] - r.y[i]);
+            let stop = crate::fleet::motion::axis_dist(r.final_x[i] - r.x[i], r.final_y[i] - r.y[i]);
             return Ahead { len, s, v: NONE, stop, e2: NONE, len2: 0.0, stop2: 0.0 };
         }
         let goal = r.goal[i];
         let (e2, stop2) = if v == goal {
             if r.has_final[i] {
                 let (vx, vy) = g.pos(v);
-                (g.edge_id(v, r.final_v[i]), crate::fleet::route::axis_dist(r.final_x[i] - vx, r.final_y[i] - vy))
+                (g.edge_id(v, r.final_v[i]), crate::fleet::motion::axis_dist(r.final_x[i] - vx, r.final_y[i] - vy))
             } else {
                 (NONE, 0.0)
             }

@@ -25,6 +25,7 @@
 
 mod lanes;
 
+use crate::collision::Collisions;
 use crate::fleet::robot::Robots;
 use crate::ids::NONE;
 use crate::input::scenario::Traffic;
@@ -45,6 +46,56 @@ fn straight(g: &HighwayGraph, a: u32, b: u32) -> bool {
     let ((bx0, by0), (bx1, by1)) = (g.pos(b0), g.pos(b1));
     let (ux, uy, wx, wy) = ((ax1 - ax0) / la, (ay1 - ay0) / la, (bx1 - bx0) / lb, (by1 - by0) / lb);
     ux * wx + uy * wy > 1.0 - 1e-9 && (ux * wy - uy * wx).abs() < 1e-9
+}
+
+/// Phase 3 for the fleet: who waits, and how far each robot that wants to move may travel.
+/// Without a policy (`wait`), the paper's collision waiting decides; `gate` keeps its
+/// decisions and adds crossings taken one at a time; `reserve` decides alone, then sorts the
+/// robots into the collision grid, which the contact count reads after the moves. Robots in
+/// a bay (`collisions.bay`) are out of the traffic. [`moves`] reads the answer.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn decide(
+    traffic: Option<&mut TrafficState>,
+    collisions: &mut Collisions,
+    r: &mut Robots,
+    g: &HighwayGraph,
+    t: u64,
+    wants: &[bool],
+    margin: f64,
+    angle: f64,
+) {
+    let Some(ts) = traffic else {
+        collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, margin, angle);
+        return;
+    };
+    let cone = if ts.policy == Traffic::Gate {
+        collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, margin, angle);
+        Some(&collisions.waits[..])
+    } else {
+        None
+    };
+    let bays = &collisions.bay;
+    for (o, k) in ts.out.iter_mut().zip(0..) {
+        *o = bays.get(k).copied().unwrap_or(false);
+    }
+    ts.decide(r, g, t, wants, cone);
+    if ts.policy == Traffic::Reserve {
+        // Robots waiting to leave a bay are still in it; the grid serves to count contacts
+        // after the moves.
+        if !collisions.bay.is_empty() {
+            collisions.bay.copy_from_slice(&ts.out);
+        }
+        collisions.build_grid(&r.x, &r.y, &r.radius);
+    }
+}
+
+/// The answer of [`decide`] for the first `n` robots: who waits, and how far each may travel
+/// (`None`: its full speed, under collision waiting alone).
+pub(crate) fn moves<'a>(traffic: Option<&'a TrafficState>, collisions: &'a Collisions, n: usize) -> (&'a [bool], Option<&'a [f64]>) {
+    match traffic {
+        None => (&collisions.waits[..n], None),
+        Some(ts) => (&ts.waits[..n], Some(&ts.budget[..n])),
+    }
 }
 
 /// The state of the `gate` and `reserve` policies.
@@ -101,7 +152,7 @@ impl TrafficState {
     /// who waits. `self.out[i]` (set by the caller): robot `i` stands in a bay, out of the
     /// traffic. For `gate`, `cone_waits` are the collision-waiting rule's decisions, which it
     /// keeps.
-    pub fn decide(&mut self, r: &mut Robots, g: &HighwayGraph, t: u64, wants: &[bool], cone_waits: Option<&[bool]>) {
+    fn decide(&mut self, r: &mut Robots, g: &HighwayGraph, t: u64, wants: &[bool], cone_waits: Option<&[bool]>) {
         let n = r.len();
         if self.policy == Traffic::Reserve {
             self.rejoin(r, g);
@@ -168,7 +219,7 @@ impl TrafficState {
                 }
                 let e = g.edge_id(r.edge_u[i], r.edge_v[i]);
                 let (ux, uy) = g.pos(g.edge(e).0);
-                let s = crate::fleet::route::axis_dist(r.x[i] - ux, r.y[i] - uy);
+                let s = crate::fleet::motion::axis_dist(r.x[i] - ux, r.y[i] - uy);
                 let clear = self.lanes.lane(e).iter().all(|&j| (self.lanes.s[j as usize] - s).abs() >= r.radius[i] + r.radius[j as usize] + self.margin);
                 let (_, v, len) = g.edge(e);
                 let zones_free =

@@ -15,10 +15,11 @@
 //!
 //! The arithmetic (ε comparisons, consumption, charging per step) is in [`crate::fleet::energy`].
 
-use crate::alloc::{service_target, Goods};
+use crate::alloc::Goods;
 use crate::error::{Error, Result};
 use crate::fleet::energy;
 use crate::fleet::robot::{State, Target};
+use crate::fleet::route::service_target;
 use crate::fleet::route::{self, Place};
 use crate::ids::CellId as Cell;
 use crate::ids::{CellId, GoodsId, NodeId, NONE};

@@ -251,8 +251,9 @@ mod tests {
     /// units in the last place round up every step; 10737.49 round down).
     #[test]
     fn far_from_the_origin_rounding_does_not_let_robots_through() {
-        use crate::alloc::{built_in, service_target};
+        use crate::alloc::built_in;
         use crate::fleet::robot::State;
+        use crate::fleet::route::service_target;
         use crate::fleet::route::{waypoints, Place};
         use crate::ids::{CellId, NONE};
         use crate::input::layout_file::LayoutFile;

@@ -14,9 +14,10 @@
 //!
 //! Goods put back by the threshold rule return to the front of the queue.
 
-use crate::alloc::{service_target, AllocView, Assignment, Decisions, Goods};
+use crate::alloc::{AllocView, Assignment, Decisions, Goods};
 use crate::error::{Error, Result};
 use crate::fleet::robot::{Robots, State, Target};
+use crate::fleet::route::service_target;
 use crate::ids::{CellId, GoodsId, NodeId, RobotId};
 use crate::input::scenario::Orders;
 use crate::output::events::{Event, EventKind};

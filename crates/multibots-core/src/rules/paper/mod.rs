@@ -326,8 +326,8 @@ impl Engine for Paper {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::alloc::service_target;
     use crate::fleet::robot::State;
+    use crate::fleet::route::service_target;
     use crate::fleet::route::Place;
     use crate::ids::CellId;
     use crate::ids::NONE;

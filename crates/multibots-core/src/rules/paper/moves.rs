@@ -4,9 +4,9 @@
 
 use crate::fleet::robot::State;
 use crate::ids::NONE;
-use crate::input::scenario::Traffic;
 use crate::output::events::{Event, EventKind};
 use crate::rules::paper::Paper;
+use crate::traffic;
 
 impl Paper {
     /// Phases 3 to 6: collision waiting and the count S, then travel, dwell counters,
@@ -15,38 +15,10 @@ impl Paper {
     pub(super) fn block_and_move(&mut self) {
         let n = self.robots.len();
         let p = &self.p;
-        let r = &self.robots;
         // Who waits and how far each robot may travel: the paper's collision waiting, or a
-        // traffic policy (crate::traffic), which may also stop a robot short.
-        match self.traffic.as_mut() {
-            None => self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle),
-            Some(ts) => {
-                let cone = if ts.policy == Traffic::Gate {
-                    self.collisions.resolve(&r.x, &r.y, &r.radius, &self.wants, &r.heading, p.margin, p.angle);
-                    Some(&self.collisions.waits[..])
-                } else {
-                    None
-                };
-                let bays = &self.collisions.bay;
-                for (o, k) in ts.out.iter_mut().zip(0..) {
-                    *o = bays.get(k).copied().unwrap_or(false);
-                }
-                ts.decide(&mut self.robots, &self.world.graph, self.tally.t, &self.wants, cone);
-                if ts.policy == Traffic::Reserve {
-                    // Robots waiting to leave a bay are still in it; the grid serves to count
-                    // contacts after the moves.
-                    if !self.collisions.bay.is_empty() {
-                        self.collisions.bay.copy_from_slice(&ts.out);
-                    }
-                    let r = &self.robots;
-                    self.collisions.build_grid(&r.x, &r.y, &r.radius);
-                }
-            }
-        }
-        let (waits, budget) = match self.traffic.as_ref() {
-            None => (&self.collisions.waits[..n], None),
-            Some(ts) => (&ts.waits[..n], Some(&ts.budget[..n])),
-        };
+        // traffic policy, which may also stop a robot short.
+        traffic::decide(self.traffic.as_mut(), &mut self.collisions, &mut self.robots, &self.world.graph, self.tally.t, &self.wants, p.margin, p.angle);
+        let (waits, budget) = traffic::moves(self.traffic.as_ref(), &self.collisions, n);
         // People: robots that stop for a person (not a collision) or slow down near one.
         let (halt, slow, slow_factor) = match self.people.as_deref() {
             Some(pp) => (Some(&pp.stop[..n]), Some(&pp.slow[..n]), pp.slow_factor),
@@ -100,7 +72,7 @@ impl Paper {
     fn count_contacts(&mut self) {
         let n = self.robots.len();
         // Robots that moved: wanted to and did not wait (reusing the phase's buffer).
-        let waits = self.traffic.as_ref().map_or(&self.collisions.waits[..n], |ts| &ts.waits[..n]);
+        let (waits, _) = traffic::moves(self.traffic.as_ref(), &self.collisions, n);
         for (w, &waited) in self.wants[..n].iter_mut().zip(waits) {
             *w &= !waited;
         }
