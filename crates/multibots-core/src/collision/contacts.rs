@@ -32,10 +32,10 @@ impl Collisions {
             // No pairs (and `resolve` built no grid for a robot alone).
             return (0, f64::INFINITY);
         }
-        if self.tiny {
+        if self.space.tiny {
             return self.contacts_tiny(x, y, radius, moved, r_max, slack);
         }
-        if self.dense {
+        if self.space.dense {
             if let Some(found) = self.contacts_by_cell_pairs(x, y, radius, moved, r_max, slack) {
                 return found;
             }
@@ -57,9 +57,10 @@ impl Collisions {
             // From the next step on, the pass over pairs flags this wide.
             self.contact_need = need;
         }
-        let placed = self.placed;
-        let cell_of = &self.cell_of[..n];
-        let (by_cell, sx, sy, bits, cover) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.bits[..placed], self.cover);
+        let placed = self.space.placed;
+        let cell_of = &self.space.cell_of[..n];
+        let (by_cell, sx, sy, bits, cover) =
+            (&self.space.by_cell[..placed], &self.space.sx[..placed], &self.space.sy[..placed], &self.space.bits[..placed], self.space.cover);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
         // Robots in the grid are placed in id order: `p` is the place of robot `i`, as in
         // `Collisions::resolve`.
@@ -112,8 +113,8 @@ impl Collisions {
     fn contacts_by_boxes(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
         let n = x.len();
         let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
-        let grid = self.grid;
-        let (by_cell, sx, sy) = (&self.by_cell[..], &self.sx[..], &self.sy[..]);
+        let grid = self.space.grid;
+        let (by_cell, sx, sy) = (&self.space.by_cell[..], &self.space.sx[..], &self.space.sy[..]);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
         for i in 0..n {
             if !moved[i] {
@@ -186,27 +187,27 @@ impl Collisions {
     /// in a bay, out of the grid.
     fn contacts_by_cell_pairs(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
         let n = x.len();
-        let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.cell_of[..n]);
+        let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.space.cell_of[..n]);
         // A pair the box scan looks at stood (before the moves) within its `near` (at most
         // `2 r_max + slack / 2`) plus one robot's move (at most `slack / 2`): within `span`.
         let span = (2.0 * r_max + slack) * 1.000_1 + 1e-9;
-        let fits = span * 1.001 < 1.0 / self.grid.inv_size;
+        let fits = span * 1.001 < 1.0 / self.space.grid.inv_size;
         if !fits || (0..n).any(|i| moved[i] && cell_of[i] == u32::MAX) {
             return None;
         }
         let span2 = span * span;
         // From the next step on, the collision test collects its pairs this wide too.
-        self.contact_span2 = self.contact_span2.max(span2);
+        self.near.contact_span2 = self.near.contact_span2.max(span2);
         let half = 0.5 * slack;
-        if span2 > self.pairs_r2 && !self.collect_pairs(span2) {
+        if span2 > self.near.pairs_r2 && !self.collect_pairs(span2) {
             // The collision test did not collect them this step, or not this wide, and there
             // are too many to keep: the boxes count without keeping them.
             return None;
         }
-        let placed = self.placed;
-        let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
+        let placed = self.space.placed;
+        let (by_cell, sx, sy) = (&self.space.by_cell[..placed], &self.space.sx[..placed], &self.space.sy[..placed]);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
-        for &(k, m) in &self.pairs[..self.pairs_len] {
+        for &(k, m) in &self.near.pairs[..self.near.pairs_len] {
             let (k, m) = (k as usize, m as usize);
             let (dx, dy) = (sx[m] - sx[k], sy[m] - sy[k]);
             if dx * dx + dy * dy > span2 {
@@ -252,7 +253,7 @@ mod tests {
             // Crowded: about 6 cells per robot, so the grid is dense.
             let side = (n as f64 * 6.0).sqrt() * 50.0;
             let mut c = Collisions::new([0.0, 0.0, side, side], 25.0, n);
-            assert!(c.dense);
+            assert!(c.space.dense);
             let (mut x, mut y) = (Vec::with_capacity(n), Vec::with_capacity(n));
             for _ in 0..n {
                 // Some on an aisle's line, some anywhere, a few on top of each other.
@@ -283,7 +284,7 @@ mod tests {
             let _ = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             let heading = vec![0.0; n];
             k.resolve(&px, &py, &radius, &vec![true; n], &heading, 0.0, 0.5);
-            assert!(k.pairs_r2 > 0.0, "case {case}: the collision test collected pairs");
+            assert!(k.near.pairs_r2 > 0.0, "case {case}: the collision test collected pairs");
             let kept = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             assert_eq!((kept.0, kept.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}, pairs kept");
             found += pairs.0;

@@ -35,6 +35,61 @@ impl Grid {
     }
 }
 
+/// The spatial index: the robots (bays aside) sorted into a uniform grid by their positions,
+/// with their positions and radii copied alongside in that order.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Space {
+    pub(super) grid: Grid,
+    /// Half-width of the box searched around a robot: the contact distance, a hair wider.
+    pub(super) reach: f64,
+    /// Each robot's cell (`u32::MAX`: in a bay, out of the grid). Its column and row are
+    /// computed again where needed: two conversions are cheaper than 8 bytes a robot read
+    /// from memory.
+    pub(super) cell_of: Vec<u32>,
+    // Robots sorted by cell: the cells of a grid row that a search box covers are one
+    // contiguous run, read without chasing links. Two ways to sort, chosen by the grid's
+    // size per robot:
+    // - dense (a big fleet): a counting sort each step; the robots of cell `c` are
+    //   `first[c]..first[c + 1]`. It costs O(cells) per step, cheap when cells are few per
+    //   robot.
+    // - sparse (a small fleet in a big grid): last step's `order` repaired by insertion sort
+    //   (robots seldom change cells), O(N) per step. A cell's run is `start[c]..end[c]`,
+    //   valid only when `stamp[c]` is this step's `epoch`; other cells are empty.
+    pub(super) dense: bool,
+    // - tiny (a handful of robots, such as the paper's six): no cells at all. Each step one
+    //   pass over the pairs of robots in the grid flags, for each, the others within
+    //   `cover` of it (`bits`); the collision test and the contact count look only at those.
+    //   Robots far apart, as they mostly are, then cost one distance per pair and step. The
+    //   tests decide, not the flags, so the results are the same.
+    pub(super) tiny: bool,
+    /// Tiny fleets: for the robot in place `k` of `by_cell`, the places of the others that
+    /// stood within `cover` of it (a relative slack far above rounding included), as bits.
+    pub(super) bits: Vec<u32>,
+    pub(super) cover: f64,
+    /// Tiny fleets: whether the pass over pairs can be skipped (see [`Apart`]).
+    pub(super) apart: Apart,
+    /// Tiny fleets: no two robots in the grid stand within `cover` (every flag is clear), so
+    /// none blocks another this step.
+    pub(super) clear: bool,
+    /// The farthest a coordinate can be from 0 (robots never leave the bounds): rounding
+    /// in a move is at most a few units in the last place of it.
+    pub(super) far_coordinate: f64,
+    /// Robots in the grid (bays aside): `by_cell[..placed]`.
+    pub(super) placed: usize,
+    pub(super) first: Vec<u32>,
+    pub(super) order: Vec<u32>,
+    pub(super) epoch: u64,
+    pub(super) stamp: Vec<u64>,
+    pub(super) start: Vec<u32>,
+    pub(super) end: Vec<u32>,
+    pub(super) by_cell: Vec<u32>,
+    pub(super) sx: Vec<f64>,
+    pub(super) sy: Vec<f64>,
+    /// Radii, copied only for a fleet of mixed sizes (empty for one radius: then every
+    /// contact distance is the same, and no robot reads it).
+    pub(super) sr: Vec<f64>,
+}
+
 /// The largest radius, NaN if any is NaN (then every contact test passes, as in the
 /// definition).
 pub(super) fn max_radius(radius: &[f64]) -> f64 {
@@ -84,7 +139,7 @@ impl Runs<'_> {
 
 impl Collisions {
     pub(super) fn runs(&self) -> Runs<'_> {
-        Runs { first: &self.first, stamp: &self.stamp, start: &self.start, end: &self.end, epoch: self.epoch }
+        Runs { first: &self.space.first, stamp: &self.space.stamp, start: &self.space.start, end: &self.space.end, epoch: self.space.epoch }
     }
 
     /// Tiny fleets: the flags' reach for robots of radii `radius`: every contact distance
@@ -97,15 +152,16 @@ impl Collisions {
         if widest.is_nan() {
             f64::INFINITY
         } else {
-            (widest * (1.0 + 1e-9) + 1e-9).max(self.reach).max(self.contact_need)
+            (widest * (1.0 + 1e-9) + 1e-9).max(self.space.reach).max(self.contact_need)
         }
     }
 
     /// Tiny fleets: the robots in the grid in id order, with their positions (and radii).
     pub(super) fn copy_placed(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
         let n = x.len();
-        let cell_of = &self.cell_of[..n];
-        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..if uniform { 0 } else { n }]);
+        let cell_of = &self.space.cell_of[..n];
+        let (by_cell, sx, sy, sr) =
+            (&mut self.space.by_cell[..n], &mut self.space.sx[..n], &mut self.space.sy[..n], &mut self.space.sr[..if uniform { 0 } else { n }]);
         let mut k = 0;
         // Which robots are in the grid, as bits of their ids (tiny fleets have at most 32).
         let mut placed = 0u32;
@@ -121,18 +177,18 @@ impl Collisions {
         }
         // Each pair once: flag, for each robot, the others within `cover` of it.
         let cover = self.cover_of(&radius[..n]);
-        self.cover = cover;
-        if self.apart.holds(placed, &self.sx[..k], &self.sy[..k], cover) {
+        self.space.cover = cover;
+        if self.space.apart.holds(placed, &self.space.sx[..k], &self.space.sy[..k], cover) {
             // No pair within `cover`: the flags are all clear, as the pass would leave them
             // (the last pass did; checked in the crate's own tests too, which run optimised).
             if cfg!(any(test, debug_assertions)) {
-                assert!(self.bits[..k].iter().all(|&b| b == 0), "flags set under a proof that none is");
+                assert!(self.space.bits[..k].iter().all(|&b| b == 0), "flags set under a proof that none is");
             }
-            self.clear = true;
+            self.space.clear = true;
             return;
         }
         let c2 = cover * cover * 1.000_01;
-        let (sx, sy, bits) = (&self.sx[..k], &self.sy[..k], &mut self.bits[..k]);
+        let (sx, sy, bits) = (&self.space.sx[..k], &self.space.sy[..k], &mut self.space.bits[..k]);
         bits.fill(0);
         let mut closest2 = f64::INFINITY;
         for a in 0..k {
@@ -150,15 +206,15 @@ impl Collisions {
             }
         }
         let clear = bits.iter().all(|&b| b == 0);
-        self.apart.anchor(placed, sx, sy, clear, closest2);
-        self.clear = clear;
+        self.space.apart.anchor(placed, sx, sy, clear, closest2);
+        self.space.clear = clear;
     }
 
     /// Dense grids: a counting sort by cell into `first`, `by_cell`, `sx`, `sy` (and `sr`).
     pub(super) fn counting_sort(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
         let n = x.len();
-        let cell_of = &self.cell_of[..n];
-        let first = &mut self.first[..];
+        let cell_of = &self.space.cell_of[..n];
+        let first = &mut self.space.first[..];
         first.fill(0);
         for &c in cell_of {
             if c != u32::MAX {
@@ -172,7 +228,8 @@ impl Collisions {
             total += *f;
             *f = total;
         }
-        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..if uniform { 0 } else { n }]);
+        let (by_cell, sx, sy, sr) =
+            (&mut self.space.by_cell[..n], &mut self.space.sx[..n], &mut self.space.sy[..n], &mut self.space.sr[..if uniform { 0 } else { n }]);
         for i in (0..n).rev() {
             let c = cell_of[i];
             if c != u32::MAX {
@@ -190,12 +247,12 @@ impl Collisions {
     /// sort last), then the runs of the occupied cells stamped with a new epoch.
     pub(super) fn repair_order(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool, placed: usize) {
         let n = x.len();
-        let cell_of = &self.cell_of[..n];
-        if self.order.len() != n {
-            self.order.clear();
-            self.order.extend(0..n as u32);
+        let cell_of = &self.space.cell_of[..n];
+        if self.space.order.len() != n {
+            self.space.order.clear();
+            self.space.order.extend(0..n as u32);
         }
-        let order = &mut self.order[..];
+        let order = &mut self.space.order[..];
         let mut moves = 0;
         for k in 1..n {
             let v = order[k];
@@ -213,10 +270,11 @@ impl Collisions {
                 break;
             }
         }
-        self.epoch += 1;
-        let epoch = self.epoch;
-        let (stamp, start, end) = (&mut self.stamp[..], &mut self.start[..], &mut self.end[..]);
-        let (by_cell, sx, sy, sr) = (&mut self.by_cell[..n], &mut self.sx[..n], &mut self.sy[..n], &mut self.sr[..if uniform { 0 } else { n }]);
+        self.space.epoch += 1;
+        let epoch = self.space.epoch;
+        let (stamp, start, end) = (&mut self.space.stamp[..], &mut self.space.start[..], &mut self.space.end[..]);
+        let (by_cell, sx, sy, sr) =
+            (&mut self.space.by_cell[..n], &mut self.space.sx[..n], &mut self.space.sy[..n], &mut self.space.sr[..if uniform { 0 } else { n }]);
         let mut last = u32::MAX;
         for (k, &i) in order[..placed].iter().enumerate() {
             let i = i as usize;

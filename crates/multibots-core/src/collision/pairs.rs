@@ -15,6 +15,22 @@ use super::{blocks, grid::max_radius, Collisions};
 /// pairs in the square of its size, which the boxes test without keeping.
 const PAIRS_PER_ROBOT: usize = 32;
 
+/// Dense grids: this step's pairs of neighbouring robots, by place in the sorted order.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Near {
+    /// The pairs of places within `sqrt(pairs_r2)`, `pairs[..pairs_len]` (the buffer only
+    /// grows), collected by [`Collisions::resolve`] or by the contact count, and kept until
+    /// the next grid is built. `pairs_r2` is 0 when there are none to read (every distance
+    /// asked for is wider).
+    pub(super) pairs: Vec<(u32, u32)>,
+    pub(super) pairs_len: usize,
+    pub(super) pairs_r2: f64,
+    /// The widest squared distance the contact count has ever looked at, so that the
+    /// collision test collects its pairs wide enough for the count to reuse them
+    /// (`Collisions::contact_need` is the same for tiny fleets, as a distance).
+    pub(super) contact_span2: f64,
+}
+
 impl Collisions {
     /// Whether the pairs of this step's grid can stand in for the search boxes, and how wide
     /// to collect them (squared): a dense grid, with every contact distance (the radii and
@@ -22,7 +38,7 @@ impl Collisions {
     /// pairs), and the cells wider than that and than the contact count's widest look, with
     /// room for rounding.
     pub(super) fn pair_reach2(&self, radius: &[f64], uniform: bool, margin: f64) -> Option<f64> {
-        if !self.dense {
+        if !self.space.dense {
             return None;
         }
         let r_max = if uniform { radius[0] } else { max_radius(radius) };
@@ -30,12 +46,12 @@ impl Collisions {
         // it (`d² > r² · 1.000001` is far): contact distances are sums of two radii and the
         // margin, and for values that can block rounding keeps their order.
         let widest = r_max + r_max + margin;
-        if widest.is_nan() || widest * (1.0 + 1e-9) + 1e-9 > self.reach {
+        if widest.is_nan() || widest * (1.0 + 1e-9) + 1e-9 > self.space.reach {
             // NaN: every contact test passes, and the boxes look only so far.
             return None;
         }
-        let r2 = (widest * widest * 1.000_001).max(self.contact_span2);
-        let size = 1.0 / self.grid.inv_size;
+        let r2 = (widest * widest * 1.000_001).max(self.near.contact_span2);
+        let size = 1.0 / self.space.grid.inv_size;
         (r2.sqrt() * 1.001 < size).then_some(r2)
     }
 
@@ -45,13 +61,14 @@ impl Collisions {
     /// moves, until the next grid is built. `false`, with no pairs kept, where there would
     /// be more than `PAIRS_PER_ROBOT` a robot.
     pub(super) fn collect_pairs(&mut self, r2: f64) -> bool {
-        self.pairs_r2 = 0.0;
-        let placed = self.placed;
-        let cols = self.grid.cols;
-        let (first, by_cell, sx, sy, cell_of) = (&self.first[..], &self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed], &self.cell_of[..]);
+        self.near.pairs_r2 = 0.0;
+        let placed = self.space.placed;
+        let cols = self.space.grid.cols;
+        let (first, by_cell, sx, sy, cell_of) =
+            (&self.space.first[..], &self.space.by_cell[..placed], &self.space.sx[..placed], &self.space.sy[..placed], &self.space.cell_of[..]);
         // Written in place at `len`, which grows by one for a near pair: no branch per
         // candidate (whether it is near is hard to predict). `pairs` only grows.
-        let pairs = &mut self.pairs;
+        let pairs = &mut self.near.pairs;
         let mut len = 0;
         for k in 0..placed {
             let c = cell_of[by_cell[k] as usize] as usize;
@@ -74,8 +91,8 @@ impl Collisions {
                 }
             }
         }
-        self.pairs_len = len;
-        self.pairs_r2 = r2;
+        self.near.pairs_len = len;
+        self.near.pairs_r2 = r2;
         true
     }
 
@@ -85,13 +102,13 @@ impl Collisions {
     pub(super) fn edges_from_pairs(&mut self, wants: &[bool], alpha: &[f64], radius: &[f64], margin: f64, angle: f64) {
         let n = wants.len();
         let (alpha, radius) = (&alpha[..n], &radius[..n]);
-        let placed = self.placed;
-        let (by_cell, sx, sy) = (&self.by_cell[..placed], &self.sx[..placed], &self.sy[..placed]);
-        let edges = &mut self.pair_edges;
+        let placed = self.space.placed;
+        let (by_cell, sx, sy) = (&self.space.by_cell[..placed], &self.space.sx[..placed], &self.space.sy[..placed]);
+        let edges = &mut self.graph.pair_edges;
         edges.clear();
         // Which robots have an edge: bits of their ids (all clear between steps).
-        let bits = &mut self.blocked_bits;
-        for &(k, m) in &self.pairs[..self.pairs_len] {
+        let bits = &mut self.graph.blocked_bits;
+        for &(k, m) in &self.near.pairs[..self.near.pairs_len] {
             let (k, m) = (k as usize, m as usize);
             let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
             let (wi, wj) = (wants[i], wants[j]);
@@ -116,19 +133,19 @@ impl Collisions {
         }
         // The blocked robots in ascending order from the bits, then the edges counting-sorted
         // into their rows.
-        self.blocked.clear();
-        for (w, &byte) in self.blocked_bits.iter().enumerate() {
+        self.graph.blocked.clear();
+        for (w, &byte) in self.graph.blocked_bits.iter().enumerate() {
             let mut b = byte;
             while b != 0 {
-                self.blocked.push((w * 8 + b.trailing_zeros() as usize) as u32);
+                self.graph.blocked.push((w * 8 + b.trailing_zeros() as usize) as u32);
                 b &= b - 1;
             }
         }
         self.rank_blocked();
-        let mut edge_start = std::mem::take(&mut self.edge_start);
+        let mut edge_start = std::mem::take(&mut self.graph.edge_start);
         edge_start.clear();
-        edge_start.resize(self.blocked.len() + 1, 0);
-        for &(i, _) in &self.pair_edges {
+        edge_start.resize(self.graph.blocked.len() + 1, 0);
+        for &(i, _) in &self.graph.pair_edges {
             edge_start[self.place(i as usize) as usize + 1] += 1;
         }
         let mut total = 0;
@@ -136,17 +153,17 @@ impl Collisions {
             total += *e;
             *e = total;
         }
-        let mut cursor = std::mem::take(&mut self.cursor);
+        let mut cursor = std::mem::take(&mut self.graph.cursor);
         cursor.clear();
-        cursor.extend_from_slice(&edge_start[..self.blocked.len()]);
-        let mut edge_to = std::mem::take(&mut self.edge_to);
+        cursor.extend_from_slice(&edge_start[..self.graph.blocked.len()]);
+        let mut edge_to = std::mem::take(&mut self.graph.edge_to);
         edge_to.clear();
-        edge_to.resize(self.pair_edges.len(), 0);
-        for &(i, j) in &self.pair_edges {
+        edge_to.resize(self.graph.pair_edges.len(), 0);
+        for &(i, j) in &self.graph.pair_edges {
             let s = self.place(i as usize) as usize;
             edge_to[cursor[s] as usize] = j;
             cursor[s] += 1;
         }
-        (self.edge_start, self.cursor, self.edge_to) = (edge_start, cursor, edge_to);
+        (self.graph.edge_start, self.graph.cursor, self.graph.edge_to) = (edge_start, cursor, edge_to);
     }
 }
