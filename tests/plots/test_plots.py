@@ -41,7 +41,7 @@ def grid_layout(rows: int = 2, cols: int = 5, *, width: int = 2, height: int = 4
                 spur: float = 40.0, name: str = "paper") -> dict:
     """A grid warehouse in layout JSON.
 
-    A port of the engine's generator (crates/multibots-core/src/layout.rs,
+    A port of the engine's generator (crates/multibots-core/src/world/layout.rs,
     ``Layout::generate``); the defaults give the paper layout of docs/model.md section 1.
     """
     kn = cols + 1

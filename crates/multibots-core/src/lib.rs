@@ -18,7 +18,7 @@ pub mod learning;
 pub mod output;
 pub mod people;
 pub mod rules;
-pub mod traffic;
+pub(crate) mod traffic;
 pub mod world;
 
 /// Deterministic pseudo-random numbers for the crate's own tests (xorshift; no dependency).

@@ -3,7 +3,7 @@
 //! columns a move writes) and their batteries (`energy`). The rules of a step decide what
 //! robots do; this layer says what a robot is and how it travels.
 
-pub mod energy;
-pub mod motion;
+pub(crate) mod energy;
+pub(crate) mod motion;
 pub mod robot;
 pub mod route;

@@ -5,8 +5,9 @@
 //! held to (`limits`, `docs/limits.md`). Nothing here simulates: a checked scenario goes on to
 //! [`crate::world`] and [`crate::rules`].
 
-pub mod files;
+pub(crate) mod csv;
+pub(crate) mod files;
 pub mod layout_file;
-pub mod limits;
+pub(crate) mod limits;
 pub mod scenario;
 pub mod schema;

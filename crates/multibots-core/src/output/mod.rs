@@ -3,6 +3,6 @@
 //! (`replay`) and the byte layout of its frames (`codec`, `docs/replay-format.md`).
 
 pub mod codec;
-pub mod events;
+pub(crate) mod events;
 pub mod metrics;
 pub mod replay;

@@ -136,8 +136,16 @@ impl Tours {
         let (station, station_pt): (Vec<u32>, Vec<(f64, f64)>) = (0..n).map(|k| candidates[k % candidates.len()]).unzip();
         let mut csv = vec![None; n];
         if let Some(path) = &h.csv {
-            for (person, cell) in read_csv(std::path::Path::new(path), n, cells.len())? {
-                csv[person as usize].get_or_insert_with(Vec::new).push(cell);
+            let table = world.tables.rows("humans.csv", std::path::Path::new(path), "person,cell")?;
+            for &(line, person, cell) in &table.rows {
+                if person >= n as u64 {
+                    return Err(table.error(line, format!("person {person} out of range 0..{}", n.saturating_sub(1))));
+                }
+                if cell < 0 || cell as usize >= cells.len() {
+                    return Err(table.error(line, format!("cell {cell} out of range 0..{}", cells.len().saturating_sub(1))));
+                }
+                #[allow(clippy::cast_possible_truncation)]
+                csv[person as usize].get_or_insert_with(Vec::new).push(cell as u32);
             }
         }
         let mut t = Tours {
@@ -294,39 +302,4 @@ impl Tours {
 
 fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
     (a.0 - b.0).hypot(a.1 - b.1)
-}
-
-/// Reads `person,cell` rows (a first line that is not two integers is a header; blank lines
-/// and `#` lines are skipped).
-fn read_csv(path: &std::path::Path, people: usize, cells: usize) -> Result<Vec<(u32, u32)>> {
-    let shown = crate::input::limits::shown(&path.display().to_string());
-    let fail = |why: String| Error::scenario("humans.csv", format!("\"{shown}\""), why);
-    let text = crate::input::files::read_text(path, crate::input::files::MAX_INPUT_BYTES).map_err(|e| fail(format!("cannot read: {e}")))?;
-    let mut rows = Vec::new();
-    for (k, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let parts: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parsed = match parts.as_slice() {
-            [a, b] => a.parse::<u64>().ok().zip(b.parse::<u64>().ok()),
-            _ => None,
-        };
-        let Some((person, cell)) = parsed else {
-            if rows.is_empty() && k == 0 {
-                continue;
-            }
-            return Err(fail(format!("line {}: expected `person,cell` with integers, got \"{}\"", k + 1, crate::input::limits::shown(line))));
-        };
-        if person >= people as u64 {
-            return Err(fail(format!("line {}: person {person} out of range 0..{}", k + 1, people.saturating_sub(1))));
-        }
-        if cell >= cells as u64 {
-            return Err(fail(format!("line {}: cell {cell} out of range 0..{}", k + 1, cells.saturating_sub(1))));
-        }
-        #[allow(clippy::cast_possible_truncation)]
-        rows.push((person as u32, cell as u32));
-    }
-    Ok(rows)
 }

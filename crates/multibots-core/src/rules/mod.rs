@@ -8,7 +8,7 @@
 
 pub mod batch;
 pub mod original;
-pub mod paper;
+pub(crate) mod paper;
 
 use crate::alloc::{self, Allocator};
 use crate::error::{Error, Result};

@@ -1,11 +1,12 @@
 //! The world a run happens in: a layout with its highway graph and routing table, built and
 //! checked once and shared by every run on it.
 
-pub mod graph;
+pub(crate) mod graph;
 pub mod layout;
-pub mod placement;
+pub(crate) mod placement;
 
 use crate::error::Result;
+use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
 use crate::world::layout::{Layout, NodeKind};
 use graph::HighwayGraph;
@@ -16,6 +17,9 @@ use std::sync::Arc;
 pub struct World {
     pub layout: Layout,
     pub graph: HighwayGraph,
+    /// The CSV tables that runs on this world have read (orders, people's pick lists): each
+    /// file is read once and shared, as the world is.
+    pub(crate) tables: Tables,
 }
 
 impl World {
@@ -24,7 +28,7 @@ impl World {
         layout.check_size()?;
         let graph = HighwayGraph::new(&layout);
         graph::validate(&layout, &graph)?;
-        Ok(Arc::new(World { layout, graph }))
+        Ok(Arc::new(World { layout, graph, tables: Tables::default() }))
     }
 
     /// The world a scenario names: `"paper"`, a layout file, or `[layout_generate]`.

@@ -13,9 +13,10 @@
 //! thousand. What must outlive an order, its latency, is 8 bytes per delivery. Buffers grow
 //! (amortised) with the orders that arrive; nothing is reserved up front for the horizon.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::ids::{CellId, GoodsId, NONE};
 use crate::input::scenario::Orders;
+use crate::world::World;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
@@ -149,42 +150,22 @@ pub enum StockEvent {
     Restock(u32),
 }
 
-/// Reads `(step, cell)` rows. A first line that is not two integers is a header; blank lines
-/// and lines starting with `#` are skipped.
-pub fn read_csv(path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
-    let shown = path.display().to_string();
-    let text = crate::input::files::read_text(path, crate::input::files::MAX_INPUT_BYTES)
-        .map_err(|e| Error::scenario("orders.csv", format!("\"{shown}\""), format!("cannot read: {e}")))?;
-    let mut rows = Vec::new();
-    for (k, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let parts: Vec<&str> = line.split(',').map(str::trim).collect();
-        let parsed = match parts.as_slice() {
-            [a, b] => a.parse::<u64>().ok().zip(b.parse::<i64>().ok()),
-            _ => None,
-        };
-        let Some((step, cell)) = parsed else {
-            if rows.is_empty() && k == 0 {
-                continue; // header
-            }
-            return Err(Error::scenario("orders.csv", format!("\"{shown}\""), format!("line {}: expected `step,cell` with integers, got \"{line}\"", k + 1)));
-        };
+/// The `(step, cell)` rows of the orders table at `path`, read once per world, checked
+/// against the layout's `cells` and sorted by step (rows of one step keep their file order).
+pub(crate) fn orders_csv(world: &World, path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
+    let table = world.tables.rows("orders.csv", path, "step,cell")?;
+    let mut rows = Vec::with_capacity(table.rows.len());
+    for &(line, step, cell) in &table.rows {
         if step == 0 {
-            return Err(Error::scenario("orders.csv", format!("\"{shown}\""), format!("line {}: step 0: steps start at 1", k + 1)));
+            return Err(table.error(line, "step 0: steps start at 1"));
         }
         if cell < 0 || cell as usize >= cells {
-            return Err(Error::scenario(
-                "orders.csv",
-                format!("\"{shown}\""),
-                format!("line {}: cell {cell} out of range 0..{}", k + 1, cells.saturating_sub(1)),
-            ));
+            return Err(table.error(line, format!("cell {cell} out of range 0..{}", cells.saturating_sub(1))));
         }
+        #[allow(clippy::cast_possible_truncation)]
         rows.push((step, cell as u32));
     }
-    rows.sort_by_key(|r| r.0); // stable: rows of one step keep their file order
+    rows.sort_by_key(|r| r.0);
     Ok(rows)
 }
 

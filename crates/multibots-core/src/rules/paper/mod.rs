@@ -126,7 +126,7 @@ impl Paper {
         let (robots, homes) = placement::place(&world, scenario, &starts, unload)?;
         charging::check_reach(&world, scenario, &homes, &asked_cells(scenario, &cells, layout.cells.len()))?;
         let csv = match scenario.orders.as_ref().and_then(|o| o.csv.as_ref()) {
-            Some(path) => lifelong::read_csv(std::path::Path::new(path), layout.cells.len())?,
+            Some(path) => lifelong::orders_csv(&world, std::path::Path::new(path), layout.cells.len())?,
             None => Vec::new(),
         };
         let n = robots.len();
