@@ -164,6 +164,13 @@ def test_live_frames_are_the_engines_codec():
     assert header["event_names"]["5"] == "WAIT" and header["robots"] == 3
 
 
+def test_the_engine_exports_the_documented_codec_numbers():
+    # The numbers of docs/replay-format.md, written out here: the reader and the viewer take
+    # them from the engine, so changing one there is a new format version, not a quiet edit.
+    assert (_core.REPLAY_MAGIC, _core.REPLAY_VERSION, _core.BYTES_PER_ROBOT_STEP) == (b"MBREPLAY", 1, 12)
+    assert (_core.MARKED, _core.STATE_MASK, _core.HEADING_STEPS, _core.ENERGY_SCALE) == (0x80, 0x7F, 256, 65535)
+
+
 def test_a_chunk_that_inflates_past_its_size_is_refused(paper_run, tmp_path):
     # A decompression bomb: a chunk that inflates to far more than its frames can hold is
     # refused with one line, before it can fill the memory.

@@ -11,13 +11,21 @@ __all__ = [
     "MultibotsError", "ScenarioError", "LayoutError", "AllocatorError", "EngineError", "Scenario", "Simulation",
     "simulate", "simulate_many", "check_many", "layout_json", "generate_layout_toml", "layout_file_json",
     "routing_table_bytes",
-    "_panic_for_tests", "AllocView", "BUILT_INS", "BYTES_PER_ROBOT_STEP", "REPLAY_VERSION", "STATE_NAMES",
-    "EVENT_NAMES", "MOVING_STATES", "PAPER_TASKS", "decode_chunk", "inflate_chunk",
+    "_panic_for_tests", "AllocView", "BUILT_INS", "BYTES_PER_ROBOT_STEP", "REPLAY_VERSION", "REPLAY_MAGIC", "MARKED",
+    "STATE_MASK", "HEADING_STEPS", "ENERGY_SCALE", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES", "PAPER_TASKS",
+    "decode_chunk", "inflate_chunk",
     "DecisionError", "CHARGE", "Dispatcher", "Fleet", "VectorDispatch", "observation_features", "no_action",
 ]
 
 BYTES_PER_ROBOT_STEP: int
 REPLAY_VERSION: int
+REPLAY_MAGIC: bytes
+#: The replay codec's numbers (docs/replay-format.md): the state byte's "marked to charge"
+#: flag and the bits of its state code, heading steps per turn, the energy word of a full battery.
+MARKED: int
+STATE_MASK: int
+HEADING_STEPS: int
+ENERGY_SCALE: int
 STATE_NAMES: tuple[str, ...]
 EVENT_NAMES: dict[int, str]
 MOVING_STATES: tuple[int, ...]

@@ -27,7 +27,8 @@ from multibots.replay_state import EVENT_NAMES, MOVING_STATES, STATE_NAMES, Repl
 
 __all__ = ["Replay", "ReplayError", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES"]
 
-MAGIC = b"MBREPLAY"
+# The format's numbers, from the engine's codec (docs/replay-format.md).
+MAGIC = _core.REPLAY_MAGIC
 VERSION = _core.REPLAY_VERSION
 
 # A header or footer larger than this is not a replay we wrote.
@@ -330,9 +331,12 @@ class Replay(ReplayState):
 
     @staticmethod
     def _heading(u8: np.ndarray) -> np.ndarray:
-        h = u8.astype(np.float64) * (2.0 * math.pi / 256.0)
+        h = u8.astype(np.float64) * (2.0 * math.pi / _core.HEADING_STEPS)
         h[h > math.pi] -= 2.0 * math.pi
         return h
+
+    def _energy(self, u16: np.ndarray) -> np.ndarray:
+        return u16.astype(np.float64) * (self.energy_full / _core.ENERGY_SCALE)
 
     def chunk(self, i: int) -> Dict[str, Any]:
         """Decoded arrays of chunk ``i`` (treat them as read-only).
@@ -348,10 +352,10 @@ class Replay(ReplayState):
         keys = ("first_frame", "frames", "counters", "x", "y", "events", "energy_u16", "heading_u8",
                 "people_x", "people_y")
         out = {k: v[k] for k in keys}
-        out["energy"] = v["energy_u16"].astype(np.float64) * (self.energy_full / 65535.0)
+        out["energy"] = self._energy(v["energy_u16"])
         out["heading"] = self._heading(v["heading_u8"])
-        out["state"] = v["state_raw"] & 0x7F
-        out["marked"] = (v["state_raw"] & 0x80) != 0
+        out["state"] = v["state_raw"] & _core.STATE_MASK
+        out["marked"] = (v["state_raw"] & _core.MARKED) != 0
         return out
 
     # ------------------------------------------------------------------ frames
@@ -367,9 +371,9 @@ class Replay(ReplayState):
             "x": ch["x"][k],
             "y": ch["y"][k],
             "heading": self._heading(ch["heading_u8"][k]),
-            "state": st & 0x7F,
-            "marked": (st & 0x80) != 0,
-            "energy": ch["energy_u16"][k].astype(np.float64) * (self.energy_full / 65535.0),
+            "state": st & _core.STATE_MASK,
+            "marked": (st & _core.MARKED) != 0,
+            "energy": self._energy(ch["energy_u16"][k]),
             "S": s,
             "C": c,
             "delivered": d,

@@ -139,7 +139,7 @@ class ReplayState:
             first = ch["first_frame"]
             k0 = g - first
             k1 = min(ch["frames"], end - first)
-            mv = np.isin(ch["state_raw"][k0:k1, robot] & 0x7F, MOVING_STATES)
+            mv = np.isin(ch["state_raw"][k0:k1, robot] & _core.STATE_MASK, MOVING_STATES)
             if not started:
                 idx = np.flatnonzero(mv)
                 if not len(idx):

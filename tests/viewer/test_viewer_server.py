@@ -4,13 +4,21 @@ from __future__ import annotations
 
 import http.client
 import json
+import re
 import socket
 import struct
 import zlib
+from pathlib import Path
 
 import pytest
 
+import multibots.viewer
+from multibots import _core
 from multibots.replay import Replay
+
+#: The codec's numbers as the page gets them (docs/replay-format.md), from the engine.
+CODEC = {"marked": _core.MARKED, "state_mask": _core.STATE_MASK, "heading_steps": _core.HEADING_STEPS,
+         "energy_scale": _core.ENERGY_SCALE}
 
 
 def request(viewer, method, path, body=None, headers=None):
@@ -58,6 +66,16 @@ def test_serves_the_page_assets_and_meta(replay_viewer, paper_run):
     assert code == 200 and meta["mode"] == "replay" and meta["robots"] == 3
     assert meta["summary"]["T"] == result.T and meta["summary"]["S"] == result.S
     assert meta["frames"] == result.steps + 1 and meta["layout"]["name"] == "paper"
+    assert meta["codec"] == CODEC
+
+
+def test_the_page_takes_the_codec_s_numbers_from_the_server():
+    # The engine defines them and the meta carries them: the page's scripts hold no copy.
+    static = Path(multibots.viewer.__file__).parent / "static"
+    for name in ("app.js", "draw.js", "data.js"):
+        text = (static / name).read_text(encoding="utf-8")
+        found = re.findall(r"\b(0x80|0x7f|65535|256|128|127)\b", text, flags=re.IGNORECASE)
+        assert not found, f"{name} writes the codec's numbers out: {found}"
 
 
 def test_chunks_plain_and_deflated(replay_viewer, paper_run):
@@ -216,7 +234,7 @@ def test_stream_survives_clients_that_vanish(live_viewer):
         s.sendall(b"GET /api/me")
     # the server still serves, and still streams
     code, _, body = request(live_viewer, "GET", "/api/meta")
-    assert code == 200 and json.loads(body)["mode"] == "live"
+    assert code == 200 and json.loads(body)["mode"] == "live" and json.loads(body)["codec"] == CODEC
     s, f = open_stream(live_viewer)
     try:
         first = read_event(f)

@@ -52,6 +52,11 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PAPER_TASKS", pyo3::types::PyTuple::new(py, multibots_core::input::scenario::PAPER_TASKS.iter().map(|g| g.to_vec()))?)?;
     m.add("BYTES_PER_ROBOT_STEP", codec::BYTES_PER_ROBOT_STEP)?;
     m.add("REPLAY_VERSION", codec::VERSION)?;
+    m.add("REPLAY_MAGIC", PyBytes::new(py, codec::MAGIC))?;
+    m.add("MARKED", codec::MARKED)?;
+    m.add("STATE_MASK", codec::STATE_MASK)?;
+    m.add("HEADING_STEPS", codec::HEADING_STEPS)?;
+    m.add("ENERGY_SCALE", codec::ENERGY_SCALE)?;
     m.add("MOVING_STATES", pyo3::types::PyTuple::new(py, State::ALL.iter().filter(|s| s.travels()).map(|&s| s as u8).collect::<Vec<_>>())?)?;
     m.add_function(wrap_pyfunction!(decode_chunk, m)?)?;
     m.add_function(wrap_pyfunction!(inflate_chunk, m)?)?;

@@ -5,7 +5,7 @@ Every strategy runs on every (N, task list) pair, so the comparison is *paired*:
 strategy sees exactly the same task lists. A comparison is a sweep (docs/sweeps.md) with its
 own axes and outputs: its runs go through the sweep's runner (built-in strategies on the
 engine's threads, Python strategies in worker processes), and the runner's store is a
-journal (``runs.jsonl``, :mod:`.journal`) keyed by everything that changes a result, so a
+journal (``runs.jsonl``, :mod:`multibots.runs.journal`) keyed by everything that changes a result, so a
 study resumes after a kill and reuses what it can, without the study extra.
 The study writes
 
@@ -33,7 +33,6 @@ from typing import Any, Optional
 
 from multibots import _core
 from multibots.exceptions import InputError, ScenarioError
-from multibots.experiments.journal import Journal
 from multibots.experiments.summary import (
     BASELINE,
     METRICS,
@@ -45,6 +44,7 @@ from multibots.experiments.summary import (
     write_outputs,
 )
 from multibots.paper import PAPER_TASKS
+from multibots.runs import Journal
 from multibots.scenario import Scenario
 from multibots.strategies import BUILT_INS, is_python_allocator
 
@@ -295,7 +295,7 @@ def run_study(
         progress: called with the number of runs just finished (or taken from the journal).
         journal: a file (``runs.jsonl``): finished runs are recorded there as they finish
             (within about a second), and runs recorded under the same key
-            (:mod:`multibots.experiments.journal`: scenario, strategy source, engine build)
+            (:mod:`multibots.runs.journal`: scenario, strategy source, engine build)
             are not run again.
         reused: called once, before any run, with (runs taken from the journal, all runs).
     """

@@ -13,8 +13,7 @@ from typing import Any, Optional
 
 from multibots import _core
 from multibots.exceptions import InputError, MissingExtraError
-from multibots.experiments.journal import engine_id, run_key, strategy_id
-from multibots.experiments.processes import process_pool
+from multibots.runs import engine_id, process_pool, run_key, strategy_id
 from multibots.scenario import Scenario
 from multibots.strategies import is_python_allocator
 from multibots.sweeps.spec import Point

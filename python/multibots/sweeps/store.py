@@ -5,7 +5,7 @@ whose key is in a part file are reused, not run again.
 
 A run's key is a hash of everything that determines its result: the scenario (the engine's
 JSON of it, every field with defaults filled in), the strategy's code (a built-in's name, or
-the hash of a Python strategy's source) and the engine build (multibots.experiments.journal).
+the hash of a Python strategy's source) and the engine build (multibots.runs.journal).
 An edited strategy or a rebuilt engine gives new keys, so stale results are never reused.
 """
 

@@ -9,7 +9,8 @@ Routes
 ------
 ``GET /``                     the page (``index.html``)
 ``GET /static/<name>``        one of the page's files (fixed list, read at start)
-``GET /api/meta``             JSON: layout, robots, frames, summary, chunk table, mode
+``GET /api/meta``             JSON: layout, robots, frames, summary, chunk table, mode, the
+                              names of the codes and the codec's numbers (``codec``)
 ``GET /api/chunk/<i>``        replay: chunk i, decompressed (sent deflate-encoded when the
                               client accepts it: the stored zlib stream, untouched)
 ``GET /api/base/<i>``         replay: which cells hold goods before chunk i's events

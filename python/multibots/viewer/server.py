@@ -16,6 +16,17 @@ from multibots.viewer.handler import ViewerHTTPServer, load_assets
 __all__ = ["LiveSource", "ReplaySource", "Viewer"]
 
 
+def _codec() -> Dict[str, int]:
+    """The replay codec's numbers the page decodes frames with (docs/replay-format.md): the
+    engine's, sent in the meta of a replay and of a live run alike, so the page has no copy."""
+    return {
+        "marked": _core.MARKED,
+        "state_mask": _core.STATE_MASK,
+        "heading_steps": _core.HEADING_STEPS,
+        "energy_scale": _core.ENERGY_SCALE,
+    }
+
+
 def _zones(header: Dict[str, Any]) -> Optional[List[float]]:
     z = (header.get("humans") or {}).get("zones")
     number = (int, float)
@@ -52,6 +63,7 @@ class ReplaySource:
             # The engine's names of the codes (also in new replays' headers).
             "state_names": list(_core.STATE_NAMES),
             "event_names": {str(k): v for k, v in _core.EVENT_NAMES.items()},
+            "codec": _codec(),
             # People (docs/people.md): their number and radius, checked by the reader; the zones
             # only if they are two finite numbers.
             "humans": None if not r.humans else {
@@ -97,6 +109,7 @@ class LiveSource:
         self.runner = runner
         self.meta = dict(runner.meta)
         self.meta["name"] = name
+        self.meta["codec"] = _codec()
 
     def robot(self, i: int) -> Dict[str, Any]:
         return self.runner.robot(i)

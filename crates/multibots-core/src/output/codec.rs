@@ -1,7 +1,9 @@
 //! The replay frame codec (`docs/replay-format.md`): the one definition of how frames are
 //! laid out in a chunk, used by the replay writer, the live viewer's frames and the Python
 //! reader (through the binding). The viewer's page decodes the same layout in JavaScript and
-//! takes the state and event names from the replay header.
+//! takes the state and event names from the replay header, and the numbers below (the
+//! mark, the state mask, the heading and energy scales) from the server, which has them
+//! from the binding: they are defined here only.
 //!
 //! A decompressed chunk holds `K` frames of `N` robots and `E` events:
 //!
@@ -34,17 +36,23 @@ pub const VERSION: u32 = 1;
 pub const BYTES_PER_ROBOT_STEP: usize = 12;
 /// The state byte's flag: marked by the threshold rule to charge after unloading.
 pub const MARKED: u8 = 0x80;
+/// The state byte's bits that hold the state code (all but [`MARKED`]).
+pub const STATE_MASK: u8 = !MARKED;
+/// Heading steps in a full turn: the heading byte counts turns in 256ths.
+pub const HEADING_STEPS: u32 = 256;
+/// The energy word of a full battery: energy is a fraction of full times this.
+pub const ENERGY_SCALE: u16 = u16::MAX;
 
-/// Heading angle (radians) as one byte: round(α / 2π × 256) mod 256.
+/// Heading angle (radians) as one byte: round(α / 2π × [`HEADING_STEPS`]) mod [`HEADING_STEPS`].
 #[must_use]
 pub fn heading_byte(a: f64) -> u8 {
-    ((a / TAU * 256.0).round() as i64).rem_euclid(256) as u8
+    ((a / TAU * f64::from(HEADING_STEPS)).round() as i64).rem_euclid(i64::from(HEADING_STEPS)) as u8
 }
 
-/// Energy as a fraction of full, in 16 bits.
+/// Energy as a fraction of full, in 16 bits: × [`ENERGY_SCALE`], rounded.
 #[must_use]
 pub fn energy_word(e: f64, full: f64) -> u16 {
-    ((e / full).clamp(0.0, 1.0) * 65535.0).round() as u16
+    ((e / full).clamp(0.0, 1.0) * f64::from(ENERGY_SCALE)).round() as u16
 }
 
 /// Byte offset and length of each section of a decompressed chunk.
@@ -276,6 +284,8 @@ mod tests {
         assert_eq!(energy_word(10.0, 10.0), 65535);
         assert_eq!(energy_word(0.0, 10.0), 0);
         assert_eq!(energy_word(5.0, 10.0), 32768);
+        // The format's numbers (docs/replay-format.md): readers in other languages use them.
+        assert_eq!((MARKED, STATE_MASK, HEADING_STEPS, ENERGY_SCALE), (0x80, 0x7f, 256, 65535));
     }
 
     #[test]

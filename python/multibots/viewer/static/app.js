@@ -1,7 +1,7 @@
 // MultiBots viewer: the page. Replay mode plays chunks fetched on demand; live mode shows
 // the frames the server streams and sends it pause / resume / step / speed.
 import { Renderer, stateName, formatT, setNames } from "./draw.js";
-import { ReplaySource, LiveSource, setEventNames } from "./data.js";
+import { ReplaySource, LiveSource, setCodec, setEventNames, stateCode, isMarked, headingAngle } from "./data.js";
 
 const params = new URLSearchParams(location.search);
 const RENDER = params.get("render") === "1";
@@ -351,8 +351,8 @@ function exposeHooks() {
       if (!v) return null;
       const fr = v.frame;
       const xs = app.renderer.lastXs || fr.x, ys = app.renderer.lastYs || fr.y;
-      return { x: xs[i], y: ys[i], state: fr.state[i] & 0x7f, marked: !!(fr.state[i] & 0x80),
-        heading: fr.heading[i] * Math.PI * 2 / 256, radius: app.meta.radius[i] };
+      return { x: xs[i], y: ys[i], state: stateCode(fr.state[i]), marked: isMarked(fr.state[i]),
+        heading: headingAngle(fr.heading[i]), radius: app.meta.radius[i] };
     },
     worldToClient: (x, y) => {
       const rect = $("view").getBoundingClientRect();
@@ -384,6 +384,7 @@ async function main() {
     const r = await fetch("/api/meta");
     if (!r.ok) throw new Error(`HTTP ${r.status}`);
     app.meta = await r.json();
+    setCodec(app.meta.codec);
   } catch (err) {
     status(`cannot load the run: ${err}`);
     return;

@@ -12,6 +12,32 @@ export function setEventNames(eventNames) {
   }
 }
 
+// The codec's numbers (docs/replay-format.md), from the engine through the server's meta
+// (`codec`): the state byte's "marked to charge" flag and state-code bits, the heading steps
+// in a turn and the energy word of a full battery. The page holds no copy of them.
+export const CODEC = { marked: 0, stateMask: 0, headingSteps: 0, energyScale: 0 };
+const CODEC_KEYS = {
+  marked: "marked", stateMask: "state_mask", headingSteps: "heading_steps", energyScale: "energy_scale",
+};
+
+/** Takes the engine's codec numbers (`meta.codec`); throws if one is missing. */
+export function setCodec(codec) {
+  for (const [key, name] of Object.entries(CODEC_KEYS)) {
+    const v = (codec || {})[name];
+    if (!Number.isInteger(v) || v <= 0) throw new Error(`the server sent no codec.${name}`);
+    CODEC[key] = v;
+  }
+}
+
+/** A state byte's state code. */
+export function stateCode(b) { return b & CODEC.stateMask; }
+/** Whether a state byte says "marked to charge". */
+export function isMarked(b) { return (b & CODEC.marked) !== 0; }
+/** A heading byte as an angle, radians. */
+export function headingAngle(b) { return b * (2 * Math.PI / CODEC.headingSteps); }
+/** An energy word as a fraction of a full battery. */
+export function energyFraction(w) { return w / CODEC.energyScale; }
+
 function align(pos, size) { return Math.ceil(pos / size) * size; }
 
 /** Decode a decompressed chunk (ArrayBuffer) into typed-array views (no copies). */

@@ -1,6 +1,8 @@
 // MultiBots viewer: drawing. Everything comes from the layout JSON and the frame arrays;
 // the page and `multibots render` both draw with this file, so they look the same.
 
+import { CODEC, energyFraction, stateCode } from "./data.js";
+
 // State names come from the engine, through the server's meta (`state_names`): see setNames.
 export let STATE_NAMES = [];
 
@@ -35,18 +37,20 @@ const GROUP_OF_NAME = {
   IDLE: 2, TO_PICKUP: 0, LOADING: 0, TO_DROP: 1, UNLOADING: 1, TO_CHARGER: 2, CHARGING: 2,
   TO_HOME: 2, PARKED: 2, STRANDED: 3, WAIT_CHARGER: 2,
 };
-// state code -> colour group (codes of unknown names stay "other")
-const STATE_GROUP = new Uint8Array(128).fill(4);
+// state code -> colour group (codes of unknown names stay "other"), one entry per code the
+// state byte can hold
+let STATE_GROUP = new Uint8Array(0);
 
-/** Takes the engine's state names (`meta.state_names`, indexed by code). */
+/** Takes the engine's state names (`meta.state_names`, indexed by code); after setCodec. */
 export function setNames(stateNames) {
   STATE_NAMES = Array.from(stateNames || []);
-  STATE_GROUP.fill(4);
+  STATE_GROUP = new Uint8Array(CODEC.stateMask + 1).fill(4);
   STATE_NAMES.forEach((name, code) => { if (name in GROUP_OF_NAME) STATE_GROUP[code] = GROUP_OF_NAME[name]; });
 }
 
-export function stateColour(code) { return GROUP_COLOURS[STATE_GROUP[code & 0x7f]]; }
-export function stateName(code) { return STATE_NAMES[code & 0x7f] || `STATE_${code & 0x7f}`; }
+/** The colour and the name of a state byte (or a state code). */
+export function stateColour(b) { return GROUP_COLOURS[STATE_GROUP[stateCode(b)]]; }
+export function stateName(b) { return STATE_NAMES[stateCode(b)] || `STATE_${stateCode(b)}`; }
 
 const FONT = '"DejaVu Sans", "Liberation Sans", Arial, sans-serif';
 const TAU = Math.PI * 2;
@@ -615,6 +619,7 @@ export class Renderer {
   _drawRobots(ctx, frame, info) {
     const n = this.n, s = this.scale, px = 1 / s;
     const X = frame.x, Y = frame.y, H = frame.heading, ST = frame.state, E = frame.energy;
+    const mask = CODEC.stateMask, turn = TAU / CODEC.headingSteps;  // the codec's, read once per frame
     const next = info.next, alpha = info.alpha || 0;
     // positions (interpolated between two frames when playing slowly)
     let xs = X, ys = Y;
@@ -645,7 +650,7 @@ export class Renderer {
       ctx.beginPath();
       for (let j = 0; j < nv; j++) {
         const i = vis[j];
-        if (STATE_GROUP[ST[i] & 0x7f] !== g) continue;
+        if (STATE_GROUP[ST[i] & mask] !== g) continue;
         const r = this.radius[i];
         ctx.moveTo(xs[i] + r, ys[i]);
         ctx.arc(xs[i], ys[i], r, 0, TAU);
@@ -668,7 +673,7 @@ export class Renderer {
     ctx.beginPath();
     for (let j = 0; j < nv; j++) {
       const i = vis[j];
-      const a = H[i] * (TAU / 256), r = this.radius[i];
+      const a = H[i] * turn, r = this.radius[i];
       ctx.moveTo(xs[i], ys[i]);
       ctx.lineTo(xs[i] + Math.cos(a) * r, ys[i] + Math.sin(a) * r);
     }
@@ -687,8 +692,8 @@ export class Renderer {
       const w = 2 * r, h = Math.max(r * 0.3, 2.5 * px);
       const bx = xs[i] - r, by = ys[i] - r - r * 0.22 - h;
       back.rect(bx - 0.5 * px, by - 0.5 * px, w + px, h + px);
-      if ((ST[i] & 0x80) && !blinkOn) continue;
-      const f = E[i] / 65535;
+      if ((ST[i] & CODEC.marked) && !blinkOn) continue;
+      const f = energyFraction(E[i]);
       const lvl = f < this.thrFrac - 1e-9 ? 2 : (f < this.lowFrac ? 1 : 0);
       if (f > 0) levels[lvl].rect(bx, by, w * Math.min(1, f), h);
     }

@@ -8,7 +8,7 @@ from pathlib import Path
 import multibots
 from multibots import Scenario, _core
 from multibots.experiments import compare as study
-from multibots.experiments.journal import Journal, engine_id, run_key, strategy_id
+from multibots.runs import Journal, engine_id, run_key, strategy_id
 
 STRATEGY = """
 import multibots
