@@ -400,7 +400,7 @@ impl Encoder {
         let run = &mut out[fleet_len + q * STATE_GOODS_FEATURES..];
         let idle = rb.state.iter().filter(|&&s| s == State::Idle).count();
         let v = [
-            paper.tally.t as f64 / paper.limit().max(1) as f64,
+            paper.t() as f64 / paper.limit().max(1) as f64,
             paper.delivered() as f64 / paper.goods_total().max(1) as f64,
             paper.queue().len() as f64 / q as f64,
             idle as f64 / n as f64,

@@ -67,35 +67,35 @@ fn asked_cells(scenario: &Scenario, tasks: &[u32], cell_count: usize) -> Vec<Ask
 /// A run under the paper rules (`rules = "paper"`), in progress. Users drive it through
 /// [`crate::Simulation`], which also runs the original rules.
 pub(crate) struct Paper {
-    pub(crate) world: Arc<World>,
-    pub(crate) p: Params,
-    pub(crate) cost_weights: CostWeights,
-    pub(crate) robots: Robots,
-    pub(crate) goods: GoodsQueue,
-    pub(crate) homes: Homes,
-    pub(crate) chargers: Chargers,
-    pub(crate) lifelong: Option<Lifelong>,
-    pub(crate) tally: Tally,
-    pub(crate) outcome: Option<Outcome>,
-    pub(crate) allocator: Box<dyn Allocator>,
+    world: Arc<World>,
+    p: Params,
+    cost_weights: CostWeights,
+    robots: Robots,
+    goods: GoodsQueue,
+    homes: Homes,
+    chargers: Chargers,
+    lifelong: Option<Lifelong>,
+    tally: Tally,
+    outcome: Option<Outcome>,
+    allocator: Box<dyn Allocator>,
     /// An allocation event is due: robots became idle or goods joined the queue.
-    pub(crate) alloc_due: bool,
+    alloc_due: bool,
     /// Set when a step failed part-way: the run cannot go on.
-    pub(crate) failure: Option<String>,
-    pub(crate) collisions: Collisions,
+    failure: Option<String>,
+    collisions: Collisions,
     /// The `gate` and `reserve` traffic policies (`None`: the paper's collision waiting).
-    pub(crate) traffic: Option<TrafficState>,
+    traffic: Option<TrafficState>,
     /// Phase 2's answer: who wants to move (the heading it wants is `robots.heading`).
-    pub(crate) wants: Vec<bool>,
+    wants: Vec<bool>,
     /// Whether anything happened this step: a robot moved, dwelt or charged, or stock
     /// changed (no progress for long while work remains is a gridlock).
-    pub(crate) progress: bool,
+    progress: bool,
     /// The fleet's largest radius and twice its top speed, for counting contacts (robots
     /// keep both for the whole run).
-    pub(crate) contact_reach: (f64, f64),
-    pub(crate) events: Vec<Event>,
+    contact_reach: (f64, f64),
+    events: Vec<Event>,
     /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
-    pub(crate) people: Option<Box<People>>,
+    people: Option<Box<People>>,
 }
 
 impl Paper {
