@@ -1,5 +1,7 @@
-//! The world a run happens in: a layout with its highway graph and routing table, built and
-//! checked once and shared by every run on it.
+//! The world a run happens in: the warehouse layout and its generator (`layout`), the highway
+//! graph with its routing table (`graph`), where robots start, park and unload (`placement`),
+//! and [`World`], built and checked once and shared by every run on it (with the CSV tables
+//! those runs read).
 
 pub(crate) mod graph;
 pub mod layout;
