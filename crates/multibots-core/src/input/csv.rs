@@ -16,7 +16,7 @@ pub(crate) struct Rows {
     /// `field = "path"`, for errors about a row.
     field: String,
     value: String,
-    pub(crate) rows: Vec<(usize, u64, i64)>,
+    pub(crate) lines: Vec<(usize, u64, i64)>,
 }
 
 impl Rows {
@@ -49,7 +49,7 @@ impl Tables {
 fn parse(field: &str, path: &Path, columns: &str) -> Result<Rows> {
     let value = format!("\"{}\"", path.display());
     let text = read_text(path, MAX_INPUT_BYTES).map_err(|e| Error::scenario(field, &value, format!("cannot read: {e}")))?;
-    let mut out = Rows { field: field.to_string(), value, rows: Vec::new() };
+    let mut out = Rows { field: field.to_string(), value, lines: Vec::new() };
     for (k, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -61,12 +61,12 @@ fn parse(field: &str, path: &Path, columns: &str) -> Result<Rows> {
             _ => None,
         };
         let Some((a, b)) = parsed else {
-            if out.rows.is_empty() && k == 0 {
+            if out.lines.is_empty() && k == 0 {
                 continue; // header
             }
             return Err(out.error(k + 1, format!("expected `{columns}` with integers, got \"{}\"", shown(line))));
         };
-        out.rows.push((k + 1, a, b));
+        out.lines.push((k + 1, a, b));
     }
     Ok(out)
 }
@@ -83,12 +83,12 @@ mod tests {
         std::fs::write(&path, "step,cell\n# a comment\n\n3, 7\n1,-2\n").unwrap();
         let tables = Tables::default();
         let rows = tables.rows("orders.csv", &path, "step,cell").unwrap();
-        assert_eq!(rows.rows, vec![(4, 3, 7), (5, 1, -2)]);
+        assert_eq!(rows.lines, vec![(4, 3, 7), (5, 1, -2)]);
         // Changed on disk: the world keeps what it read.
         std::fs::write(&path, "1,1\n").unwrap();
         assert!(Arc::ptr_eq(&rows, &tables.rows("orders.csv", &path, "step,cell").unwrap()));
         let fresh = Tables::default();
-        assert_eq!(fresh.rows("orders.csv", &path, "step,cell").unwrap().rows, vec![(1, 1, 1)]);
+        assert_eq!(fresh.rows("orders.csv", &path, "step,cell").unwrap().lines, vec![(1, 1, 1)]);
         std::fs::write(&path, "1,1\nx,2\n").unwrap();
         let e = Tables::default().rows("humans.csv", &path, "person,cell").unwrap_err().to_string();
         assert_eq!(e, format!("humans.csv = \"{}\": line 2: expected `person,cell` with integers, got \"x,2\"", path.display()));

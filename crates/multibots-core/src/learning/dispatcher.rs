@@ -250,7 +250,7 @@ impl Dispatcher {
     /// The run's counts.
     #[must_use]
     pub fn progress(&self) -> Progress {
-        Progress::of(&*self.paper, self.decisions)
+        Progress::of(&self.paper, self.decisions)
     }
 
     /// Robots in the fleet.

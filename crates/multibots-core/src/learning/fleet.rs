@@ -263,7 +263,7 @@ impl Fleet {
     /// The run's counts (`decisions` counts calls).
     #[must_use]
     pub fn progress(&self) -> Progress {
-        Progress::of(&*self.paper, self.calls)
+        Progress::of(&self.paper, self.calls)
     }
 
     /// Robots in the fleet.

@@ -137,7 +137,7 @@ impl Tours {
         let mut csv = vec![None; n];
         if let Some(path) = &h.csv {
             let table = world.tables.rows("humans.csv", std::path::Path::new(path), "person,cell")?;
-            for &(line, person, cell) in &table.rows {
+            for &(line, person, cell) in &table.lines {
                 if person >= n as u64 {
                     return Err(table.error(line, format!("person {person} out of range 0..{}", n.saturating_sub(1))));
                 }

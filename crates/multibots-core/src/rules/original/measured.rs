@@ -136,7 +136,7 @@ impl Engine for OriginalRun {
     fn energy_levels(&self) -> (f64, f64) {
         self.o.energy_levels()
     }
-    fn allocator_name(&self) -> &str {
+    fn allocator_name(&self) -> &'static str {
         "in-turn"
     }
     fn route_of(&self, i: usize) -> Vec<(f64, f64)> {

@@ -154,8 +154,8 @@ pub enum StockEvent {
 /// against the layout's `cells` and sorted by step (rows of one step keep their file order).
 pub(crate) fn orders_csv(world: &World, path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
     let table = world.tables.rows("orders.csv", path, "step,cell")?;
-    let mut rows = Vec::with_capacity(table.rows.len());
-    for &(line, step, cell) in &table.rows {
+    let mut rows = Vec::with_capacity(table.lines.len());
+    for &(line, step, cell) in &table.lines {
         if step == 0 {
             return Err(table.error(line, "step 0: steps start at 1"));
         }
