@@ -57,6 +57,7 @@ __all__ = [
     "Scenario",
     "ScenarioError",
     "Simulation",
+    "capacity",
     "layout_json",
     "simulate",
     "simulate_many",
@@ -84,6 +85,14 @@ SUBMODULES: tuple[str, ...] = (
     "sweeps",
     "viewer",
 )
+
+
+def capacity(scenario: Any, **kwargs: Any) -> Any:
+    """The highest order rate a scenario's warehouse and fleet sustain, with the throughput
+    against demand (:func:`multibots.sweeps.capacity.capacity`, docs/capacity.md)."""
+    from multibots.sweeps.capacity import capacity as search
+
+    return search(scenario, **kwargs)
 
 
 def sweep(spec: Any, out: Any, **kwargs: Any) -> Any:

@@ -4,6 +4,8 @@
 ``run``      one scenario: its T, S, C (``cli/run.py``)
 ``paper``    the paper's 30 runs, table and figures (``cli/paper.py``)
 ``compare``  strategies against each other (``cli/compare.py``)
+``sweep``    a study over any scenario fields (``cli/sweep.py``)
+``capacity`` how much demand a warehouse and fleet carry (``cli/capacity.py``)
 ``layout``   draw, generate and check layouts (``cli/layout.py``)
 ``view``     the browser viewer (``cli/view.py``)
 ``render``   a replay to MP4 or GIF (``cli/render.py``, the ``render`` extra)
@@ -19,7 +21,7 @@ from typing import Optional
 
 import typer
 
-from multibots.cli import compare, layout, paper, render, run, sweep, view
+from multibots.cli import capacity, compare, layout, paper, render, run, sweep, view
 from multibots.cli._common import EXIT_CODES_HELP, run_app
 
 __all__ = ["app", "main"]
@@ -56,6 +58,7 @@ app.command("run", epilog=EXIT_CODES_HELP)(run.run)
 app.command("paper")(paper.paper)
 app.command("compare")(compare.compare)
 app.command("sweep")(sweep.sweep)
+app.command("capacity")(capacity.capacity)
 app.add_typer(layout.app, name="layout")
 app.command("view")(view.view)
 app.command("render")(render.render)

@@ -314,8 +314,9 @@ def write_outputs(
     return [out / Path(p).relative_to(stage) for p in written]
 
 
-def progress_bar(total: int, enabled: bool = True) -> Any:
-    """A rich progress bar on stderr; a context manager whose ``advance(k)`` moves it."""
+def progress_bar(total: Optional[int], enabled: bool = True) -> Any:
+    """A rich progress bar on stderr; a context manager whose ``advance(k)`` moves it.
+    ``total`` None: runs counted as they finish, with no end known ahead."""
     from rich.console import Console
     from rich.progress import (
         BarColumn,

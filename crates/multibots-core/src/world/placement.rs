@@ -144,7 +144,11 @@ pub(crate) fn start_nodes(layout: &Layout, scenario: &Scenario) -> Result<Vec<No
     }
     let Some(names) = &scenario.starts else {
         if n > layout.departure.len() {
-            return Err(Error::scenario("robots", n, format!("more robots than start nodes ({})", layout.departure.len())));
+            return Err(Error::scenario(
+                "robots",
+                n,
+                format!("more robots than start nodes ({}); placement = \"spread\" parks any number of robots along the aisles", layout.departure.len()),
+            ));
         }
         return Ok(layout.departure[..n].to_vec());
     };

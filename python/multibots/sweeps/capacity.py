@@ -1,0 +1,308 @@
+"""How much demand a warehouse and its fleet can carry (docs/capacity.md).
+
+A rate of orders is *sustained* when, once the fleet has settled, it delivers what arrives:
+over the last half of the windows after the warm-up, deliveries per step are at least
+``served`` (0.95) of the order rate, on average over the seeds, and no run ends in a jam
+(gridlock, livelock, stalled or stranded). Below that rate the backlog stays bounded; above
+it the backlog grows by the demand the fleet leaves unserved, every step.
+
+The search brackets the highest sustained rate by doubling (or halving) from a first guess,
+then narrows the bracket by bisection on a log scale until its ends are within
+``precision`` of each other. Every run goes through the sweep runner: stored run by run in
+``out/runs``, so a killed search loses no finished run and a new one reuses them, on this
+machine's cores or a Ray cluster. The same search over the fleet size answers "how many
+robots for this demand".
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Optional, Union
+
+from multibots.exceptions import InputError, ScenarioError
+from multibots.scenario import Scenario
+
+__all__ = ["Capacity", "Level", "capacity", "check", "fleet_for"]
+
+#: Outcomes in which a fleet stopped working: the rate it was given is not sustained,
+#: whatever it delivered before.
+JAMMED = frozenset({"gridlock", "livelock", "stalled", "stranded", "collapse"})
+#: Doublings or halvings before the search gives up bracketing.
+MAX_BRACKET = 16
+
+
+@dataclass
+class Level:
+    """One demand level (an order rate, or a fleet size) and what its runs did, one entry a
+    seed."""
+
+    rate: float
+    robots: int
+    #: Deliveries per 1,000 steps over the last half of the windows after the warm-up.
+    throughput: list[float] = field(default_factory=list)
+    #: Orders still open when the run ended (ordered less delivered).
+    backlog: list[int] = field(default_factory=list)
+    latency_p50: list[Optional[float]] = field(default_factory=list)
+    latency_p95: list[Optional[float]] = field(default_factory=list)
+    wait_share: list[float] = field(default_factory=list)
+    outcomes: list[str] = field(default_factory=list)
+
+    @property
+    def demand(self) -> float:
+        """Orders per 1,000 steps."""
+        return 1000.0 * self.rate
+
+    @property
+    def served(self) -> float:
+        """Mean sustained throughput over the demand (1: every order served as it comes)."""
+        return _mean(self.throughput) / self.demand if self.demand > 0 else 1.0
+
+    @property
+    def backlog_growth(self) -> float:
+        """Orders per 1,000 steps that the fleet leaves unserved once settled (0 when it
+        keeps up)."""
+        return max(0.0, self.demand - _mean(self.throughput))
+
+    def sustained(self, served: float) -> bool:
+        return self.served >= served and not any(o in JAMMED for o in self.outcomes)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "rate": self.rate,
+            "robots": self.robots,
+            "demand_per_1000": self.demand,
+            "throughput_per_1000": _mean(self.throughput),
+            "served": self.served,
+            "backlog_growth_per_1000": self.backlog_growth,
+            "backlog": _mean(self.backlog),
+            "latency_p50": _mean_or_none(self.latency_p50),
+            "latency_p95": _mean_or_none(self.latency_p95),
+            "wait_share": _mean(self.wait_share),
+            "outcomes": sorted(set(self.outcomes)),
+            "seeds": len(self.throughput),
+        }
+
+
+@dataclass
+class Capacity:
+    """The answer: the highest sustained order rate (or, for :func:`fleet_for`, the smallest
+    fleet that sustains a rate), and every level tried, lowest first."""
+
+    question: str
+    sustainable_rate: Optional[float]
+    robots: Optional[int]
+    curve: list[Level]
+    served: float
+    horizon: int
+    warmup: int
+    runs: int
+    #: The rate asked about (:func:`fleet_for`); None for :func:`capacity`.
+    rate: Optional[float] = None
+
+    @property
+    def knee(self) -> Optional[Level]:
+        """The highest level that was sustained."""
+        ok = [lv for lv in self.curve if lv.sustained(self.served)]
+        return ok[-1] if ok else None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "question": self.question,
+            "sustainable_rate": self.sustainable_rate,
+            "robots": self.robots,
+            "served": self.served,
+            "horizon": self.horizon,
+            "warmup": self.warmup,
+            "runs": self.runs,
+            "rate": self.rate,
+            "curve": [lv.to_dict() | {"sustained": lv.sustained(self.served)} for lv in self.curve],
+        }
+
+
+def capacity(scenario: Union[Scenario, str, os.PathLike[str]], *, seeds: int = 3, horizon: Optional[int] = None,
+             served: float = 0.95, precision: float = 0.05, start: Optional[float] = None,
+             out: Union[str, os.PathLike[str]] = "out/capacity", workers: int = 0, backend: str = "local",
+             ray_address: Optional[str] = None, progress: Optional[Callable[[int], None]] = None) -> Capacity:
+    """The highest order rate (orders per step) that ``scenario``'s warehouse and fleet
+    sustain, with the throughput-against-demand curve. ``seeds`` runs per rate, each
+    ``horizon`` steps (the scenario's ``orders.horizon``, else 10,000); ``start``: the first
+    rate tried (else one order per 1,000 steps per robot)."""
+    base, horizon, warmup = _prepared(scenario, horizon, seeds, served, precision)
+    robots = int(base.to_dict()["robots"])
+    first = start if start is not None else robots / 1000.0
+    if not (math.isfinite(first) and first > 0):
+        raise InputError(f"start = {first}: must be a rate above 0")
+    search = _Search(base, seeds, served, out, workers, backend, ray_address, progress)
+    best = search.bracket(first, precision, lambda r: {"orders.rate": r})
+    curve = sorted(search.levels.values(), key=lambda lv: lv.rate)
+    return Capacity("rate", best, robots, curve, served, horizon, warmup, search.runs)
+
+
+def fleet_for(scenario: Union[Scenario, str, os.PathLike[str]], rate: float, *, seeds: int = 3,
+              horizon: Optional[int] = None, served: float = 0.95, most: int = 100_000,
+              out: Union[str, os.PathLike[str]] = "out/capacity", workers: int = 0, backend: str = "local",
+              ray_address: Optional[str] = None, progress: Optional[Callable[[int], None]] = None) -> Capacity:
+    """The smallest fleet (at most ``most`` robots) that sustains ``rate`` orders per step in
+    ``scenario``'s warehouse; ``robots`` of the answer is None when even ``most`` does not."""
+    if not (math.isfinite(rate) and rate > 0):
+        raise InputError(f"rate = {rate}: must be above 0")
+    base, horizon, warmup = _prepared(scenario, horizon, seeds, served, 0.05)
+    base = base.replace(orders={"rate": rate})
+    search = _Search(base, seeds, served, out, workers, backend, ray_address, progress)
+    robots = int(base.to_dict()["robots"])
+    # Fewer robots never serve more: the smallest sustaining fleet is found by bisection,
+    # once a fleet that sustains the rate and one that does not bracket it.
+    lo, hi = 0, None
+    n = robots
+    for _ in range(MAX_BRACKET + 1):
+        try:
+            level = search.level({"robots": n}, rate, n)
+        except ScenarioError as e:
+            if n == robots:
+                raise
+            raise InputError(f"robots = {n}: {lo} robots do not sustain {rate:.4g} orders per step, and a larger "
+                             f"fleet cannot be placed ({e})") from None
+        if level.sustained(served):
+            hi = n
+            break
+        lo = n
+        if n >= most:
+            break
+        n = min(most, n * 2)
+    if hi is not None:
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if search.level({"robots": mid}, rate, mid).sustained(served):
+                hi = mid
+            else:
+                lo = mid
+    curve = sorted(search.levels.values(), key=lambda lv: lv.robots)
+    return Capacity("robots", rate if hi is not None else None, hi, curve, served, horizon, warmup, search.runs, rate)
+
+
+def check(scenario: Union[Scenario, str, os.PathLike[str]], horizon: Optional[int] = None, seeds: int = 3,
+          served: float = 0.95) -> None:
+    """Raises what :func:`capacity` would raise about its arguments, before any run."""
+    _prepared(scenario, horizon, seeds, served, 0.05)
+
+
+def _prepared(scenario: Union[Scenario, str, os.PathLike[str]], horizon: Optional[int], seeds: int, served: float,
+              precision: float) -> tuple[Scenario, int, int]:
+    """The scenario as a lifelong run of ``horizon`` steps, with a warm-up of a fifth of it
+    and windows that leave at least four after the warm-up."""
+    if seeds < 1:
+        raise InputError(f"seeds = {seeds}: must be at least 1")
+    if not 0 < served <= 1:
+        raise InputError(f"served = {served}: must be above 0 and at most 1")
+    if not (math.isfinite(precision) and 0 < precision < 1):
+        raise InputError(f"precision = {precision}: must be above 0 and below 1")
+    s = scenario if isinstance(scenario, Scenario) else Scenario.from_toml(scenario)
+    d = s.to_dict()
+    if d.get("tasks") and not d.get("orders"):
+        raise InputError("tasks: capacity is a question about a stream of orders; the scenario has a fixed task "
+                         "list (give it an [orders] table, docs/layout-format.md)")
+    orders = dict(d.get("orders") or {})
+    if orders.get("csv"):
+        raise InputError(f"orders.csv = {orders['csv']!r}: capacity varies the rate of Poisson orders; a CSV "
+                         "stream has its own rate")
+    h = int(horizon if horizon is not None else orders.get("horizon") or 10_000)
+    if h < 2000:
+        raise InputError(f"horizon = {h}: at least 2000 steps, so that a settled fleet can be measured")
+    warmup = h // 5
+    window = max(1, min(1000, (h - warmup) // 8))
+    orders.update({"horizon": h, "rate": orders.get("rate") or 0.001})
+    metrics = {**(d.get("metrics") or {}), "warmup": warmup, "window": window}
+    return s.replace(tasks=[], orders=orders, metrics=metrics), h, warmup
+
+
+class _Search:
+    """Runs levels through the sweep runner, each once (the store keeps them)."""
+
+    def __init__(self, base: Scenario, seeds: int, served: float, out: Union[str, os.PathLike[str]], workers: int,
+                 backend: str, ray_address: Optional[str], progress: Optional[Callable[[int], None]]) -> None:
+        self.base, self.seeds, self.served = base, seeds, served
+        self.out, self.workers, self.backend, self.ray_address = Path(out), workers, backend, ray_address
+        self.progress = progress
+        self.levels: dict[tuple[float, int], Level] = {}
+        self.runs = 0
+
+    def level(self, changes: dict[str, Any], rate: float, robots: int) -> Level:
+        from multibots.sweeps import run_planned
+        from multibots.sweeps.spec import Spec
+
+        key = (rate, robots)
+        if key in self.levels:
+            return self.levels[key]
+        spec = Spec(base=self.base, axes={k: [v] for k, v in changes.items()}, repeats=self.seeds,
+                    source="capacity")
+        points = spec.points(self.workers)
+        df = run_planned(points, self.out, workers=self.workers, backend=self.backend,
+                         ray_address=self.ray_address, progress=self.progress)
+        self.runs += len(points)
+        lv = Level(rate, robots)
+        for row in df.to_dicts():
+            lv.throughput.append(float(row["sustained_throughput"] or 0.0))
+            lv.backlog.append(int(row["goods_total"]) - int(row["delivered"]))
+            lv.latency_p50.append(row.get("latency_p50"))
+            lv.latency_p95.append(row.get("latency_p95"))
+            lv.wait_share.append(float(row["wait_share"] or 0.0))
+            lv.outcomes.append(str(row["outcome"]))
+        self.levels[key] = lv
+        return lv
+
+    def bracket(self, first: float, precision: float, changes: Callable[[float], dict[str, Any]]) -> Optional[float]:
+        """The highest sustained rate within ``precision``, or None if none was found."""
+        robots = int(self.base.to_dict()["robots"])
+
+        def ok(r: float) -> bool:
+            return self.level(changes(r), r, robots).sustained(self.served)
+
+        r = _round(first)
+        lo: Optional[float] = None
+        hi: Optional[float] = None
+        if ok(r):
+            lo = r
+            for _ in range(MAX_BRACKET):
+                r = _round(r * 2)
+                if not ok(r):
+                    hi = r
+                    break
+                lo = r
+        else:
+            hi = r
+            for _ in range(MAX_BRACKET):
+                r = _round(r / 2)
+                if ok(r):
+                    lo = r
+                    break
+                hi = r
+        if lo is None or hi is None:
+            return lo
+        while hi / lo > 1 + precision:
+            mid = _round(math.sqrt(lo * hi))
+            if mid in (lo, hi):
+                break
+            if ok(mid):
+                lo = mid
+            else:
+                hi = mid
+        return lo
+
+
+def _round(r: float) -> float:
+    """Rates to 4 significant digits: the same level asked twice is one set of runs, and the
+    store's keys are stable across searches."""
+    return float(f"{r:.4g}")
+
+
+def _mean(xs: Sequence[float]) -> float:
+    return sum(xs) / len(xs) if xs else 0.0
+
+
+def _mean_or_none(xs: Sequence[Optional[float]]) -> Optional[float]:
+    vals = [x for x in xs if x is not None]
+    return sum(vals) / len(vals) if vals else None

@@ -1,0 +1,106 @@
+"""`multibots capacity`: the rate it finds is one the warehouse carries (the backlog stays
+bounded a fifth below it and grows a quarter above it, checked by runs of their own, on seeds
+the search never saw), the smallest fleet for a rate, and the command's output and errors."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+import multibots as mb
+from multibots import Scenario
+from multibots.sweeps.capacity import fleet_for
+
+pytest.importorskip("polars")
+
+# A warehouse nobody tuned for: 120 robots, a generated layout unlike the shipped ones.
+BASE = {
+    "robots": 120, "tasks": [], "placement": "spread", "unload": "nearest", "allocator": "hungarian",
+    "layout_generate": {"group_rows": 6, "group_cols": 10, "group_width": 2, "group_height": 6, "chargers": 10,
+                        "unloading_rows": 2},
+    "charging": {"chargers": "shared"}, "robot": {"consumption": 0.00002},
+    "orders": {"rate": 0.05, "horizon": 6000, "restock": 100, "seed": 1},
+}
+
+
+def backlog_at(scenario: Scenario, steps: list[int]) -> list[int]:
+    """Orders still open (ordered less delivered) after each of ``steps``, from a run of its own."""
+    sim = mb.Simulation(scenario)
+    out = []
+    for s in steps:
+        sim.step(s - sim.t)
+        out.append(sim.goods_total - sim.delivered)
+    return out
+
+
+def test_the_rate_found_is_carried_below_it_and_overflows_above_it(tmp_path):
+    base = Scenario.from_dict(BASE)
+    answer = mb.capacity(base, out=tmp_path, seeds=3)
+    r = answer.sustainable_rate
+    assert r is not None and answer.knee is not None and answer.knee.rate == r
+    # The levels on either side of the knee bracket it within the precision asked for.
+    above = [lv for lv in answer.curve if lv.rate > r]
+    assert above and not above[0].sustained(answer.served) and above[0].rate / r <= 1.05 + 1e-9
+    for seed in (101, 102, 103):
+        for share, grows in ((0.8, False), (1.25, True)):
+            s = base.replace(orders={"rate": share * r, "horizon": 12_000, "seed": seed})
+            b = backlog_at(s, [4000, 12_000])
+            demand = share * r * 8000
+            if grows:
+                assert b[1] - b[0] > 0.08 * demand, (seed, share, b, demand)
+            else:
+                assert b[1] - b[0] < 0.03 * demand, (seed, share, b, demand)
+
+
+def test_the_smallest_fleet_for_a_rate_sustains_it_and_one_robot_fewer_does_not(tmp_path):
+    answer = fleet_for(Scenario.from_dict(BASE), 0.08, out=tmp_path, seeds=2)
+    n = answer.robots
+    assert n is not None and answer.rate == 0.08
+    by_size = {lv.robots: lv for lv in answer.curve}
+    assert by_size[n].sustained(answer.served)
+    assert n == 1 or not by_size[n - 1].sustained(answer.served)
+
+
+def _cli(*args: str, cwd) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "multibots", "capacity", *args], capture_output=True, text=True,
+                          cwd=cwd, timeout=300)
+
+
+def test_the_command_prints_one_json_object_with_the_rate_and_the_curve(tmp_path):
+    path = tmp_path / "w.toml"
+    path.write_text(Scenario.from_dict(BASE).to_toml())
+    p = _cli(str(path), "--json", "--seeds", "2", "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["question"] == "rate" and d["sustainable_rate"] > 0
+    rates = [lv["rate"] for lv in d["curve"]]
+    assert rates == sorted(rates) and d["sustainable_rate"] in rates
+    knee = next(lv for lv in d["curve"] if lv["rate"] == d["sustainable_rate"])
+    assert knee["sustained"] and knee["served"] >= d["served"]
+    # The table, and the figure beside the store.
+    p = _cli(str(path), "--seeds", "2", "--out", str(tmp_path / "out"), "--quiet", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert "sustainable rate:" in p.stdout and (tmp_path / "out" / "capacity.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("args,why", [
+    (["--seeds", "0"], "--seeds = 0: must be at least 1"),
+    (["--served", "1.5"], "--served = 1.5: must be above 0 and at most 1"),
+    (["--robots-for", "nan"], "--robots-for = 'nan': must be a finite number"),
+    (["--horizon", "500"], "--horizon = 500: at least 2000 steps"),
+])
+def test_bad_flags_get_one_line_naming_the_flag(tmp_path, args, why):
+    path = tmp_path / "w.toml"
+    path.write_text(Scenario.from_dict(BASE).to_toml())
+    p = _cli(str(path), *args, "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert p.returncode == 2 and why in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+
+
+def test_a_fixed_task_list_is_refused_with_what_to_do(tmp_path):
+    path = tmp_path / "paper.toml"
+    path.write_text('layout = "paper"\nrobots = 2\ntasks = [1, 2]\n')
+    p = _cli(str(path), "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert p.returncode == 2 and "[orders]" in p.stderr, p.stderr
