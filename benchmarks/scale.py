@@ -13,7 +13,7 @@ large (1,000), huge (10,000) robots on generated warehouses of matching size.
 - memory per robot: a fresh subprocess per size builds the fleet and runs 100 steps;
   (resident memory at N - resident memory of the same layout with N/2 robots) / (N - N/2),
   the marginal cost of a robot (a fleet of one would also change how the collision grid
-  sorts, see collision.rs), and the process's peak (VmHWM), which the layout's table
+  sorts, see collision/grid.rs), and the process's peak (VmHWM), which the layout's table
   building sets.
 """
 

@@ -79,7 +79,7 @@ pub(crate) fn for_validation(py: Python<'_>, scenario: &Scenario) -> PyResult<Bo
         if scenario.rules == multibots_core::Rules::Original {
             // The stand-in below is in-turn, which the original rules accept: say it now, not
             // when the run starts.
-            return Err(crate::to_py(Error::scenario("allocator", format!("\"{name}\""), "the original rules dispatch in turn only (in-turn)")));
+            return Err(crate::to_py(multibots_core::rules::original::check_allocator(name).expect_err("a module:Class is not in-turn")));
         }
         return Ok(Box::new(alloc::InTurn));
     }

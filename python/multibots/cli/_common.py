@@ -75,7 +75,7 @@ def parse_names(value: str, flag: str = "--starts") -> list[str]:
     return names
 
 
-#: The engine's limits (crates/multibots-core/src/limits.rs, docs/limits.md) for flags that
+#: The engine's limits (crates/multibots-core/src/input/limits.rs, docs/limits.md) for flags that
 #: would otherwise reach it as out-of-range integers.
 MAX_ROBOTS = 1_000_000
 MAX_STEPS = 4_294_967_295

@@ -1,4 +1,8 @@
-//! Collision waiting (spec phase 3, paper III-C).
+//! Collision waiting (spec phase 3, paper III-C), and the contact count after the moves.
+//! The folder holds the rule (`blocks`, here), the spatial index the robots are sorted into
+//! (`grid.rs`), the pairs of neighbours found in it (`pairs.rs`), the "blocked by" graph
+//! and who of the blocked is released (`blocking.rs`, `cycles.rs`), and the contacts
+//! (`contacts.rs`).
 //!
 //! Robot `i`, wanting to move with heading α, is blocked by robot `j` when
 //! `dist(i, j) <= r_i + r_j + margin` and the angle between α and the bearing to `j`, folded
@@ -19,7 +23,7 @@
 //! distance is within `reach`. All buffers live in [`Collisions`] and are reused from step
 //! to step.
 
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use crate::fleet::motion::{bearing, folded_angle};
 
 /// Whether a robot at `(xi, yi)` heading `alpha` is blocked by one at `(xj, yj)`.
 #[inline]
@@ -36,37 +40,6 @@ pub fn blocks(xi: f64, yi: f64, alpha: f64, xj: f64, yj: f64, reach: f64, angle:
     folded_angle(alpha, bearing(dx, dy)) < angle
 }
 
-/// `atan2(dy, dx)`, with the axis-parallel directions of aisles answered without the library
-/// call. The shortcuts return exactly what IEEE 754 specifies for `atan2` there (±0, ±π,
-/// ±π/2, signs included), so headings are bit-identical either way.
-#[inline]
-#[must_use]
-pub fn bearing(dx: f64, dy: f64) -> f64 {
-    if dy == 0.0 && dx > 0.0 {
-        dy
-    } else if dy == 0.0 && dx < 0.0 {
-        PI.copysign(dy)
-    } else if dx == 0.0 && dy != 0.0 {
-        FRAC_PI_2.copysign(dy)
-    } else {
-        dy.atan2(dx)
-    }
-}
-
-/// The angle between two directions, folded into [0, π].
-#[inline]
-#[must_use]
-pub fn folded_angle(a: f64, b: f64) -> f64 {
-    // `x % TAU` is `x` below TAU: the common case skips the slow `fmod`.
-    let d = (a - b).abs();
-    let d = if d < TAU { d } else { d % TAU };
-    if d > PI {
-        TAU - d
-    } else {
-        d
-    }
-}
-
 mod blocking;
 mod contacts;
 mod cycles;
@@ -78,7 +51,7 @@ mod pairs;
 const TINY: usize = 32;
 
 use blocking::Blocking;
-use grid::{span, Grid, Space};
+use grid::{Grid, Space};
 use pairs::Near;
 
 /// Reusable state of the collision phase, in three parts: the spatial index that sorts the
@@ -291,150 +264,7 @@ impl Collisions {
             self.release_blocked();
             return;
         }
-        let (grid, tiny) = (self.space.grid, self.space.tiny);
-        // Borrowed field by field: the edges below are written while the runs are read.
-        let runs = grid::Runs { first: &self.space.first, stamp: &self.space.stamp, start: &self.space.start, end: &self.space.end, epoch: self.space.epoch };
-        let cell_of = &self.space.cell_of[..n];
-        let (by_cell, sx, sy, sr) = (&self.space.by_cell[..n], &self.space.sx[..n], &self.space.sy[..n], &self.space.sr[..if uniform { 0 } else { n }]);
-
-        // Half-width of the cone's box across the heading, with slack above rounding; both
-        // in grid units, about half a cell (a hair more, so a box can touch three cells of a
-        // row: `run` takes any number).
-        let narrow = angle <= FRAC_PI_2;
-        let h = self.space.reach * grid.inv_size;
-        if self.sin_angle.0.to_bits() != angle.to_bits() {
-            self.sin_angle = (angle, angle.sin());
-        }
-        let w = (self.space.reach * self.sin_angle.1 * 1.000_001 + 1e-9) * grid.inv_size;
-        // Build the "blocked by" edges (in no particular order: the components, and so who
-        // is released, do not depend on it).
-        let (edge_to, edge_start, blocked, bits_of_blocked) =
-            (&mut self.graph.edge_to, &mut self.graph.edge_start, &mut self.graph.blocked, &mut self.graph.blocked_bits[..]);
-        edge_to.clear();
-        edge_start.clear();
-        blocked.clear();
-        // Robot `i`, whose edges start at `before`, is blocked if it has any: it takes the next
-        // place (robots come in id order, so `blocked` is ascending).
-        let mut row = |i: usize, before: usize, after: usize| {
-            if after > before {
-                bits_of_blocked[i >> 3] |= 1 << (i & 7);
-                blocked.push(i as u32);
-                edge_start.push(before as u32);
-            }
-        };
-        // Tiny fleets with every flag clear (most steps of the paper's runs): nobody stands
-        // within reach of anybody, so nobody is blocked and there is nothing to test.
-        if tiny && !self.space.clear {
-            let bits = &self.space.bits[..];
-            // Robots in the grid are placed in id order: `p` is the place of robot `i`.
-            let mut p = 0;
-            for i in 0..n {
-                if cell_of[i] == u32::MAX {
-                    continue;
-                }
-                p += 1;
-                if !wants[i] {
-                    continue;
-                }
-                let (xi, yi, a, ri) = (x[i], y[i], alpha[i], radius[i]);
-                let contact = |k: usize| if uniform { ri + ri + margin } else { ri + sr[k] + margin };
-                // Clearly out of reach (with a relative slack far above rounding): skip the
-                // square root and the angle. Near the boundary, `blocks` decides exactly.
-                let near = |k: usize| {
-                    let r = contact(k);
-                    let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    let far = dx * dx + dy * dy > r * r * 1.000_001;
-                    !far
-                };
-                // `bits` holds every near one (and some that are not), in id order.
-                let before = edge_to.len();
-                let mut mask = bits[p - 1];
-                while mask != 0 {
-                    let k = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    if near(k) && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
-                        edge_to.push(by_cell[k]);
-                    }
-                }
-                row(i, before, edge_to.len());
-            }
-        } else if !tiny {
-            for i in 0..n {
-                if !wants[i] || cell_of[i] == u32::MAX {
-                    continue;
-                }
-                // Only robots in the cone ahead can block. Moving along an aisle (heading exactly
-                // along an axis) with a cone of at most 90°, the cone lies in a box `reach` long
-                // ahead and `reach · sin(angle)` to each side (the robot's own point included, for
-                // dist = 0): fewer cells to read. Other headings search the whole square.
-                let (xi, yi, a) = (x[i], y[i], alpha[i]);
-                // The box's reach left, right, down and up of the robot.
-                let (l, r, d, u) = if !narrow {
-                    (h, h, h, h)
-                } else if a == 0.0 {
-                    (0.0, h, w, w)
-                } else if a == PI || a == -PI {
-                    (h, 0.0, w, w)
-                } else if a == FRAC_PI_2 {
-                    (w, w, 0.0, h)
-                } else if a == -FRAC_PI_2 {
-                    (w, w, h, 0.0)
-                } else {
-                    (h, h, h, h)
-                };
-                let ri = radius[i];
-                // Clearly out of reach (with a relative slack far above rounding): skip the
-                // square root and the angle. Near the boundary, `blocks` decides exactly.
-                let contact = |k: usize| if uniform { ri + ri + margin } else { ri + sr[k] + margin };
-                let near = |k: usize| {
-                    let r = contact(k);
-                    let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    let far = dx * dx + dy * dy > r * r * 1.000_001;
-                    // 1 or 0, combined without a branch.
-                    u64::from(!far) & u64::from(by_cell[k] as usize != i)
-                };
-                // One or two rows; in each, the box's one or two cells are one run of robots.
-                let (tx, ty) = grid.scaled(xi, yi);
-                let (cx, cy) = grid.cell(tx, ty);
-                let (gx0, gx1) = span(tx, cx, l, r);
-                let (gy0, gy1) = span(ty, cy, d, u);
-                let before = edge_to.len();
-                let (mut cells, last_cells) = (gy0 * grid.cols, gy1 * grid.cols);
-                loop {
-                    let (k0, k1) = runs.of(cells + gx0, cells + gx1);
-                    if k1 - k0 <= 64 {
-                        // Most candidates are far: flag the near ones without a branch each (the
-                        // outcome is hard to predict), then test only those.
-                        let mut mask = 0u64;
-                        for k in k0..k1 {
-                            mask |= near(k) << (k - k0);
-                        }
-                        while mask != 0 {
-                            let k = k0 + mask.trailing_zeros() as usize;
-                            mask &= mask - 1;
-                            if blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
-                                edge_to.push(by_cell[k]);
-                            }
-                        }
-                    } else {
-                        for k in k0..k1 {
-                            if near(k) == 1 && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
-                                edge_to.push(by_cell[k]);
-                            }
-                        }
-                    }
-                    if cells == last_cells {
-                        break;
-                    }
-                    cells += grid.cols;
-                }
-                row(i, before, edge_to.len());
-            }
-        }
-        edge_start.push(edge_to.len() as u32);
-        if !self.graph.edge_to.is_empty() {
-            self.rank_blocked();
-        }
+        self.edges_from_boxes(x, y, radius, wants, alpha, uniform, margin, angle);
         self.release_blocked();
     }
 }

@@ -2,6 +2,7 @@
 //! and which path decides each case.
 
 use super::*;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 const ANGLE: f64 = PI / 6.0;
 

@@ -1,10 +1,43 @@
 //! How a robot travels: [`Motion`], the view of the fleet's columns that a move reads and
-//! writes, built here from [`Robots`] and used by the step's pass and by cruising; and the
-//! exact arithmetic of a move along an axis-parallel aisle.
+//! writes, built here from [`Robots`] and used by the step's pass and by cruising; headings
+//! (`bearing`, `folded_angle`); and the exact arithmetic of a move along an axis-parallel
+//! aisle.
 
 use crate::fleet::robot::{Robots, State};
 use crate::ids::{NodeId, NONE};
 use crate::world::graph::HighwayGraph;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// `atan2(dy, dx)`, with the axis-parallel directions of aisles answered without the library
+/// call. The shortcuts return exactly what IEEE 754 specifies for `atan2` there (±0, ±π,
+/// ±π/2, signs included), so headings are bit-identical either way.
+#[inline]
+#[must_use]
+pub(crate) fn bearing(dx: f64, dy: f64) -> f64 {
+    if dy == 0.0 && dx > 0.0 {
+        dy
+    } else if dy == 0.0 && dx < 0.0 {
+        PI.copysign(dy)
+    } else if dx == 0.0 && dy != 0.0 {
+        FRAC_PI_2.copysign(dy)
+    } else {
+        dy.atan2(dx)
+    }
+}
+
+/// The angle between two directions, folded into [0, π].
+#[inline]
+#[must_use]
+pub(crate) fn folded_angle(a: f64, b: f64) -> f64 {
+    // `x % TAU` is `x` below TAU: the common case skips the slow `fmod`.
+    let d = (a - b).abs();
+    let d = if d < TAU { d } else { d % TAU };
+    if d > PI {
+        TAU - d
+    } else {
+        d
+    }
+}
 
 /// `√(dx² + dy²)`, without the square root along the axes, where aisles run. There
 /// `√(dx²)` is exactly `|dx|` in IEEE 754 arithmetic, as long as `dx²` neither overflows nor
@@ -97,8 +130,9 @@ impl Robots {
         (motion_of!(self, n), pass)
     }
 
-    /// Motion's columns alone (other columns may be shorter: [`crate::fleet::route::advance`] is
-    /// public, and a hand-built fleet need not fill them).
+    /// Motion's columns alone (other columns may be shorter: a hand-built fleet in a test
+    /// need not fill them).
+    #[cfg(test)]
     pub(crate) fn motion(&mut self) -> Motion<'_> {
         let n = self.x.len();
         motion_of!(self, n)
@@ -127,11 +161,14 @@ pub(crate) struct Motion<'a> {
     pub(crate) via: &'a mut [u32],
 }
 
+#[cfg(test)]
 impl<'a> Motion<'a> {
     pub(crate) fn of(r: &'a mut Robots) -> Motion<'a> {
         r.motion()
     }
+}
 
+impl Motion<'_> {
     /// [`advance`], for robot `i` of this view. Inlined into both passes that move robots
     /// (the step's and cruising's): a call costs a fifth of a move.
     #[allow(clippy::inline_always)] // measured: left to `#[inline]`, both passes called it

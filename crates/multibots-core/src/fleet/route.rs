@@ -5,6 +5,7 @@
 //! time it reaches a node it looks up the next one in the graph's next-hop table. That gives
 //! the same polyline as the spec's, with no allocation and no search per route.
 
+#[cfg(test)]
 use crate::fleet::motion::Motion;
 use crate::fleet::robot::{Robots, Target};
 use crate::ids::{CellId, NodeId, NONE};
@@ -53,7 +54,7 @@ impl Place {
 
 /// A planned route: the first waypoint, then the node path to `goal`, then the final point.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Plan {
+pub(crate) struct Plan {
     /// `false` for a route of length zero (already at the target).
     pub moving: bool,
     pub wp_x: f64,
@@ -72,7 +73,7 @@ pub struct Plan {
 
 /// Plans the spec's route from a place to a target.
 #[must_use]
-pub fn plan(g: &HighwayGraph, from: Place, target: Target) -> Plan {
+pub(crate) fn plan(g: &HighwayGraph, from: Place, target: Target) -> Plan {
     let (goal, has_final, fx, fy, fv) = match target {
         Target::Node(t) => (t.0, false, 0.0, 0.0, NONE),
         Target::Point { u, v, x, y } => (u.0, true, x, y, v.0),
@@ -125,7 +126,7 @@ pub fn plan(g: &HighwayGraph, from: Place, target: Target) -> Plan {
 /// [`HighwayGraph::lengths_to`]) are known: the same figure as [`length`], without walking the
 /// node path. For choices made inside the step loop (the nearest charger, unloading zone).
 #[must_use]
-pub fn length_via_row(g: &HighwayGraph, from: Place, target: NodeId, row: &[f64]) -> f64 {
+pub(crate) fn length_via_row(g: &HighwayGraph, from: Place, target: NodeId, row: &[f64]) -> f64 {
     let p = plan(g, from, Target::Node(target));
     if !p.moving {
         return 0.0;
@@ -158,7 +159,7 @@ pub fn assign(r: &mut Robots, g: &HighwayGraph, i: usize, target: Target) -> boo
 /// Sends robot `i`, standing on a node with a route under way, along the edge to `w`
 /// instead of the route's first edge (a detour, for traffic policies); the route continues
 /// from `w` to its goal.
-pub fn detour_at_node(r: &mut Robots, g: &HighwayGraph, i: usize, w: u32) {
+pub(crate) fn detour_at_node(r: &mut Robots, g: &HighwayGraph, i: usize, w: u32) {
     debug_assert!(r.at_node[i] != NONE && r.routing[i]);
     let (x, y) = g.pos(w);
     r.wp_x[i] = x;
@@ -222,14 +223,16 @@ fn polyline(g: &HighwayGraph, start: (f64, f64), waypoint: Option<(f64, f64, u32
 }
 
 /// Moves robot `i` up to `budget` px along its route, through waypoints without losing
-/// distance, stopping exactly at the route's end. Returns the distance travelled.
-pub fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, budget: f64) -> f64 {
+/// distance, stopping exactly at the route's end. Returns the distance travelled. (The
+/// step moves robots through [`Motion`] directly; this serves the tests.)
+#[cfg(test)]
+pub(crate) fn advance(r: &mut Robots, g: &HighwayGraph, i: usize, budget: f64) -> f64 {
     Motion::of(r).advance(g, i, budget)
 }
 
 /// The highway-graph nodes a planned route passes, in order (its start node too, if it
 /// starts on one).
-pub fn route_nodes(g: &HighwayGraph, from: Place, target: Target, out: &mut Vec<u32>) {
+pub(crate) fn route_nodes(g: &HighwayGraph, from: Place, target: Target, out: &mut Vec<u32>) {
     let p = plan(g, from, target);
     if from.at_node != NONE {
         out.push(from.at_node);
@@ -258,7 +261,7 @@ pub fn service_target(layout: &Layout, cell: CellId) -> Target {
 
 /// Standing at a cell's service point, as a place to plan from.
 #[must_use]
-pub fn service_place(layout: &Layout, cell: CellId) -> Place {
+pub(crate) fn service_place(layout: &Layout, cell: CellId) -> Place {
     let c = &layout.cells[cell.index()];
     Place { x: c.service.0, y: c.service.1, at_node: NONE, edge_u: c.edge.0 .0, edge_v: c.edge.1 .0 }
 }

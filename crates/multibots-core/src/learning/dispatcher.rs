@@ -14,6 +14,7 @@ use super::{check_rules, Settings};
 use crate::alloc::{Decisions, InTurn};
 use crate::error::{Error, Result};
 use crate::ids::RobotId;
+use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
 use crate::output::metrics::{Outcome, RunResult};
 use crate::rules::paper::Paper;
@@ -67,6 +68,9 @@ impl Progress {
 pub struct Dispatcher {
     scenario: Scenario,
     world: Arc<World>,
+    /// The CSV tables of the scenario: read once, reused by every `reset()` until a new
+    /// scenario comes, whose files are read anew.
+    tables: Tables,
     settings: Settings,
     enc: Encoder,
     paper: Box<Paper>,
@@ -115,12 +119,14 @@ impl Dispatcher {
 
     /// The one way in, for checked settings and scenario.
     fn build(world: Arc<World>, scenario: &Scenario, settings: Settings) -> Result<Dispatcher> {
-        let paper = Box::new(Paper::build(Arc::clone(&world), scenario, Box::new(InTurn))?);
+        let tables = Tables::default();
+        let paper = Box::new(Paper::build(Arc::clone(&world), &tables, scenario, Box::new(InTurn))?);
         let n = paper.robots().len();
         let mut d = Dispatcher {
             enc: Encoder::new(&world, scenario, settings.max_queue),
             scenario: scenario.clone(),
             world,
+            tables,
             settings,
             paper,
             round: Round::default(),
@@ -140,8 +146,9 @@ impl Dispatcher {
             self.world = world_for(&self.world, &self.scenario, s)?;
             self.enc = Encoder::new(&self.world, s, self.settings.max_queue);
             self.scenario = s.clone();
+            self.tables = Tables::default();
         }
-        *self.paper = Paper::build(Arc::clone(&self.world), &self.scenario, Box::new(InTurn))?;
+        *self.paper = Paper::build(Arc::clone(&self.world), &self.tables, &self.scenario, Box::new(InTurn))?;
         self.account.restart(self.robots());
         self.last = RobotId(0);
         self.ended = false;

@@ -14,6 +14,7 @@ use super::{Action, InvalidAction, Settings};
 use crate::alloc::{Assignment, Decisions, InTurn};
 use crate::error::{Error, Result};
 use crate::ids::{RobotId, NONE};
+use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
 use crate::output::metrics::RunResult;
 use crate::rules::paper::Paper;
@@ -36,6 +37,9 @@ pub struct AgentStep {
 pub struct Fleet {
     scenario: Scenario,
     world: Arc<World>,
+    /// The CSV tables of the scenario: read once, reused by every `reset()` until a new
+    /// scenario comes, whose files are read anew.
+    tables: Tables,
     settings: Settings,
     enc: Encoder,
     paper: Box<Paper>,
@@ -56,12 +60,14 @@ impl Fleet {
         settings.check()?;
         check_scenario(scenario, None)?;
         let world = World::of(scenario)?;
-        let paper = Box::new(Paper::build(Arc::clone(&world), scenario, Box::new(InTurn))?);
+        let tables = Tables::default();
+        let paper = Box::new(Paper::build(Arc::clone(&world), &tables, scenario, Box::new(InTurn))?);
         let n = paper.robots().len();
         let mut f = Fleet {
             enc: Encoder::new(&world, scenario, settings.max_queue),
             scenario: scenario.clone(),
             world,
+            tables,
             settings,
             paper,
             marks: Marks::default(),
@@ -82,8 +88,9 @@ impl Fleet {
             self.world = world_for(&self.world, &self.scenario, s)?;
             self.enc = Encoder::new(&self.world, s, self.settings.max_queue);
             self.scenario = s.clone();
+            self.tables = Tables::default();
         }
-        *self.paper = Paper::build(Arc::clone(&self.world), &self.scenario, Box::new(InTurn))?;
+        *self.paper = Paper::build(Arc::clone(&self.world), &self.tables, &self.scenario, Box::new(InTurn))?;
         self.account.restart(self.robots());
         self.ended = false;
         self.calls = 0;

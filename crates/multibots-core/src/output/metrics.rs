@@ -205,7 +205,7 @@ impl Snapshot {
 
 /// The running counts of a simulation: the step, S, C and deliveries, and per-robot counters.
 #[derive(Clone, Debug)]
-pub struct Tally {
+pub(crate) struct Tally {
     /// The current step (0 before the first).
     pub t: u64,
     pub s: u64,
@@ -317,7 +317,7 @@ impl Tally {
 /// Cost_total of a complete run with task time `t`, fleet distance `distance` and `s`
 /// collisions.
 #[must_use]
-pub fn cost_total(w: &CostWeights, t: Option<u64>, distance: f64, s: u64) -> Option<f64> {
+pub(crate) fn cost_total(w: &CostWeights, t: Option<u64>, distance: f64, s: u64) -> Option<f64> {
     t.map(|t| w.distance * distance + w.time * t as f64 + w.collision * s as f64)
 }
 

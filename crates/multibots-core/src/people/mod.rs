@@ -1,6 +1,7 @@
 //! People in the aisles (docs/people.md): pickers who walk the aisles in either direction,
-//! pick at storage cells and return to a station, and the safety zones robots keep around
-//! them.
+//! pick at storage cells and return to a station (their tours, `tours.rs`; how they walk,
+//! `walk.rs`), and the safety zones robots keep around them (`zones.rs`, with the people
+//! sorted into buckets by position, `buckets.rs`).
 //!
 //! Each step, around the robots' phases 3 and 4 (crate::rules::paper):
 //! 1. [`People::guard`] (before robots move): a robot with a person ahead or beside it
@@ -24,6 +25,7 @@ pub use zones::PeopleFigures;
 
 use crate::error::Result;
 use crate::fleet::robot::Robots;
+use crate::input::csv::Tables;
 use crate::input::scenario::Humans;
 use crate::world::World;
 use buckets::Buckets;
@@ -78,7 +80,7 @@ pub struct People {
 
 impl People {
     /// The people of a scenario's `[humans]` table; `None` when there are none.
-    pub(crate) fn new(h: &Humans, world: &World, robots: &Robots) -> Result<Option<People>> {
+    pub(crate) fn new(h: &Humans, world: &World, tables: &Tables, robots: &Robots) -> Result<Option<People>> {
         if h.count == 0 {
             return Ok(None);
         }
@@ -88,7 +90,7 @@ impl People {
         let rr = robots.radius.iter().copied().fold(0.0, f64::max);
         let speed = robots.speed.iter().copied().fold(0.0, f64::max);
         let zones = zones::Zones::new(h, rr, speed, radius, robots.len());
-        let tours = Tours::new(h, world, robots, radius)?;
+        let tours = Tours::new(h, world, tables, robots, radius)?;
         let (x, y): (Vec<f64>, Vec<f64>) = (0..n).map(|k| tours.start(k)).unzip();
         let bounds = world.reach_bounds();
         let pad = zones.warning + rr + radius;

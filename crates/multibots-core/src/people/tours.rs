@@ -9,6 +9,7 @@
 use crate::error::{Error, Result};
 use crate::fleet::robot::Robots;
 use crate::ids::NONE;
+use crate::input::csv::Tables;
 use crate::input::scenario::Humans;
 use crate::world::layout::NodeKind;
 use crate::world::World;
@@ -56,7 +57,7 @@ pub(crate) struct Tours {
 }
 
 impl Tours {
-    pub(crate) fn new(h: &Humans, world: &World, robots: &Robots, radius: f64) -> Result<Tours> {
+    pub(crate) fn new(h: &Humans, world: &World, tables: &Tables, robots: &Robots, radius: f64) -> Result<Tours> {
         let layout = &world.layout;
         let pos: Vec<(f64, f64)> = layout.nodes.iter().map(|n| (n.x, n.y)).collect();
         let mut adj: Vec<Vec<(u32, f64)>> = vec![Vec::new(); pos.len()];
@@ -136,12 +137,13 @@ impl Tours {
         let (station, station_pt): (Vec<u32>, Vec<(f64, f64)>) = (0..n).map(|k| candidates[k % candidates.len()]).unzip();
         let mut csv = vec![None; n];
         if let Some(path) = &h.csv {
-            let table = world.tables.rows("humans.csv", std::path::Path::new(path), "person,cell")?;
-            for &(line, person, cell) in &table.lines {
+            let table = tables.read("humans.csv", std::path::Path::new(path))?;
+            for row in table.rows::<u64, u64>("person,cell") {
+                let (line, person, cell) = row?;
                 if person >= n as u64 {
                     return Err(table.error(line, format!("person {person} out of range 0..{}", n.saturating_sub(1))));
                 }
-                if cell < 0 || cell as usize >= cells.len() {
+                if cell >= cells.len() as u64 {
                     return Err(table.error(line, format!("cell {cell} out of range 0..{}", cells.len().saturating_sub(1))));
                 }
                 #[allow(clippy::cast_possible_truncation)]

@@ -9,6 +9,7 @@
 //! worker at its next step.
 
 use crate::error::Result;
+use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
 use crate::output::metrics::RunResult;
 use crate::rules::Simulation;
@@ -47,8 +48,8 @@ const CANCEL_EVERY: u64 = 1 << 20;
 /// it gets the number of finished runs and returns `false` to cancel the batch. Returns the
 /// results in the order given, or `None` when cancelled.
 pub fn run_many(scenarios: &[Scenario], workers: usize, poll: Duration, watch: impl FnMut(usize) -> bool) -> Option<Vec<Result<RunResult>>> {
-    each(scenarios, workers, poll, watch, |s, world, cancel| {
-        let mut sim = Simulation::with_world(world, s, crate::alloc::built_in(s)?)?;
+    each(scenarios, workers, poll, watch, |s, world, tables, cancel| {
+        let mut sim = Simulation::build(world, tables, s, crate::alloc::built_in(s)?)?;
         let chunk = (CANCEL_EVERY / u64::from(s.robots.max(1))).max(1);
         while !sim.done() && !cancel.load(Ordering::Relaxed) {
             sim.steps(chunk)?;
@@ -69,7 +70,7 @@ pub fn check_many(scenarios: &[Scenario], workers: usize) -> Vec<Result<()>> {
 /// [`check_many`] that can be cancelled as [`run_many`] can: `watch` is called with the number
 /// of scenarios checked at least every `poll`; returning false cancels the rest (`None`).
 pub fn check_many_until(scenarios: &[Scenario], workers: usize, poll: Duration, watch: impl FnMut(usize) -> bool) -> Option<Vec<Result<()>>> {
-    let mut verdicts = each(scenarios, workers, poll, watch, |s, world, _| Simulation::with_world(world, s, crate::alloc::built_in(s)?).map(drop))?;
+    let mut verdicts = each(scenarios, workers, poll, watch, |s, world, tables, _| Simulation::build(world, tables, s, crate::alloc::built_in(s)?).map(drop))?;
     // The pool checks values and the layout before the job names the allocator; `new` names
     // the allocator first.
     for (v, s) in verdicts.iter_mut().zip(scenarios) {
@@ -82,14 +83,14 @@ pub fn check_many_until(scenarios: &[Scenario], workers: usize, poll: Duration, 
     Some(verdicts)
 }
 
-/// The pool both share: `job` gets a scenario whose values are checked, its shared world and
-/// the cancel flag.
+/// The pool both share: `job` gets a scenario whose values are checked, its shared world, the
+/// CSV tables the batch has read (each file once) and the cancel flag.
 fn each<T: Send>(
     scenarios: &[Scenario],
     workers: usize,
     poll: Duration,
     mut watch: impl FnMut(usize) -> bool,
-    job: impl Fn(&Scenario, Arc<World>, &AtomicBool) -> Result<T> + Sync,
+    job: impl Fn(&Scenario, Arc<World>, &Tables, &AtomicBool) -> Result<T> + Sync,
 ) -> Option<Vec<Result<T>>> {
     let n = scenarios.len();
     let keys: Vec<String> = scenarios.iter().map(layout_key).collect();
@@ -101,6 +102,7 @@ fn each<T: Send>(
         let slot = distinct.binary_search(&&keys[k]).expect("every key is listed");
         worlds[slot].get_or_init(|| World::of(&scenarios[k])).clone()
     };
+    let tables = Tables::default();
     let next = AtomicUsize::new(0);
     let cancel = AtomicBool::new(false);
     let progress = Mutex::new(Progress { finished: 0, slots: (0..n).map(|_| None).collect() });
@@ -113,7 +115,7 @@ fn each<T: Send>(
                     break;
                 }
                 let s = &scenarios[k];
-                let r = s.check_values().and_then(|()| job(s, world_of(k)?, &cancel));
+                let r = s.check_values().and_then(|()| job(s, world_of(k)?, &tables, &cancel));
                 let mut p = progress.lock().expect("no worker panics while holding the lock");
                 p.slots[k] = Some(r);
                 p.finished += 1;

@@ -11,17 +11,15 @@ pub mod original;
 pub(crate) mod paper;
 
 use crate::alloc::{self, Allocator};
-use crate::error::{Error, Result};
-use crate::fleet::robot::{Robots, Target};
-use crate::fleet::route::{self, Place};
-use crate::ids::NodeId;
+use crate::error::Result;
+use crate::fleet::robot::Robots;
+use crate::input::csv::Tables;
 use crate::input::scenario::{Rules, Scenario};
 use crate::output::events::Event;
 use crate::output::metrics::{Outcome, RobotStats, RunResult};
 use crate::people::People;
 use crate::world::World;
 use original::measured::OriginalRun;
-use original::Original;
 use paper::Paper;
 use std::sync::Arc;
 
@@ -95,23 +93,22 @@ impl Simulation {
     /// A run of `scenario` with a given allocator (such as one written in Python).
     pub fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
         scenario.check_values()?;
-        Simulation::build(World::of(scenario)?, scenario, allocator)
+        Simulation::build(World::of(scenario)?, &Tables::default(), scenario, allocator)
     }
 
     /// A run on an already built world, with any allocator.
     pub fn with_world(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
         scenario.check_values()?;
-        Simulation::build(world, scenario, allocator)
+        Simulation::build(world, &Tables::default(), scenario, allocator)
     }
 
-    /// The one way in, for a scenario whose values are checked.
-    fn build(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
+    /// The one way in, for a scenario whose values are checked, with the CSV tables its runs
+    /// have read (`input/csv.rs`).
+    pub(crate) fn build(world: Arc<World>, tables: &Tables, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
         let rules = match scenario.rules {
-            Rules::Paper => RuleSet::Paper(Box::new(Paper::build(world, scenario, allocator)?)),
+            Rules::Paper => RuleSet::Paper(Box::new(Paper::build(world, tables, scenario, allocator)?)),
             Rules::Original => {
-                if allocator.name() != "in-turn" {
-                    return Err(Error::scenario("allocator", format!("\"{}\"", allocator.name()), "the original rules dispatch in turn only (in-turn)"));
-                }
+                original::check_allocator(allocator.name())?;
                 RuleSet::Original(Box::new(OriginalRun::new(world, scenario)?))
             }
         };
@@ -181,15 +178,6 @@ impl Simulation {
         match &mut self.rules {
             RuleSet::Paper(p) => Some(p),
             RuleSet::Original(_) => None,
-        }
-    }
-
-    /// The original rules' engine, when they run.
-    #[must_use]
-    pub fn original(&self) -> Option<&Original> {
-        match &self.rules {
-            RuleSet::Paper(_) => None,
-            RuleSet::Original(r) => Some(r.original()),
         }
     }
 
@@ -277,17 +265,5 @@ impl Simulation {
     #[must_use]
     pub fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
         self.engine().route_of(i)
-    }
-    /// Route length from a node to a target under the paper's routing, for callers outside
-    /// the step loop.
-    #[must_use]
-    pub fn route_length_from_node(&self, from: NodeId, target: Target) -> f64 {
-        let g = &self.world().graph;
-        route::length(g, Place::node(g, from), target)
-    }
-    /// Whether a node is a charger.
-    #[must_use]
-    pub fn is_charger(&self, n: NodeId) -> bool {
-        self.world().is_charger(n)
     }
 }

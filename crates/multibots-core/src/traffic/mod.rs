@@ -1,6 +1,7 @@
 //! Traffic policies: how robots share the aisles (docs/traffic.md). Chosen per scenario with
 //! `traffic = "wait" | "gate" | "reserve"`; each decides, in phase 3, how far every robot
-//! that wants to move may travel this step.
+//! that wants to move may travel this step. The step asks [`decide`] and reads the answer
+//! with [`moves`]; the lanes (robots in order along each aisle edge) are in `lanes.rs`.
 //!
 //! - **wait** (the default): the paper's collision waiting ([`crate::collision`]), unchanged.
 //! - **gate**: collision waiting, and crossings taken one robot at a time: a robot does not

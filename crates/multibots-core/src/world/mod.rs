@@ -1,14 +1,12 @@
 //! The world a run happens in: the warehouse layout and its generator (`layout`), the highway
 //! graph with its routing table (`graph`), where robots start, park and unload (`placement`),
-//! and [`World`], built and checked once and shared by every run on it (with the CSV tables
-//! those runs read).
+//! and [`World`], built and checked once and shared by every run on it.
 
 pub(crate) mod graph;
 pub mod layout;
 pub(crate) mod placement;
 
 use crate::error::Result;
-use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
 use crate::world::layout::{Layout, NodeKind};
 use graph::HighwayGraph;
@@ -19,9 +17,6 @@ use std::sync::Arc;
 pub struct World {
     pub layout: Layout,
     pub graph: HighwayGraph,
-    /// The CSV tables that runs on this world have read (orders, people's pick lists): each
-    /// file is read once and shared, as the world is.
-    pub(crate) tables: Tables,
 }
 
 impl World {
@@ -30,7 +25,7 @@ impl World {
         layout.check_size()?;
         let graph = HighwayGraph::new(&layout);
         graph::validate(&layout, &graph)?;
-        Ok(Arc::new(World { layout, graph, tables: Tables::default() }))
+        Ok(Arc::new(World { layout, graph }))
     }
 
     /// The world a scenario names: `"paper"`, a layout file, or `[layout_generate]`.

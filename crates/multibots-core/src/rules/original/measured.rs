@@ -32,11 +32,6 @@ impl OriginalRun {
         Ok(OriginalRun { o, world, tally, weights: scenario.cost.clone(), last })
     }
 
-    /// The authors' engine.
-    pub(crate) fn original(&self) -> &Original {
-        &self.o
-    }
-
     /// After a tick: the counters, windows, warm-up and contacts.
     fn measure(&mut self) {
         let (o, t) = (&self.o, &mut self.tally);

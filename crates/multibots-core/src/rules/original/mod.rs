@@ -46,10 +46,20 @@ use crate::ids::NONE;
 use crate::input::scenario::Scenario;
 use crate::output::events::{Event, EventKind};
 use crate::output::metrics::{Outcome, RobotStats, RunResult};
-use crate::Result;
+use crate::{Error, Result};
 use agent::Agent;
 use map::Routes;
 use std::collections::VecDeque;
+
+/// The original rules take no strategy: the authors' code dispatches in turn. Any other
+/// `allocator` is refused, as soon as it is named.
+pub fn check_allocator(name: &str) -> Result<()> {
+    if name == "in-turn" {
+        Ok(())
+    } else {
+        Err(Error::scenario("allocator", format!("\"{name}\""), "the original rules dispatch in turn only (in-turn)"))
+    }
+}
 
 /// Distance a robot moves in a tick: `(TIME_RATE / FRAME_PER_SECOND) * agent_speed`.
 const STEP: f64 = (2.0 / 20.0) * 40.0;

@@ -15,13 +15,13 @@
 //!   apart with room for this many steps of travel);
 //! - phase 8 surely gives no verdict ([`crate::output::metrics::Tally::steps_without_verdict`]).
 //!
-//! It then does phases 2 to 6 exactly as `sim.rs` does when nobody waits, and counts the
+//! It then does phases 2 to 6 exactly as `intend.rs` and `moves.rs` do when nobody waits, and counts the
 //! step. The first step after which a robot is due (a route's end, a dwell's end, a full
 //! battery, the threshold) ends the run of steps: its phases 7 and 8 are the usual ones.
 //! Completion and stranding cannot come without a transition. So every result, statistic
 //! and event is the one step by step gives, to the bit; the tests below check it.
 
-use crate::collision::bearing;
+use crate::fleet::motion::bearing;
 use crate::rules::paper::Paper;
 
 impl Paper {
@@ -278,7 +278,7 @@ mod tests {
             s.robot.consumption = 1e-12;
             s.step_limit = 4_000_000_000;
             let new = || {
-                let mut p = Paper::build(world.clone(), &s, built_in(&s).unwrap()).unwrap();
+                let mut p = Paper::build(world.clone(), &crate::input::csv::Tables::default(), &s, built_in(&s).unwrap()).unwrap();
                 let g = &p.world.graph;
                 let pts = waypoints(g, Place::node(g, p.robots.home[0]), service_target(&p.world.layout, CellId(42)));
                 let ((ax, ay), (bx, by)) = (pts[2], pts[3]);

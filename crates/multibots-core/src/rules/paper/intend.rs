@@ -1,7 +1,7 @@
 //! Phase 2 (spec section 4): who wants to move, and where each is heading. Robots in bays
 //! are marked here too, for the collision phase that follows.
 
-use crate::collision::bearing;
+use crate::fleet::motion::bearing;
 use crate::fleet::robot::State;
 use crate::rules::paper::Paper;
 

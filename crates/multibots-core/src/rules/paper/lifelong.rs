@@ -15,8 +15,8 @@
 
 use crate::error::Result;
 use crate::ids::{CellId, GoodsId, NONE};
+use crate::input::csv::Tables;
 use crate::input::scenario::Orders;
-use crate::world::World;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
@@ -150,12 +150,14 @@ pub enum StockEvent {
     Restock(u32),
 }
 
-/// The `(step, cell)` rows of the orders table at `path`, read once per world, checked
-/// against the layout's `cells` and sorted by step (rows of one step keep their file order).
-pub(crate) fn orders_csv(world: &World, path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
-    let table = world.tables.rows("orders.csv", path, "step,cell")?;
-    let mut rows = Vec::with_capacity(table.lines.len());
-    for &(line, step, cell) in &table.lines {
+/// The `(step, cell)` rows of the orders table at `path` (read once per scenario, `tables`),
+/// checked against the layout's `cells` line by line, and sorted by step (rows of one step
+/// keep their file order).
+pub(crate) fn orders_csv(tables: &Tables, path: &Path, cells: usize) -> Result<Vec<(u64, u32)>> {
+    let table = tables.read("orders.csv", path)?;
+    let mut rows = Vec::new();
+    for row in table.rows::<u64, i64>("step,cell") {
+        let (line, step, cell) = row?;
         if step == 0 {
             return Err(table.error(line, "step 0: steps start at 1"));
         }
@@ -165,7 +167,7 @@ pub(crate) fn orders_csv(world: &World, path: &Path, cells: usize) -> Result<Vec
         #[allow(clippy::cast_possible_truncation)]
         rows.push((step, cell as u32));
     }
-    rows.sort_by_key(|r| r.0);
+    rows.sort_by_key(|r| r.0); // stable: rows of one step keep their file order
     Ok(rows)
 }
 

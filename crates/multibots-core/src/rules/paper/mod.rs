@@ -35,6 +35,7 @@ use crate::collision::Collisions;
 use crate::error::{Error, Result};
 use crate::fleet::robot::{Robots, Target};
 use crate::fleet::route;
+use crate::input::csv::Tables;
 use crate::input::scenario::{CostWeights, Scenario, Traffic};
 use crate::output::events::{Event, EventKind};
 use crate::output::metrics::{Outcome, RobotStats, RunResult, Tally};
@@ -105,20 +106,20 @@ impl Paper {
     pub(crate) fn new(scenario: &Scenario) -> Result<Paper> {
         scenario.check_values()?;
         let allocator = crate::alloc::built_in(scenario)?;
-        Paper::build(World::of(scenario)?, scenario, allocator)
+        Paper::build(World::of(scenario)?, &Tables::default(), scenario, allocator)
     }
 
     /// A run of `scenario` with a given allocator (the crate's tests).
     #[cfg(test)]
     pub(crate) fn with_allocator(scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
         scenario.check_values()?;
-        Paper::build(World::of(scenario)?, scenario, allocator)
+        Paper::build(World::of(scenario)?, &Tables::default(), scenario, allocator)
     }
 
     /// A run on an already built world, with any allocator, for a scenario whose values
     /// [`Scenario::check_values`] has passed: [`crate::Simulation`]'s one way in, and the
     /// learning environments'.
-    pub(crate) fn build(world: Arc<World>, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
+    pub(crate) fn build(world: Arc<World>, tables: &Tables, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
         let layout = &world.layout;
         let unload = placement::unload_zone(layout, &scenario.unload)?;
         let starts = placement::start_nodes(layout, scenario)?;
@@ -126,14 +127,14 @@ impl Paper {
         let (robots, homes) = placement::place(&world, scenario, &starts, unload)?;
         charging::check_reach(&world, scenario, &homes, &asked_cells(scenario, &cells, layout.cells.len()))?;
         let csv = match scenario.orders.as_ref().and_then(|o| o.csv.as_ref()) {
-            Some(path) => lifelong::orders_csv(&world, std::path::Path::new(path), layout.cells.len())?,
+            Some(path) => lifelong::orders_csv(tables, std::path::Path::new(path), layout.cells.len())?,
             None => Vec::new(),
         };
         let n = robots.len();
         let (goods, lifelong) = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv);
         let reach = 2.0 * scenario.robot.radius + scenario.collision.margin;
         let people = match &scenario.humans {
-            Some(h) => People::new(h, &world, &robots)?.map(Box::new),
+            Some(h) => People::new(h, &world, tables, &robots)?.map(Box::new),
             None => None,
         };
         Ok(Paper {
