@@ -1,7 +1,7 @@
 //! The scenario schema: the one definition of every field, its default and its checks.
 //! TOML files, Python dictionaries and the command line all land here.
 
-use crate::error::{toml_message, Error, Result};
+use crate::error::{json_message, toml_message, Error, Result};
 use crate::layout::{Layout, LayoutParams};
 use rand::{Rng, SeedableRng};
 use schemars::JsonSchema;
@@ -132,22 +132,18 @@ pub fn random_cells(count: u32, seed: u64, cells: usize) -> Vec<u32> {
 impl Scenario {
     /// Parses TOML text; `source_name` (a file name) prefixes error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Scenario> {
+        crate::files::check_toml_shape(text).map_err(|message| Error::Parse { source_name: source_name.to_string(), message })?;
         let de = toml::Deserializer::new(text);
         serde_path_to_error::deserialize(de).map_err(|e| Error::Parse { source_name: source_name.to_string(), message: toml_message(text, e) })
     }
 
     /// Parses JSON text (what the Python API sends).
     pub fn from_json(text: &str) -> Result<Scenario> {
+        let fail = |message: String| Error::Parse { source_name: "scenario".to_string(), message };
+        // The position in the JSON text is left out of messages: the user never wrote it.
+        crate::files::check_json_shape(text).map_err(|m| fail(m.split_once(": ").map_or(m.clone(), |(_, rest)| rest.to_string())))?;
         let mut de = serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = crate::limits::shown(&e.path().to_string());
-            let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
-            // serde_json ends with the position in the JSON text, which the user never wrote.
-            let text = e.inner().to_string();
-            let text = text.lines().next().unwrap_or_default();
-            let text = text.rfind(" at line ").map_or(text, |k| &text[..k]).trim();
-            Error::Parse { source_name: "scenario".to_string(), message: format!("{at}{}", crate::limits::inert(text)) }
-        })
+        serde_path_to_error::deserialize(&mut de).map_err(|e| fail(json_message(&e)))
     }
 
     /// The scenario as TOML.
@@ -279,7 +275,7 @@ impl Scenario {
             }
         }
         if let Some(h) = &self.humans {
-            h.check()?;
+            h.check(&self.robot)?;
             if h.count > 0 && self.rules == Rules::Original {
                 return Err(Error::scenario("humans.count", h.count, "people need the paper rules (rules = \"paper\"): the authors' code has none"));
             }
@@ -318,6 +314,15 @@ impl Scenario {
         }
         if self.metrics.window == 0 {
             return Err(Error::scenario("metrics.window", 0, "must be at least 1 step"));
+        }
+        // The run's windows are kept, one count each: bounded before the run starts.
+        let (run, by) = self.orders.as_ref().map_or((self.step_limit, "step_limit"), |o| (o.horizon, "orders.horizon"));
+        if run / self.metrics.window > crate::limits::MAX_WINDOWS {
+            return Err(Error::scenario(
+                "metrics.window",
+                self.metrics.window,
+                format!("{by} = {run} makes {} throughput windows; at most {} (docs/limits.md)", run / self.metrics.window, crate::limits::MAX_WINDOWS),
+            ));
         }
         if self.placement == Placement::Spread && self.starts.is_some() {
             return Err(Error::scenario(
@@ -381,14 +386,45 @@ mod tests {
     #[test]
     fn errors_name_the_field() {
         let e = Scenario::from_toml("tasks = [1]\nrobot = { speed = \"fast\" }", "s.toml").unwrap_err().to_string();
-        assert!(e.starts_with("s.toml: robot.speed: invalid type: string \"fast\""), "{e}");
+        assert_eq!(e, "s.toml: robot.speed = \"fast\": expected a number");
         let e = Scenario::from_toml("tasks = [1]\nrobts = 3", "s.toml").unwrap_err().to_string();
-        assert!(e.contains("unknown field `robts`"), "{e}");
+        assert!(e.starts_with("s.toml: unknown field `robts` (known: layout, robots, "), "{e}");
+        let e = Scenario::from_toml("tasks = [1]\n[robot]\nsped = 3", "s.toml").unwrap_err().to_string();
+        assert!(e.starts_with("s.toml: robot: unknown field `sped` (known: radius, speed, "), "{e}");
         let e = Scenario::from_toml("tasks = [1, \"x\"]", "s.toml").unwrap_err().to_string();
         assert!(e.contains("tasks[1]") || e.contains("tasks"), "{e}");
         let e = Scenario::from_toml("tasks = [1", "s.toml").unwrap_err().to_string();
         assert!(e.starts_with("s.toml: "), "{e}");
         assert!(!e.contains('\n'));
+    }
+
+    #[test]
+    fn type_errors_speak_the_users_words() {
+        let err = |text: &str| Scenario::from_toml(text, "s.toml").unwrap_err().to_string();
+        let cases = [
+            ("robots = 4294967296", "s.toml: robots = 4294967296: expected a whole number from 0 to 4294967295"),
+            ("[layout_generate]\ngroup_height = 2e9", "s.toml: layout_generate.group_height = 2000000000.0: expected a whole number from 0 to 4294967295, written without a decimal point or exponent"),
+            ("robots = [1]", "s.toml: robots: expected a whole number from 0 to 4294967295, not a list"),
+            ("traffic = \"x\"", "s.toml: traffic = \"x\": expected one of wait, gate, reserve"),
+            ("rules = 5", "s.toml: rules: expected text in quotes"),
+            ("starts = [1]", "s.toml: starts[0] = 1: expected text in quotes"),
+            ("orders = 5", "s.toml: orders = 5: expected a table"),
+            ("[humans]\nseed = 18446744073709551615 # big", "s.toml: line 3: seed = 18446744073709551615: too large (TOML whole numbers are at most 9223372036854775807)"),
+        ];
+        for (body, want) in cases {
+            // Tables after the task list.
+            assert_eq!(err(&format!("tasks = [1]\n{body}")), want);
+        }
+        let json = |text: &str| Scenario::from_json(text).unwrap_err().to_string();
+        assert_eq!(json(r#"{"tasks":[1],"robots":1e20}"#), "scenario: robots = 1e20: expected a whole number from 0 to 4294967295, written without a decimal point or exponent");
+        assert_eq!(json(r#"{"tasks":[1],"collision":{"margin":1e400}}"#), "scenario: collision.margin: a number out of range (at most ±1.8e308)");
+        let deep = format!("{{\"tasks\":[1],\"x\":{}{}}}", "[".repeat(40), "]".repeat(40));
+        assert_eq!(json(&deep), "scenario: a value nested deeper than 32 levels (docs/limits.md)");
+        for e in [err("tasks = [1]\nrobots = 2.5"), json(r#"{"tasks":[1],"robots":"x"}"#)] {
+            for word in ["u32", "invalid type", "floating point", "line 1 column", "sequence"] {
+                assert!(!e.contains(word), "{e}");
+            }
+        }
     }
 
     #[test]
