@@ -7,6 +7,8 @@ from typing import Optional
 
 import typer
 
+from multibots.cli._common import finite_flag
+
 __all__ = ["render"]
 
 
@@ -16,7 +18,8 @@ def render(
     fps: int = typer.Option(30, "--fps", help="Video frames per second."),
     start: int = typer.Option(0, "--from", help="First replay frame (step) to export."),
     end: Optional[int] = typer.Option(None, "--to", help="Last replay frame (step) to export (default: the last)."),
-    scale: float = typer.Option(1.0, "--scale", help="Pixels per warehouse px (0.25 to 4)."),
+    scale: float = typer.Option(1.0, "--scale", help="Pixels per warehouse px (0.25 to 4).",
+                                parser=finite_flag("--scale")),
     every: int = typer.Option(1, "--every", help="Export every K-th step (1 = every step)."),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:

@@ -25,6 +25,7 @@ from multibots.cli._common import (
     TRAFFIC,
     UNLOAD,
     check_code,
+    finite_flag,
     quick_scenario,
 )
 from multibots.exceptions import InputError, ReplayError
@@ -52,7 +53,8 @@ def view(
         help="Also accept this Host name (behind a proxy that renames the host, such as a cloud IDE's port "
         "forwarding); repeatable.",
     ),
-    speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second)."),
+    speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second).",
+                                parser=finite_flag("--speed")),
     paused: bool = typer.Option(False, "--paused", help="Live: start paused."),
     robots: Optional[str] = ROBOTS,
     goods: Optional[str] = GOODS,
@@ -78,14 +80,22 @@ def view(
             raise InputError("give a REPLAY file to play, or --live with a SCENARIO.toml or --robots/--goods")
         from multibots.replay import Replay
 
+        from multibots.viewer.server import ReplaySource
+
         try:
-            Replay(path).close()  # check it before binding anything
+            # Opened once, checked before binding anything, and served as opened: the path is
+            # not looked up again (a file put in its place later is not served).
+            replay = Replay(path)
         except ReplayError as exc:
             hint = " (to run a scenario, add --live)" if str(path).endswith(".toml") else ""
             raise ReplayError(f"{exc}{hint}") from None
-        viewer = _make_viewer(
-            lambda **kw: Viewer.for_replay(str(path), allow_hosts=tuple(allow_host), **kw), host, port
-        )
+        try:
+            viewer = _make_viewer(
+                lambda **kw: Viewer(ReplaySource(replay), allow_hosts=tuple(allow_host), **kw), host, port
+            )
+        except BaseException:
+            replay.close()
+            raise
         _serve(viewer, f"replay {path}", no_browser)
         return
 
