@@ -10,7 +10,7 @@ from typing_extensions import Self
 __all__ = [
     "MultibotsError", "ScenarioError", "LayoutError", "AllocatorError", "EngineError", "Scenario", "Simulation",
     "simulate", "simulate_many", "check_many", "layout_json", "generate_layout_toml", "layout_file_json",
-    "routing_table_bytes",
+    "routing_table_bytes", "toml_shape_error",
     "_panic_for_tests", "AllocView", "BUILT_INS", "BYTES_PER_ROBOT_STEP", "REPLAY_VERSION", "STATE_NAMES",
     "EVENT_NAMES", "MOVING_STATES", "PAPER_TASKS", "decode_chunk", "inflate_chunk",
     "DecisionError", "CHARGE", "Dispatcher", "Fleet", "VectorDispatch", "observation_features", "no_action",

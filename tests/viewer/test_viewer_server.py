@@ -343,7 +343,8 @@ def test_keep_alive_and_pipelined_requests(replay_viewer):
             assert resp.status == 200 and resp.read()
     finally:
         conn.close()
-    two = b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n" * 2 + b"GET /nothing HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n"
+    two = (b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n" * 2
+           + b"GET /nothing HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
     with socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30) as s:
         s.sendall(two)
         out = b""

@@ -191,9 +191,14 @@ impl LayoutParams {
             return bad("unloading_rows", self.unloading_rows.to_string(), &format!("must be between 1 and group_rows ({})", self.group_rows));
         }
         if self.chargers == 0 || u64::from(self.chargers) > u64::from(self.group_cols) + 1 {
-            return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {} (one per top-aisle crossing)", u64::from(self.group_cols) + 1));
+            return bad(
+                "chargers",
+                self.chargers.to_string(),
+                &format!("must be between 1 and {} (one per top-aisle crossing)", u64::from(self.group_cols) + 1),
+            );
         }
-        let factors = [("group_rows", self.group_rows), ("group_cols", self.group_cols), ("group_width", self.group_width), ("group_height", self.group_height)];
+        let factors =
+            [("group_rows", self.group_rows), ("group_cols", self.group_cols), ("group_width", self.group_width), ("group_height", self.group_height)];
         let cells: u64 = factors.iter().map(|f| u64::from(f.1)).product();
         if cells > MAX_CELLS as u64 {
             let (field, value) = factors.iter().max_by_key(|f| f.1).expect("four factors");

@@ -166,7 +166,9 @@ fn generator_parameter_errors() {
     assert_eq!(bad(LayoutParams { aisle: 1e308, ..paper() }), "layout.aisle = 1e308: layout too large: more than 1e308 px across (at most 1e7)");
     assert_eq!(bad(LayoutParams { cell: 1e6, ..paper() }), "layout.cell = 1000000: layout too large: 1.000e7 px across (at most 1e7)");
     assert!(bad(LayoutParams { spur: 1e300, ..paper() }).starts_with("layout.spur = 1e300: layout too large"));
-    assert!(bad(LayoutParams { group_rows: 1000, cell: 10_000.0, chargers: 1, group_cols: 1, ..paper() }).starts_with("layout.group_rows = 1000: layout too large"));
+    assert!(
+        bad(LayoutParams { group_rows: 1000, cell: 10_000.0, chargers: 1, group_cols: 1, ..paper() }).starts_with("layout.group_rows = 1000: layout too large")
+    );
     assert!(bad(LayoutParams { group_cols: 20_000, group_rows: 1, group_height: 1, group_width: 1, chargers: 1, unloading_rows: 1, ..paper() })
         .starts_with("layout.group_cols = 20000: layout too large: 40002 aisle crossings"));
     assert!(bad(LayoutParams { group_cols: u32::MAX, chargers: 2, ..paper() }).starts_with("layout.group_cols = 4294967295: layout too large"));

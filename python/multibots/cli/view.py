@@ -79,7 +79,6 @@ def view(
         if path is None:
             raise InputError("give a REPLAY file to play, or --live with a SCENARIO.toml or --robots/--goods")
         from multibots.replay import Replay
-
         from multibots.viewer.server import ReplaySource
 
         try:

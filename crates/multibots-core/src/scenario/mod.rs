@@ -416,7 +416,10 @@ mod tests {
             assert_eq!(err(&format!("tasks = [1]\n{body}")), want);
         }
         let json = |text: &str| Scenario::from_json(text).unwrap_err().to_string();
-        assert_eq!(json(r#"{"tasks":[1],"robots":1e20}"#), "scenario: robots = 1e20: expected a whole number from 0 to 4294967295, written without a decimal point or exponent");
+        assert_eq!(
+            json(r#"{"tasks":[1],"robots":1e20}"#),
+            "scenario: robots = 1e20: expected a whole number from 0 to 4294967295, written without a decimal point or exponent"
+        );
         assert_eq!(json(r#"{"tasks":[1],"collision":{"margin":1e400}}"#), "scenario: collision.margin: a number out of range (at most ±1.8e308)");
         let deep = format!("{{\"tasks\":[1],\"x\":{}{}}}", "[".repeat(40), "]".repeat(40));
         assert_eq!(json(&deep), "scenario: a value nested deeper than 32 levels (docs/limits.md)");

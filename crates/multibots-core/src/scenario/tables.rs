@@ -498,7 +498,11 @@ impl Humans {
         let zones = robot.radius + self.radius * m + stopping + self.protective * m + robot.speed + self.warning * m;
         if !(zones.is_finite() && zones <= MAX_COORD) {
             if robot.radius >= stopping {
-                return Err(Error::scenario("robot.radius", number(robot.radius), format!("makes the zones around robots larger than any layout (at most {MAX_COORD:.0e} px)")));
+                return Err(Error::scenario(
+                    "robot.radius",
+                    number(robot.radius),
+                    format!("makes the zones around robots larger than any layout (at most {MAX_COORD:.0e} px)"),
+                ));
             }
             let d = Humans::default();
             let factors = [
