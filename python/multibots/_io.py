@@ -134,7 +134,7 @@ def _toml_reason(e: Exception) -> str:
     if m:
         reason, where = m.group(1), f"line {m.group(2)}, column {m.group(3)}"
     else:
-        reason, where = text.replace(" (at end of document)", ""), "at the end"
+        reason, where = text.replace(" (at end of document)", ""), "at the end of the file"
     reason = reason[:1].lower() + reason[1:]
     return inert(f"{where}: not TOML: {reason}", 240)
 
