@@ -106,7 +106,8 @@ def test_size_errors_name_the_field_set(tmp_path: Path, body: str, message: str)
 @pytest.mark.parametrize(("args", "message"), [
     (["--group-size", "2x2000000000"],
      "--group-size = 2x2000000000: layout too large: at most 1,000,000 cells down a group (docs/limits.md)"),
-    (["--group-size", "2x600000"], "--group-size = 2x600000: layout too large: 12000000 storage cells (at most 1000000)"),
+    (["--group-size", "2x600000"],
+     "--group-size = 2x600000: layout too large: 12000000 storage cells (at most 1000000)"),
     (["--aisle", "1e308"], "--aisle = 1e308: layout too large: more than 1e308 px across (at most 1e7)"),
     (["--group-rows", "4294967296"], "--group-rows = 4294967296: layout too large: at most 1,000,000 (docs/limits.md)"),
     (["--group-cols", "99999999999999999999"],
@@ -123,7 +124,8 @@ def test_layout_generate_names_the_flag(tmp_path: Path, args: list, message: str
 @pytest.mark.parametrize(("args", "message"), [
     (["paper", "--margin", "nan"], "--margin = nan: must be a finite number"),
     (["paper", "--margin", "-inf"], "--margin = -inf: must be a finite number"),
-    (["paper", "--workers", "99999999999999999999"], "--workers = 99999999999999999999: at most 1,024 (docs/limits.md)"),
+    (["paper", "--workers", "99999999999999999999"],
+     "--workers = 99999999999999999999: at most 1,024 (docs/limits.md)"),
     (["compare", "--workers", "4294967296", "--robots", "1"], "--workers = 4294967296: at most 1,024 (docs/limits.md)"),
     (["sweep", "spec.toml", "--workers", "1e400"], "--workers = '1e400': not an integer"),
     (["render", "r.mbr", "--out", "x.gif", "--scale", "nan"], "--scale = nan: must be a finite number"),
