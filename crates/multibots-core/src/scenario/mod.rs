@@ -289,15 +289,17 @@ impl Scenario {
             }
             let expected = o.rate * o.horizon as f64;
             if expected > crate::limits::MAX_ORDERS {
-                return Err(Error::scenario(
-                    "orders.rate",
-                    o.rate,
-                    format!(
-                        "expects {expected:.3e} orders over orders.horizon = {} steps; at most {:.0e}: lower the rate or the horizon",
-                        o.horizon,
-                        crate::limits::MAX_ORDERS
-                    ),
-                ));
+                let most = crate::limits::MAX_ORDERS;
+                // The factor nearer its own limit is the one to name.
+                let err = if o.horizon as f64 / crate::limits::MAX_STEPS as f64 > o.rate / crate::limits::MAX_ORDER_RATE {
+                    let why = format!("expects {expected:.3e} orders at orders.rate = {} per step; at most {most:.0e}: lower the horizon or the rate", o.rate);
+                    Error::scenario("orders.horizon", o.horizon, why)
+                } else {
+                    let why =
+                        format!("expects {expected:.3e} orders over orders.horizon = {} steps; at most {most:.0e}: lower the rate or the horizon", o.horizon);
+                    Error::scenario("orders.rate", o.rate, why)
+                };
+                return Err(err);
             }
             if o.horizon == 0 {
                 return Err(Error::scenario("orders.horizon", 0, "must be at least 1 step"));
@@ -456,5 +458,18 @@ mod tests {
         assert_eq!(s.cells(&Layout::paper()).unwrap_err().to_string(), "tasks[1] = 80: cell id out of range 0..79");
         let s = Scenario::paper(3, &[5, 5]);
         assert_eq!(s.cells(&Layout::paper()).unwrap_err().to_string(), "tasks[1] = 5: cell named twice in the task list");
+        // A product too large names the factor nearer its own limit.
+        let mut s = Scenario::paper(3, &[1]);
+        s.orders = Some(Orders { rate: 100_000.0, horizon: 30_000_000, ..Orders::default() });
+        assert!(s.check_values().unwrap_err().to_string().starts_with("orders.rate = 100000: expects 3.000e12 orders"));
+        s.orders = Some(Orders { rate: 1.0, horizon: 4_000_000_000, ..Orders::default() });
+        assert!(s.check_values().unwrap_err().to_string().starts_with("orders.horizon = 4000000000: expects 4.000e9 orders at orders.rate = 1"));
+        let mut s = Scenario::paper(3, &[1]);
+        s.metrics.window = 1;
+        s.step_limit = crate::limits::MAX_STEPS;
+        assert_eq!(
+            s.check_values().unwrap_err().to_string(),
+            "metrics.window = 1: step_limit = 4294967295 makes 4294967295 throughput windows; at most 10000000 (docs/limits.md)"
+        );
     }
 }
