@@ -94,8 +94,8 @@ def parse_number(value: Optional[str], flag: str, kind: type, most: Optional[flo
         number = kind(value)
     except ValueError:
         raise InputError(f"{flag} = {shown(value)!r}: not {what}") from None
-    if not math.isfinite(number):
-        raise InputError(f"{flag} = {shown(value)!r}: must be a finite number")
+    if kind is float and not math.isfinite(number):
+        raise InputError(f"{flag} = {shown(value)}: must be a finite number")
     if most is not None and number > most:
         raise InputError(f"{flag} = {shown(value)}: at most {most:,} (docs/limits.md)")
     return number

@@ -34,7 +34,8 @@ def compare(
         "--scenario file's own tasks or orders; with orders, one order stream per seed).",
     ),
     seeds: int = typer.Option(
-        30, "--seeds", help="With --tasks random:K or scenario: how many lists or order streams (seeds 1..SEEDS)."
+        30, "--seeds", help="With --tasks random:K or scenario: how many lists or order streams (seeds 1..SEEDS).",
+        parser=whole_flag("--seeds", 0, 100_000),
     ),
     traffic: str = typer.Option(
         "wait", "--traffic", help="Traffic policies to compare too, comma-separated: wait, gate, reserve."

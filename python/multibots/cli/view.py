@@ -26,6 +26,7 @@ from multibots.cli._common import (
     UNLOAD,
     check_code,
     finite_flag,
+    whole_flag,
     quick_scenario,
 )
 from multibots.exceptions import InputError, ReplayError
@@ -42,7 +43,8 @@ def view(
     ),
     live: bool = typer.Option(False, "--live", help="Run a simulation and stream it to the page."),
     port: Optional[int] = typer.Option(
-        None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken)."
+        None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken).",
+        parser=whole_flag("--port", 0, 65535),
     ),
     host: str = typer.Option(
         "127.0.0.1", "--host", help="Address to listen on. Only change it if you mean to share the viewer."
