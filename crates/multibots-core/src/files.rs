@@ -137,8 +137,11 @@ impl<'a> Shape<'a> {
                     }
                 }
                 b'[' | b'{' => {
+                    // In a list, or anywhere in JSON, one deeper than the container; in a
+                    // TOML table, one deeper than the key it is the value of.
                     let depth = match self.open.last() {
                         Some(&(b'[', d)) => d,
+                        Some(&(_, d)) if self.json => d,
                         _ => self.pending,
                     } + 1;
                     self.deep(depth, "a value")?;
@@ -321,6 +324,15 @@ mod tests {
             "k".repeat(5000)
         );
         assert_eq!(check_toml_shape(&text), Ok(()));
+        // Siblings are as deep as each other, however many.
+        let wide = format!("{{{}}}", (0..100).map(|k| format!("\"k{k}\": {{\"a\": [1]}}")).collect::<Vec<_>>().join(", "));
+        assert_eq!(check_json_shape(&wide), Ok(()));
+        let wide = format!(
+            "x = [{}]\ny = {{ {} }}\n",
+            vec!["{ a = [1] }"; 100].join(", "),
+            (0..100).map(|k| format!("k{k} = {{ a = 1 }}")).collect::<Vec<_>>().join(", ")
+        );
+        assert_eq!(check_toml_shape(&wide), Ok(()));
         // Shapes in use pass.
         let real = "tasks = { random = 5, seed = 1 }\n[axes]\n\"robot.threshold\" = [2.5, 3.5]\ntasks = [{ random = 5 }]\n[[nodes]]\nout = [\"B\", \"C\"]\n";
         assert_eq!(check_toml_shape(real), Ok(()));

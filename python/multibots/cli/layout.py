@@ -56,8 +56,9 @@ def layout(
     print(f"wrote {path}")
 
 
-# Engine field names of the generator and the flags that set them, for its error messages.
+# What a size flag past its limit means.
 _TOO_LARGE = "layout too large: "
+# Engine field names of the generator and the flags that set them, for its error messages.
 _FLAGS = {
     "group_rows": "--group-rows",
     "group_cols": "--group-cols",
