@@ -26,8 +26,8 @@ from multibots.cli._common import (
     UNLOAD,
     check_code,
     finite_flag,
-    whole_flag,
     quick_scenario,
+    whole_flag,
 )
 from multibots.exceptions import InputError, ReplayError
 
