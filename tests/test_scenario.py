@@ -101,3 +101,31 @@ def test_check_many_names_the_fault_validate_names() -> None:
         failed = _core.check_many([multibots.Scenario.from_dict(base)._core, core], 1)
         assert failed is not None and failed[0] == 1, d
         assert type(failed[1]) is type(alone.value) and str(failed[1]) == str(alone.value), (d, failed[1], alone.value)
+
+
+def _nested(depth: int) -> dict:
+    d: dict = {"a": 1}
+    for _ in range(depth):
+        d = {"a": d}
+    return d
+
+
+@pytest.mark.parametrize(("data", "message"), [
+    ({"robot": {"speed": float("inf")}}, "robot.speed = inf: must be a finite number"),
+    ({"tasks": [1, float("nan")]}, "tasks[1] = nan: must be a finite number"),
+    ({"robots": object}, "robots = <class 'object'>: expected a number, text, true or false, a list or a table, "
+                         "not type"),
+    ({"x": _nested(5000)}, "x" + ".a" * 29 + ".… (65 characters): nested deeper than 32 levels (docs/limits.md)"),
+    ({"x": _nested(40)}, "scenario: a value nested deeper than 32 levels (docs/limits.md)"),
+    ({"robots": 2**32}, "scenario: robots = 4294967296: expected a whole number from 0 to 4294967295"),
+    ({"humans": {"count": 1, "tour": 2**32 - 1}}, "humans.tour = 4294967295: at most 100 cells per tour "
+                                                  "(docs/limits.md)"),
+])
+def test_dictionaries_name_the_field_and_value(data: dict, message: str) -> None:
+    """What JSON cannot carry (NaN, objects, nesting thousands deep) is named by its field,
+    not in JSON's words (issue 28)."""
+    with pytest.raises(ScenarioError) as e:
+        Scenario.from_dict({"layout": "paper", "tasks": [1, 2], **data})
+    assert str(e.value) == message
+    with pytest.raises(ScenarioError, match=r"^collision\.margin = nan: must be a finite number$"):
+        Scenario.paper(margin=float("nan"))

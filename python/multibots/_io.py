@@ -11,14 +11,22 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import shutil
 import stat
+import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import BinaryIO
+from typing import Any, BinaryIO
 
+from multibots._text import inert, shown
 from multibots.exceptions import OutputError
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - the same parser, from PyPI
+    import tomli as tomllib
 
 __all__ = [
     "MAX_INPUT_BYTES",
@@ -28,6 +36,7 @@ __all__ = [
     "atomic_write_text",
     "check_folder",
     "check_target",
+    "load_toml",
     "read_input",
     "regular_file",
     "staged_folder",
@@ -93,6 +102,41 @@ def read_input(path: str | os.PathLike[str], error: type[Exception], what: str =
         return data.decode("utf-8")
     except UnicodeDecodeError as e:
         raise error(f"{name}: is not UTF-8 text (byte {e.start})") from None
+
+
+def load_toml(text: str, source: str, error: type[Exception]) -> dict[str, Any]:
+    """TOML text read by Python's parser, once the engine has checked its shape: a value
+    nested thousands deep, or a dotted key of 100,000 parts (100,000 nested tables), is
+    refused before the parser recurses or allocates (docs/limits.md).
+
+    Raises:
+        error: one line naming ``source`` and the line: too deep, a key too long, or not TOML
+            (the parser's reason, in its place).
+    """
+    from multibots import _core
+
+    name = shown(source)
+    shape = _core.toml_shape_error(text)
+    if shape is not None:
+        raise error(f"{name}: {shape}")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        raise error(f"{name}: {_toml_reason(e)}") from None
+    except RecursionError:  # past the shape check only if it missed a form of nesting
+        raise error(f"{name}: nested too deep to read (docs/limits.md)") from None
+
+
+def _toml_reason(e: Exception) -> str:
+    """Python's TOML message as the engine words its own: ``line 3, column 5: invalid value``."""
+    text = str(e)
+    m = re.fullmatch(r"(?s)(.*) \(at line (\d+), column (\d+)\)", text)
+    if m:
+        reason, where = m.group(1), f"line {m.group(2)}, column {m.group(3)}"
+    else:
+        reason, where = text.replace(" (at end of document)", ""), "at the end of the file"
+    reason = reason[:1].lower() + reason[1:]
+    return inert(f"{where}: not TOML: {reason}", 240)
 
 
 def check_target(path: str | os.PathLike[str]) -> Path:

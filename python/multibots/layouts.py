@@ -19,9 +19,15 @@ from typing import Any, Optional
 
 from multibots import _core
 from multibots._io import read_input
+from multibots._text import shown
 from multibots.exceptions import ScenarioError
 
-__all__ = ["generate_layout", "parse_group_size", "check_layout_file", "check_layout_text"]
+__all__ = ["MAX_GROUPS", "generate_layout", "parse_group_size", "check_layout_file", "check_layout_text"]
+
+
+#: The most groups, or cells down a group, a generated layout may have: a layout has at most
+#: 1,000,000 storage cells (docs/limits.md).
+MAX_GROUPS = 1_000_000
 
 
 def parse_group_size(value: str) -> tuple[int, int]:
@@ -30,7 +36,10 @@ def parse_group_size(value: str) -> tuple[int, int]:
     try:
         w, h = (int(p) for p in parts)
     except ValueError:
-        raise ScenarioError(f"--group-size = {value!r}: expected WxH, such as 2x4") from None
+        raise ScenarioError(f"--group-size = {shown(value)!r}: expected WxH, such as 2x4") from None
+    if max(w, h) > MAX_GROUPS:
+        raise ScenarioError(f"--group-size = {shown(value)}: layout too large: at most {MAX_GROUPS:,} cells down a "
+                            "group (docs/limits.md)")
     return w, h
 
 

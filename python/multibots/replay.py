@@ -15,7 +15,7 @@ import os
 import struct
 import threading
 from collections import OrderedDict
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, Iterator, List, Optional
 
 import numpy as np
 
@@ -228,6 +228,22 @@ class Replay(ReplayState):
         if length is not None and len(a) != length:
             raise self._fail(f"header {key!r} lists {len(a)} values; expected one per robot ({length})")
         return a.astype(dtype)
+
+    @property
+    def file_size(self) -> int:
+        """The file's size in bytes when it was opened."""
+        return self._size
+
+    def file_blocks(self, block: int = 1 << 20) -> Iterator[bytes]:
+        """The file's bytes, as it was opened: read from the open descriptor, never through
+        its path again, so a file renamed or replaced (by a symlink to another file) since
+        then is still the one served.
+
+        Raises:
+            ReplayError: the file shrank since it was opened.
+        """
+        for off in range(0, self._size, block):
+            yield self._pread(min(block, self._size - off), off, "the replay file")
 
     # ------------------------------------------------------------------ lifetime
     def close(self) -> None:

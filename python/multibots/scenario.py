@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import os
 from collections.abc import Iterable, Mapping
 from pathlib import Path
@@ -16,6 +17,7 @@ from typing import Any
 
 from multibots import _core
 from multibots._io import read_input
+from multibots._text import shown
 from multibots.exceptions import ScenarioError
 from multibots.paper import PAPER_TASKS
 
@@ -35,9 +37,38 @@ def _merge(base: dict[str, Any], changes: Mapping[str, Any]) -> dict[str, Any]:
 def _parsed(data: Mapping[str, Any]) -> _core.Scenario:
     try:
         text = json.dumps(data, allow_nan=False)
-    except (TypeError, ValueError) as e:
-        raise ScenarioError(f"scenario: {e}") from None
+    except (TypeError, ValueError, RecursionError):
+        # JSON's own words ("Out of range float values are not JSON compliant") name neither
+        # the field nor the value: find them.
+        raise ScenarioError(_unsendable(data)) from None
     return _core.Scenario.from_json(text)
+
+
+#: Deepest nesting of a scenario (the engine's ``limits::MAX_NESTING``, docs/limits.md).
+MAX_NESTING = 32
+
+
+def _unsendable(data: Any) -> str:
+    """The first value of ``data`` that JSON cannot carry, as ``FIELD = VALUE: reason``."""
+    stack: list[tuple[str, Any, int]] = [("", data, 0)]
+    while stack:
+        path, value, depth = stack.pop()
+        where = path or "scenario"
+        if depth > MAX_NESTING:
+            return f"{shown(where)}: nested deeper than {MAX_NESTING} levels (docs/limits.md)"
+        if isinstance(value, float) and not math.isfinite(value):
+            return f"{shown(where)} = {value}: must be a finite number"
+        if isinstance(value, Mapping):
+            for key, item in reversed(list(value.items())):
+                if not isinstance(key, (str, int, float, bool)) and key is not None:
+                    return f"{shown(where)}: key {shown(repr(key))} is not text"
+                stack.append((f"{path}.{key}" if path else str(key), item, depth + 1))
+        elif isinstance(value, (list, tuple)):
+            stack.extend((f"{path}[{i}]", item, depth + 1) for i, item in reversed(list(enumerate(value))))
+        elif not isinstance(value, (str, int, float, bool)) and value is not None:
+            return (f"{shown(where)} = {shown(repr(value))}: expected a number, text, true or false, a list or a "
+                    f"table, not {type(value).__name__}")
+    return "scenario: cannot be written as a scenario"
 
 
 class Scenario:

@@ -65,7 +65,7 @@ def test_cli_generate_writes_a_checked_file(cli, tmp_path):
     [
         (["--group-rows", "0"], "--group-rows = 0: must be at least 1"),
         (["--group-cols", "0"], "--group-cols = 0: must be at least 1"),
-        (["--group-size", "3x4"], "--group-size = 3: must be 1 or 2"),
+        (["--group-size", "3x4"], "--group-size = 3x4: must be 1 or 2"),
         (["--group-size", "2by4"], "--group-size = '2by4': expected WxH"),
         (["--chargers", "9"], "--chargers = 9: must be between 1 and 6"),
         (["--aisle", "0"], "--aisle = 0: must be greater than 0"),

@@ -61,6 +61,8 @@ TABLES = {
     "layout_generate": ["aisle", "aisles", "cell", "chargers", "group_cols", "group_height", "group_rows",
                         "group_width", "spur", "unloading_rows"],
     "metrics": ["gridlock", "warmup", "window"],
+    "humans": ["count", "decel", "pick", "protective", "px_per_m", "radius", "rest", "seed", "slow", "speed",
+               "step_seconds", "tour", "warning"],
     "orders": ["horizon", "rate", "restock", "seed"],
     "robot": ["charge_rate", "consumption", "energy_full", "radius", "speed", "threshold"],
 }
@@ -106,7 +108,8 @@ def scenario_text(draw) -> str:
 def small_enough(s: Scenario) -> bool:
     """Runs of fuzzed scenarios stay short: a few thousand robot-steps of work at most."""
     d = s.to_dict()
-    return d.get("robots", 0) <= 50 and d.get("orders") is None and d.get("layout_generate") is None
+    crowd = (d.get("humans") or {}).get("count", 0)
+    return d.get("robots", 0) <= 50 and d.get("orders") is None and d.get("layout_generate") is None and crowd <= 20
 
 
 @given(scenario_text())
@@ -125,6 +128,73 @@ def test_scenario_text_is_used_or_refused_in_one_line(text: str) -> None:
             return
         assert r.outcome in {"complete", "incomplete", "gridlock", "stranded", "stalled", "livelock",
                              "deadlock", "fault"}
+
+
+# ---------------------------------------------------------------- nesting (issue 28)
+
+@st.composite
+def nested_toml(draw) -> str:
+    """TOML nested anything from 1 to 20,000 deep: arrays, inline tables, dotted keys, table
+    headers of many parts, long keys, and brackets hidden in strings and comments."""
+    depth = draw(st.one_of(st.integers(1, 40), st.integers(1, 300), st.sampled_from([1000, 20_000])))
+    how = draw(st.sampled_from(["array", "table", "mixed", "dotted", "header", "long key", "in strings"]))
+    if how == "array":
+        body = "x = " + "[" * depth + "1" + "]" * depth
+    elif how == "table":
+        body = "x = " + "{a = " * depth + "1" + "}" * depth
+    elif how == "mixed":
+        opens = [draw(st.sampled_from(["[", "{a = ", "[{b = "])) for _ in range(min(depth, 60))]
+        closes = ["]" if o == "[" else "}" if o.startswith("{") else "}]" for o in reversed(opens)]
+        body = "x = " + "".join(opens) + "1" + "".join(closes)
+    elif how == "dotted":
+        body = ".".join(draw(st.sampled_from(["a", '"b.c"', "'d'", " e "])) for _ in range(depth)) + " = 1"
+    elif how == "header":
+        body = "[" + ".".join(["t"] * depth) + "]\nk = [[1]]"
+    elif how == "long key":
+        body = "k" * (depth * 7) + " = 1"
+    else:
+        quote3 = "'" * 3
+        body = 'x = "' + "[" * depth + '" # ' + "{" * depth + "\ny = " + quote3 + "[{" * depth + quote3
+    if draw(st.booleans()):  # unbalanced, or cut short
+        body = body[: draw(st.integers(0, len(body)))]
+    return body + "\n"
+
+
+@given(nested_toml(), st.sampled_from(["scenario", "layout", "spec"]))
+def test_nesting_is_refused_before_parsing_in_one_line(text: str, where: str) -> None:
+    from multibots._io import load_toml
+    from multibots.cli._common import named_allocator
+    from multibots.exceptions import InputError
+    from multibots.layouts import check_layout_text
+    from multibots.sweeps.spec import parse_spec
+
+    head = {"scenario": 'layout = "paper"\ntasks = [1]\n', "layout": 'name = "x"\n', "spec": "[axes]\n"}[where]
+    try:
+        if where == "scenario":
+            Scenario.from_toml_str(head + text, "fuzz.toml")
+        elif where == "layout":
+            check_layout_text(head + text, "fuzz.toml")
+        else:
+            parse_spec(load_toml(head + text, "fuzz.toml", InputError), "fuzz.toml")
+    except BaseException as e:
+        assert_clean(e)
+    path = Path(os.environ.get("TMPDIR", "/tmp")) / f"mb-fuzz-{os.getpid()}.toml"
+    path.write_text(head + text)
+    try:
+        named_allocator(path)  # reads the file before anything checks it: never raises
+    finally:
+        path.unlink()
+
+
+@given(st.integers(1, 3000), st.sampled_from(["dict", "list", "mixed"]), st.sampled_from(["robot", "tasks", "x"]))
+def test_nested_dictionaries_are_refused_in_one_line(depth: int, how: str, key: str) -> None:
+    value: object = 1.0
+    for k in range(depth):
+        value = {"a": value} if how == "dict" or (how == "mixed" and k % 2) else [value]
+    try:
+        Scenario.from_dict({"layout": "paper", "tasks": [1], key: value})
+    except BaseException as e:
+        assert_clean(e)
 
 
 # ---------------------------------------------------------------- layout files
@@ -247,3 +317,103 @@ def test_run_flags_exit_0_2_or_3_with_one_line(flags: list[tuple[str, str]]) -> 
         line = err.getvalue().strip()
         assert len(line.splitlines()) == 1 and "Traceback" not in line and "\x1b" not in line, line[:300]
         assert len(line) < 1000
+
+
+# ---------------------------------------------------------------- every numeric flag (issue 28)
+
+#: Numbers a hostile user types.
+HOSTILE_NUMBERS = ["nan", "NaN", "inf", "-inf", "+inf", "infinity", "1e400", "-1e400", "1e308", "99999999999999999999",
+                   "18446744073709551616", "4294967296", "4294967295", "2147483648", "-2147483649", "-1", "0", "-0",
+                   "0x10", "1_000", "١٢", "²", "9" * 5000, "1e-400", "", " 7 ", "3", "0.5"]
+#: Every numeric flag: (command and arguments before, flag, kind, arguments after). The
+#: arguments after keep the work short: a run of 300 steps, or a refusal once the flags are
+#: read (a missing replay, an unknown rule set) where the command would do long work or
+#: serve.
+NUMERIC_FLAGS = [
+    (["run", "--goods", "11,8"], "--robots", "int", ["--step-limit", "300"]),
+    (["run", "--goods", "11,8"], "--margin", "float", ["--step-limit", "300"]),
+    (["run", "--goods", "11,8"], "--step-limit", "int", ["--robots", "1"]),
+    (["run", "--goods", "11,8"], "--horizon", "int", ["--step-limit", "300"]),
+    (["view", "no-such.mbr", "--no-browser"], "--port", "int", []),
+    (["view", "--live", "--goods", "11", "--no-browser"], "--speed", "float", ["--unload", "NOWHERE"]),
+    (["view", "--live", "--goods", "11", "--no-browser"], "--margin", "float", ["--unload", "NOWHERE"]),
+    (["view", "--live", "--goods", "11", "--no-browser"], "--robots", "int", ["--unload", "NOWHERE"]),
+    (["view", "--live", "--goods", "11", "--no-browser"], "--step-limit", "int", ["--unload", "NOWHERE"]),
+    (["paper", "--rules", "none"], "--margin", "float", []),
+    (["paper", "--rules", "none"], "--workers", "int", []),
+    (["compare", "--tasks", "none"], "--seeds", "int", []),
+    (["compare", "--tasks", "none"], "--workers", "int", []),
+    (["compare", "--tasks", "none"], "--robots", "int", []),
+    (["compare", "--tasks", "none"], "--humans", "int", []),
+    (["layout", "generate"], "--group-rows", "int", []),
+    (["layout", "generate"], "--group-cols", "int", []),
+    (["layout", "generate"], "--chargers", "int", []),
+    (["layout", "generate"], "--aisle", "float", []),
+    (["layout", "generate"], "--cell", "float", []),
+    (["layout", "generate"], "--spur", "float", []),
+    (["layout", "generate"], "--group-size", "int", []),
+    (["render", "no-such.mbr", "--out", "x.gif"], "--fps", "int", []),
+    (["render", "no-such.mbr", "--out", "x.gif"], "--from", "int", []),
+    (["render", "no-such.mbr", "--out", "x.gif"], "--to", "int", []),
+    (["render", "no-such.mbr", "--out", "x.gif"], "--every", "int", []),
+    (["render", "no-such.mbr", "--out", "x.gif"], "--scale", "float", []),
+    (["sweep", "no-such.toml"], "--workers", "int", []),
+]
+
+
+def run_cli(argv: list[str], cwd: Path) -> tuple[int, str]:
+    """``multibots ARGV`` in this process, in ``cwd``: (exit code, stderr)."""
+    from multibots.cli import main
+
+    err, out = io.StringIO(), io.StringIO()
+    old = os.getcwd()
+    os.chdir(cwd)
+    try:
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out), pytest.raises(SystemExit) as done:
+            main(argv)
+            raise SystemExit(0)
+    finally:
+        os.chdir(old)
+    return done.value.code or 0, err.getvalue()
+
+
+def assert_clean_exit(argv: list[str], code: int, err: str) -> None:
+    assert code in (0, 2, 3), (argv[:8], code, err[-500:])
+    if code == 2:
+        line = err.strip()
+        assert len(line.splitlines()) == 1 and "Traceback" not in line and "\x1b" not in line, line[:300]
+        assert len(line) < 1000 and "internal error" not in line, line[:300]
+
+
+def flag_argv(entry: tuple, value: str, out: Path) -> list[str]:
+    before, flag, _, after = entry
+    if flag == "--group-size":
+        value = f"2x{value}"
+    argv = [*before, f"{flag}={value}", *after]
+    if before[:2] == ["layout", "generate"]:
+        argv += ["--out", str(out / "g.toml")]
+    if before[0] in ("compare", "sweep", "paper"):
+        argv += ["--out", str(out / "o")]
+    return argv
+
+
+@pytest.mark.parametrize("entry", NUMERIC_FLAGS, ids=lambda e: f"{e[0][0]} {e[1]}")
+def test_nan_inf_and_huge_numbers_are_refused_naming_the_flag(tmp_path: Path, entry: tuple) -> None:
+    """NaN and infinity on every float flag, numbers past any limit on every integer flag:
+    exit 2 with one line that names the flag, where the flag is read."""
+    values = ["nan", "inf", "-inf"] if entry[2] == "float" else ["99999999999999999999", "1" + "0" * 400, "nan"]
+    for value in values:
+        code, err = run_cli(flag_argv(entry, value, tmp_path), tmp_path)
+        assert code == 2 and entry[1] in err and len(err.strip().splitlines()) == 1, (value, code, err[-400:])
+        assert "Traceback" not in err and "internal error" not in err and "Input should" not in err, err
+
+
+@given(st.sampled_from(NUMERIC_FLAGS),
+       st.one_of(st.sampled_from(HOSTILE_NUMBERS), st.integers(-(2**80), 2**80).map(str),
+                 st.floats().map(repr), st.text(max_size=8)))
+def test_numeric_flags_exit_0_2_or_3_with_one_line(tmp_path_factory: pytest.TempPathFactory, entry: tuple,
+                                                   value: str) -> None:
+    tmp = tmp_path_factory.mktemp("flags")
+    argv = flag_argv(entry, value, tmp)
+    code, err = run_cli(argv, tmp)
+    assert_clean_exit(argv, code, err)

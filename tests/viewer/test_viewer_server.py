@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import http.client
 import json
+import os
 import re
 import socket
 import struct
+import time
 import zlib
 from pathlib import Path
 
@@ -284,25 +286,112 @@ def test_deeply_nested_control_message_is_a_400(live_viewer):
     assert request(live_viewer, "GET", "/api/meta")[0] == 200  # the server lives on
 
 
-def test_connections_are_capped(replay_viewer):
-    """Idle sockets past the cap are closed at once instead of each holding a thread."""
-    from multibots.viewer.handler import MAX_CONNECTIONS
+def test_requests_past_the_thread_cap_get_503(live_viewer):
+    """Requests whose headers are in hold a thread each, at most MAX_CONNECTIONS; past that
+    the answer is 503 at once. (Here the cap is 2, held by two live streams.)"""
+    import threading
 
-    idle = [socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30) for _ in range(MAX_CONNECTIONS)]
+    live_viewer.httpd.slots = threading.BoundedSemaphore(2)
+    streams = [open_stream(live_viewer) for _ in range(2)]
     try:
-        extra = socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30)
-        extra.sendall(b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        reply = raw(live_viewer, b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        assert status_of(reply) == 503
+    finally:
+        for sock, f in streams:
+            f.close()
+            sock.close()
+    for _ in range(100):  # slots come back when the streams end
+        if request(live_viewer, "GET", "/api/meta")[0] == 200:
+            break
+        time.sleep(0.1)
+    assert request(live_viewer, "GET", "/api/meta")[0] == 200
+
+
+def test_idle_and_slow_connections_hold_no_thread(replay_viewer):
+    """A slow-header flood (issue 28): 300 connections that send their headers a byte at a
+    time held all 64 threads, and a page request failed. Now they wait in the gate, without
+    a thread: normal requests are served meanwhile, and each slow one is closed once it has
+    taken HEADER_TIMEOUT seconds."""
+    from multibots.viewer.gate import HEADER_TIMEOUT
+
+    port = replay_viewer.port
+    slow = [socket.create_connection(("127.0.0.1", port), timeout=30) for _ in range(300)]
+    idle = [socket.create_connection(("127.0.0.1", port), timeout=30) for _ in range(100)]
+    served = []
+    t0 = time.monotonic()
+    try:
+        prefix = b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: "
+        for k in range(len(prefix)):
+            if time.monotonic() - t0 > HEADER_TIMEOUT + 3:
+                break
+            for sock in slow:
+                try:
+                    sock.send(prefix[k:k + 1])
+                except OSError:
+                    pass
+            if k % 4 == 0 and len(served) < 8:
+                start = time.monotonic()
+                code = request(replay_viewer, "GET", "/")[0]
+                served.append((code, time.monotonic() - start))
+            time.sleep(0.25)
+        assert [c for c, _ in served] == [200] * 8, served
+        assert max(d for _, d in served) < 2.0, served
+        # Past the header timeout the slow connections are closed, unanswered.
+        time.sleep(max(0.0, t0 + HEADER_TIMEOUT + 1.5 - time.monotonic()))
+        slow[0].settimeout(5)
         try:
-            got = extra.recv(100)
+            got = slow[0].recv(100)
         except ConnectionResetError:
             got = b""
-        extra.close()
-        assert got == b"", got[:40]  # closed unanswered
+        assert got == b"", got[:40]
     finally:
-        for s in idle:
-            s.close()
-    # Slots come back when clients leave.
-    for _ in range(50):
-        if request(replay_viewer, "GET", "/api/meta")[0] == 200:
-            break
+        for sock in slow + idle:
+            sock.close()
     assert request(replay_viewer, "GET", "/api/meta")[0] == 200
+
+
+def test_keep_alive_and_pipelined_requests(replay_viewer):
+    """A connection serves request after request (it goes back to the gate between them),
+    pipelined ones too."""
+    conn = http.client.HTTPConnection("127.0.0.1", replay_viewer.port, timeout=30)
+    try:
+        for path in ("/", "/api/meta", "/api/chunk/0", "/api/meta"):
+            conn.request("GET", path)
+            resp = conn.getresponse()
+            assert resp.status == 200 and resp.read()
+    finally:
+        conn.close()
+    two = (b"GET /api/meta HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n" * 2
+           + b"GET /nothing HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n")
+    with socket.create_connection(("127.0.0.1", replay_viewer.port), timeout=30) as s:
+        s.sendall(two)
+        out = b""
+        while True:
+            part = s.recv(65536)
+            if not part:
+                break
+            out += part
+    assert out.count(b"HTTP/1.1 200 OK") == 2 and out.count(b"HTTP/1.1 404") == 1
+
+
+def test_serves_the_replay_it_opened_not_what_the_path_names_later(tmp_path, paper_run, small_run):
+    """A replay replaced by a symlink to another file after the viewer started: the viewer
+    still serves the file it opened (issue 28)."""
+    import shutil
+
+    from multibots.viewer import Viewer
+
+    path = tmp_path / "r.mbr"
+    shutil.copy(paper_run[0], path)
+    original = path.read_bytes()
+    with Viewer.for_replay(str(path)) as v:
+        other = tmp_path / "other.mbr"
+        shutil.copy(small_run[0], other)
+        link = tmp_path / "link"
+        link.symlink_to(other)
+        os.replace(link, path)
+        assert path.read_bytes() != original
+        code, headers, body = request(v, "GET", "/replay/r.mbr")
+        assert code == 200 and body == original and int(headers["Content-Length"]) == len(original)
+        code, _, chunk = request(v, "GET", "/api/chunk/0")
+        assert code == 200 and chunk == Replay(paper_run[0]).chunk_bytes(0)

@@ -62,12 +62,138 @@ pub(crate) fn toml_message(text: &str, e: serde_path_to_error::Error<toml::de::E
     // The path holds the user's keys, which may be anything (a control character, 10 MB).
     let path = crate::input::limits::shown(&e.path().to_string());
     let inner = e.into_inner();
-    let msg = crate::input::limits::inert(inner.message().lines().next().unwrap_or_default().trim());
+    let msg = inner.message().lines().next().unwrap_or_default().trim();
     if !path.is_empty() && path != "." {
-        return format!("{path}: {msg}");
+        return plain(&path, msg, None);
     }
     match inner.span() {
-        Some(span) => format!("line {}: {msg}", text[..span.start.min(text.len())].matches('\n').count() + 1),
-        None => msg,
+        Some(span) => {
+            let start = span.start.min(text.len());
+            let line = text[..start].matches('\n').count() + 1;
+            // A number TOML cannot hold comes without a path: its line names the key and value.
+            let src = text.lines().nth(line - 1).unwrap_or_default();
+            match src.split_once('=').filter(|_| msg == "number too large to fit in target type") {
+                Some((key, value)) => {
+                    let value = value.split_once('#').map_or(value, |(v, _)| v);
+                    plain(&format!("line {line}: {}", crate::input::limits::shown(key.trim())), msg, Some(value))
+                }
+                None => plain(&format!("line {line}"), msg, None),
+            }
+        }
+        None => plain("", msg, None),
+    }
+}
+
+/// One line for a JSON text that does not fit its schema (what the Python API sends): the
+/// field's path and the value in the user's words, without the JSON position (the user
+/// wrote a dictionary or a flag, not this text).
+pub(crate) fn json_message(e: &serde_path_to_error::Error<serde_json::Error>) -> String {
+    let path = crate::input::limits::shown(&e.path().to_string());
+    let text = e.inner().to_string();
+    let text = text.lines().next().unwrap_or_default();
+    let text = text.rfind(" at line ").map_or(text, |k| &text[..k]).trim();
+    plain(&path, text, None)
+}
+
+/// A message of serde (or of the TOML and JSON parsers) in the words of docs/limits.md and
+/// docs/scenario-format.md: `FIELD = VALUE: expected a whole number from 0 to 4294967295`
+/// rather than `invalid type: floating point `2e9`, expected u32`. `written`: the value's
+/// text as the user wrote it, where the parser gave no path (a number TOML cannot hold).
+pub(crate) fn plain(path: &str, message: &str, written: Option<&str>) -> String {
+    let mut path = if path == "." { "" } else { path };
+    if let Some(name) = message.strip_prefix("unknown field `").and_then(|m| m.split_once('`')).map(|m| m.0) {
+        // The path ends with the unknown name itself: the table it is in says where.
+        path = path.strip_suffix(name).map_or(path, |p| p.strip_suffix('.').unwrap_or(p));
+    }
+    match plain_parts(message, written) {
+        (Some(value), reason) if !path.is_empty() => format!("{path} = {value}: {reason}"),
+        (_, reason) if !path.is_empty() => format!("{path}: {reason}"),
+        (_, reason) => reason,
+    }
+}
+
+/// [`plain`] in parts: the value, when the message has one, and what is wrong with it.
+pub(crate) fn plain_parts(message: &str, written: Option<&str>) -> (Option<String>, String) {
+    let message = crate::input::limits::inert(message);
+    let strip = |s: &str| s.replace('`', "");
+    if let Some(rest) = message.strip_prefix("invalid type: ").or_else(|| message.strip_prefix("invalid value: ")) {
+        if let Some((got, expected)) = rest.split_once(", expected ") {
+            let (value, float) = unexpected(got);
+            let mut want = expected_words(expected);
+            if float && want.starts_with("a whole number") {
+                want.push_str(", written without a decimal point or exponent");
+            }
+            return match value {
+                Ok(v) => (Some(v), format!("expected {want}")),
+                Err(kind) => (None, format!("expected {want}, not {kind}")),
+            };
+        }
+    }
+    if let Some(rest) = message.strip_prefix("unknown variant ") {
+        let (name, expected) = rest.split_once(", expected ").unwrap_or((rest, "no value"));
+        return (Some(format!("\"{}\"", strip(name))), format!("expected {}", strip(expected)));
+    }
+    if let Some(rest) = message.strip_prefix("unknown field ") {
+        let (name, known) = rest.split_once(", expected ").unwrap_or((rest, ""));
+        let known = strip(known.strip_prefix("one of ").unwrap_or(known)).replace(" or ", ", ");
+        let known = if known.is_empty() { String::new() } else { format!(" (known: {known})") };
+        return (None, format!("unknown field {name}{known}"));
+    }
+    let value = written.map(|w| crate::input::limits::shown(w.trim()));
+    let reason = match message.as_str() {
+        "number too large to fit in target type" => format!("too large (TOML whole numbers are at most {})", i64::MAX),
+        "number out of range" => "a number out of range (at most ±1.8e308)".into(),
+        "wanted string or table" => "expected text in quotes".into(),
+        "recursion limit exceeded" => format!("nested deeper than {} levels (docs/limits.md)", crate::input::limits::MAX_NESTING),
+        _ => return (None, message),
+    };
+    (value, reason)
+}
+
+/// The value serde found, as the user would write it (`Ok`), or what kind of thing it is
+/// when it has no short form (`Err`: "a list", "a table"); and whether it is a float.
+fn unexpected(got: &str) -> (Result<String, &'static str>, bool) {
+    let quoted = |s: &str| s.split_once('`').and_then(|(_, r)| r.rsplit_once('`')).map(|(v, _)| v.to_string());
+    if let Some(rest) = got.strip_prefix("floating point ") {
+        let text = quoted(rest).unwrap_or_default();
+        let shown = match text.parse::<f64>() {
+            Ok(v) if v.is_finite() && v.fract() == 0.0 && v.abs() < 1e16 => format!("{v:.1}"),
+            Ok(v) => crate::input::limits::number(v),
+            Err(_) => text,
+        };
+        return (Ok(shown), true);
+    }
+    if let Some(rest) = got.strip_prefix("integer ").or_else(|| got.strip_prefix("boolean ")) {
+        return (Ok(quoted(rest).unwrap_or_default()), false);
+    }
+    if let Some(rest) = got.strip_prefix("string ") {
+        return (Ok(rest.to_string()), false);
+    }
+    match got {
+        "sequence" => (Err("a list"), false),
+        "map" => (Err("a table"), false),
+        "null" | "unit value" | "Option value" => (Ok("null".into()), false),
+        _ => (Ok(got.to_string()), false),
+    }
+}
+
+/// What serde expected, in the user's words.
+fn expected_words(expected: &str) -> String {
+    let whole = |low: &str, high: String| format!("a whole number from {low} to {high}");
+    match expected {
+        "u8" => whole("0", u8::MAX.to_string()),
+        "u16" => whole("0", u16::MAX.to_string()),
+        "u32" => whole("0", u32::MAX.to_string()),
+        "u64" | "usize" => whole("0", i64::MAX.to_string()),
+        "i32" | "i64" | "isize" => "a whole number".into(),
+        "f32" | "f64" => "a number".into(),
+        "a string" | "a character" => "text in quotes".into(),
+        "a boolean" => "true or false".into(),
+        e if e.starts_with("a sequence") || e.starts_with("a tuple") => "a list".into(),
+        e if e.starts_with("struct ") || e.starts_with("a map") => "a table".into(),
+        e => match e.strip_prefix("an array of length ") {
+            Some(n) => format!("a list of {n} values"),
+            None => e.replace('`', ""),
+        },
     }
 }

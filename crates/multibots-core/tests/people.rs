@@ -144,6 +144,43 @@ fn people_figures_are_refused_with_the_original_rules_and_bad_values() {
     }
 }
 
+/// Every field of `[humans]` has its range (docs/limits.md), checked before anything is
+/// built from it: a tour of 4294967295 cells aborted the process (17 GB asked for), a tiny
+/// deceleration, scale or step panicked in the zones, and a wide warning zone blamed
+/// `px_per_m`.
+#[test]
+fn every_humans_field_is_bounded_and_the_error_names_it() {
+    let cases = [
+        (Humans { tour: u32::MAX, ..Humans::default() }, "humans.tour = 4294967295: at most 100 cells per tour (docs/limits.md)"),
+        (Humans { decel: 1e-300, ..Humans::default() }, "humans.decel = 1e-300: must be from 0.01 and at most 100 m/s² (docs/limits.md)"),
+        (Humans { px_per_m: 1e-300, ..Humans::default() }, "humans.px_per_m = 1e-300: must be from 0.01 and at most 1000 px per m (docs/limits.md)"),
+        (Humans { step_seconds: 1e-300, ..Humans::default() }, "humans.step_seconds = 1e-300: must be from 0.001 and at most 10 s (docs/limits.md)"),
+        (Humans { speed: 1e6, ..Humans::default() }, "humans.speed = 1000000: must be above 0 and at most 10 m/s (docs/limits.md)"),
+        (Humans { radius: 1e5, ..Humans::default() }, "humans.radius = 100000: must be above 0 and at most 5 m (docs/limits.md)"),
+        (Humans { warning: 1e6, ..Humans::default() }, "humans.warning = 1000000: at most 100 m (docs/limits.md)"),
+        (Humans { protective: f64::INFINITY, ..Humans::default() }, "humans.protective = inf: must be 0 or more"),
+    ];
+    for (h, want) in cases {
+        let mut s = paper_with(1, 1, 0);
+        s.humans = Some(Humans { count: 2, ..h });
+        assert_eq!(Simulation::new(&s).err().unwrap().to_string(), want);
+    }
+    // The robots' stopping distance: its largest factor is named.
+    let mut s = paper_with(1, 1, 0);
+    s.humans = Some(Humans { count: 2, ..Humans::default() });
+    s.robot.speed = 1e5;
+    let e = Simulation::new(&s).err().unwrap().to_string();
+    assert!(e.starts_with("robot.speed = 100000: a robot would need "), "{e}");
+    s.robot.speed = 40.0;
+    s.humans = Some(Humans { count: 2, decel: 0.01, px_per_m: 0.01, ..Humans::default() });
+    let e = Simulation::new(&s).err().unwrap().to_string();
+    assert!(e.starts_with("humans.px_per_m = 0.01: a robot would need "), "{e}");
+    // At the edges of every range the run is built.
+    let mut s = paper_with(1, 1, 0);
+    s.humans = Some(Humans { count: 2, tour: 100, decel: 0.01, step_seconds: 10.0, speed: 10.0, radius: 0.01, warning: 100.0, ..Humans::default() });
+    assert!(Simulation::new(&s).is_ok());
+}
+
 #[test]
 #[ignore = "a probe: prints a trace"]
 fn trace() {

@@ -1,7 +1,7 @@
 //! Layouts: generating layout files, reading and checking them, and the layout JSON viewers
 //! draw from.
 
-use crate::errors::{engine, ScenarioError};
+use crate::errors::{engine, to_py};
 use crate::scenario::PyScenario;
 use multibots_core::input::layout_file;
 use multibots_core::{HighwayGraph, Layout, LayoutParams, Scenario};
@@ -11,7 +11,7 @@ use pyo3::prelude::*;
 #[pyfunction]
 #[pyo3(signature = (params_json, name="generated"))]
 pub(crate) fn generate_layout_toml(py: Python<'_>, params_json: &str, name: &str) -> PyResult<String> {
-    let params: LayoutParams = serde_json::from_str(params_json).map_err(|e| ScenarioError::new_err(format!("layout parameters: {e}")))?;
+    let params = LayoutParams::from_json(params_json).map_err(to_py)?;
     let name = name.to_string();
     engine(py, move || {
         let layout = Layout::generate(&params, &name)?;

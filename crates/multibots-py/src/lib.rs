@@ -50,6 +50,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(layouts::generate_layout_toml, m)?)?;
     m.add_function(wrap_pyfunction!(layouts::layout_file_json, m)?)?;
     m.add_function(wrap_pyfunction!(layouts::routing_table_bytes, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario::toml_shape_error, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     codec::register(m)?;
     strategy::register(m)?;

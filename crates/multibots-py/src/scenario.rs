@@ -56,3 +56,10 @@ impl PyScenario {
         self.inner == other.inner
     }
 }
+
+/// What is wrong with the shape of TOML text (nesting too deep, a key too long), as one line
+/// (`line N: ...`), or None: checked before Python's own TOML parser reads a file.
+#[pyfunction]
+pub(crate) fn toml_shape_error(text: &str) -> Option<String> {
+    multibots_core::input::files::check_toml_shape(text).err()
+}

@@ -7,12 +7,11 @@ import math
 import os
 import sys
 from pathlib import Path
-from typing import Any, NoReturn, Optional
+from typing import Any, Callable, NoReturn, Optional
 
-import tomllib
 import typer
 
-from multibots._io import read_input
+from multibots._io import load_toml, read_input
 from multibots._text import inert, shown
 from multibots.exceptions import EngineError, InputError, MissingExtraError, MultibotsError, RenderError
 from multibots.scenario import Scenario
@@ -27,13 +26,17 @@ __all__ = [
     "EXIT_INTERRUPTED",
     "EXIT_OK",
     "EXIT_CODES_HELP",
+    "FlagError",
+    "MAX_WORKERS",
     "check_code",
+    "finite_flag",
     "named_allocator",
     "parse_cells",
     "parse_names",
     "parse_number",
     "quick_scenario",
     "run_app",
+    "whole_flag",
 ]
 
 #: The run (or the command) did what it was asked.
@@ -91,11 +94,57 @@ def parse_number(value: Optional[str], flag: str, kind: type, most: Optional[flo
         number = kind(value)
     except ValueError:
         raise InputError(f"{flag} = {shown(value)!r}: not {what}") from None
-    if not math.isfinite(number):
-        raise InputError(f"{flag} = {shown(value)!r}: must be a finite number")
+    if kind is float and not math.isfinite(number):
+        raise InputError(f"{flag} = {shown(value)}: must be a finite number")
     if most is not None and number > most:
         raise InputError(f"{flag} = {shown(value)}: at most {most:,} (docs/limits.md)")
     return number
+
+
+class FlagError(MultibotsError):
+    """A flag's value refused where the flag is read (exit code 2). Not a ValueError: the
+    command-line parser would wrap one in its own words."""
+
+
+def finite_flag(flag: str) -> Callable[[Any], float]:
+    """The parser of a float flag: a finite number, or a one-line error naming the flag and
+    the value (NaN and infinity never reach a command)."""
+
+    def parse(value: Any) -> float:
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise FlagError(f"{flag} = {shown(value)!r}: not a number") from None
+        if not math.isfinite(number):
+            raise FlagError(f"{flag} = {shown(value)}: must be a finite number")
+        return number
+
+    return parse
+
+
+def whole_flag(flag: str, least: int, most: int, why: str = "") -> Callable[[Any], int]:
+    """The parser of an integer flag from ``least`` to ``most`` (``why``: what passing the
+    upper limit means, such as ``"layout too large: "``)."""
+
+    def parse(value: Any) -> int:
+        if isinstance(value, int) and not isinstance(value, bool):
+            number = value
+        else:
+            try:
+                number = int(str(value).strip())
+            except ValueError:
+                raise FlagError(f"{flag} = {shown(value)!r}: not an integer") from None
+        if number < least:
+            raise FlagError(f"{flag} = {number}: must be {least} or more")
+        if number > most:
+            raise FlagError(f"{flag} = {shown(number)}: {why}at most {most:,} (docs/limits.md)")
+        return number
+
+    return parse
+
+
+#: Threads or processes a command may start (``--workers``).
+MAX_WORKERS = 1024
 
 
 def named_allocator(path: Path) -> Optional[str]:
@@ -103,8 +152,8 @@ def named_allocator(path: Path) -> Optional[str]:
     the file (validating imports the strategy, which runs its code); None if it names none or
     cannot be read (the file's own checks report that, after this one)."""
     try:
-        data = tomllib.loads(read_input(path, InputError, "scenario file"))
-    except (InputError, tomllib.TOMLDecodeError):
+        data = load_toml(read_input(path, InputError, "scenario file"), str(path), InputError)
+    except InputError:
         return None
     name = data.get("allocator")
     return name if isinstance(name, str) else None

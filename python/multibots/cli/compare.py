@@ -9,11 +9,10 @@ import time
 from pathlib import Path
 from typing import Optional
 
-import tomllib
 import typer
 
-from multibots._io import check_folder, read_input
-from multibots.cli._common import named_allocator
+from multibots._io import check_folder, load_toml, read_input
+from multibots.cli._common import MAX_WORKERS, named_allocator, whole_flag
 from multibots.exceptions import InputError
 
 __all__ = ["DEFAULT_STRATEGIES", "compare"]
@@ -35,7 +34,8 @@ def compare(
         "--scenario file's own tasks or orders; with orders, one order stream per seed).",
     ),
     seeds: int = typer.Option(
-        30, "--seeds", help="With --tasks random:K or scenario: how many lists or order streams (seeds 1..SEEDS)."
+        30, "--seeds", help="With --tasks random:K or scenario: how many lists or order streams (seeds 1..SEEDS).",
+        parser=whole_flag("--seeds", 0, 100_000),
     ),
     traffic: str = typer.Option(
         "wait", "--traffic", help="Traffic policies to compare too, comma-separated: wait, gate, reserve."
@@ -52,7 +52,8 @@ def compare(
         help="Folder for results.csv, summary.csv, summary.txt, the figures and the run journal runs.jsonl.",
     ),
     workers: int = typer.Option(
-        0, "--workers", help="Threads (built-ins) or processes (Python strategies); 0: one per core."
+        0, "--workers", help="Threads (built-ins) or processes (Python strategies); 0: one per core.",
+        parser=whole_flag("--workers", 0, MAX_WORKERS),
     ),
     scenario: Optional[Path] = typer.Option(
         None, "--scenario", show_default=False,
@@ -87,7 +88,7 @@ def compare(
         if named is not None and is_python_allocator(named):
             # --strategies replaces the file's allocator: loading the file as it is would
             # import the Python strategy it names, running code the user did not choose.
-            data = tomllib.loads(read_input(scenario, InputError, "scenario file"))
+            data = load_toml(read_input(scenario, InputError, "scenario file"), str(scenario), InputError)
             del data["allocator"]
             base = Scenario.from_dict(data)
         else:

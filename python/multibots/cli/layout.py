@@ -4,13 +4,16 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 from typing import Optional
 
 import typer
 
-from multibots.cli._common import parse_cells
+from multibots._text import shown
+from multibots.cli._common import finite_flag, parse_cells, whole_flag
 from multibots.exceptions import InputError, ScenarioError
+from multibots.layouts import MAX_GROUPS
 
 __all__ = ["app"]
 
@@ -53,6 +56,8 @@ def layout(
     print(f"wrote {path}")
 
 
+# What a size flag past its limit means.
+_TOO_LARGE = "layout too large: "
 # Engine field names of the generator and the flags that set them, for its error messages.
 _FLAGS = {
     "group_rows": "--group-rows",
@@ -69,15 +74,18 @@ _FLAGS = {
 @app.command("generate")
 def generate(
     out: Path = typer.Option(Path("layout.toml"), "--out", help="Layout file to write (TOML)."),
-    group_rows: int = typer.Option(2, "--group-rows", help="Rows of storage groups (R)."),
-    group_cols: int = typer.Option(5, "--group-cols", help="Columns of storage groups (C)."),
+    group_rows: int = typer.Option(2, "--group-rows", help="Rows of storage groups (R).",
+                                   parser=whole_flag("--group-rows", 0, MAX_GROUPS, _TOO_LARGE)),
+    group_cols: int = typer.Option(5, "--group-cols", help="Columns of storage groups (C).",
+                                   parser=whole_flag("--group-cols", 0, MAX_GROUPS, _TOO_LARGE)),
     group_size: str = typer.Option("2x4", "--group-size", help="Cells across x down a group (across: 1 or 2)."),
-    aisle: float = typer.Option(50.0, "--aisle", help="Aisle width, px."),
-    cell: float = typer.Option(50.0, "--cell", help="Side of a storage cell, px."),
+    aisle: float = typer.Option(50.0, "--aisle", help="Aisle width, px.", parser=finite_flag("--aisle")),
+    cell: float = typer.Option(50.0, "--cell", help="Side of a storage cell, px.", parser=finite_flag("--cell")),
     chargers: Optional[int] = typer.Option(
-        None, "--chargers", help="Chargers along the top aisle (default C + 1).", show_default=False
+        None, "--chargers", help="Chargers along the top aisle (default C + 1).", show_default=False,
+        parser=whole_flag("--chargers", 0, MAX_GROUPS + 1, _TOO_LARGE),
     ),
-    spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px."),
+    spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur")),
     name: str = typer.Option("generated", "--name", help="The layout's name."),
 ) -> None:
     """Generate a grid warehouse layout file (the defaults give the paper's layout)."""
@@ -87,10 +95,13 @@ def generate(
     try:
         text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name)
     except ScenarioError as e:
-        msg = str(e)
-        for field, flag in _FLAGS.items():
-            msg = msg.replace(f"layout.{field} =", f"{flag} =")
-        raise ScenarioError(msg) from None
+        # The engine names its field; the user set a flag, with this text.
+        m = re.fullmatch(r"layout\.(\w+)(?: = (.*?))?: (.*)", str(e))
+        if m is None or m.group(1) not in _FLAGS:
+            raise
+        flag = _FLAGS[m.group(1)]
+        value = shown(group_size) if flag == "--group-size" else m.group(2)
+        raise ScenarioError(f"{flag}: {m.group(3)}" if value is None else f"{flag} = {value}: {m.group(3)}") from None
     # Checked before writing: a layout the engine would refuse never reaches the disk.
     data = check_layout_text(text, str(out))
     path = atomic_write_text(out, text)

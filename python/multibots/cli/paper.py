@@ -9,6 +9,7 @@ from pathlib import Path
 import typer
 
 from multibots._io import check_folder, staged_folder
+from multibots.cli._common import MAX_WORKERS, finite_flag, whole_flag
 from multibots.exceptions import InputError
 
 __all__ = ["paper"]
@@ -17,10 +18,13 @@ __all__ = ["paper"]
 def paper(
     out: Path = typer.Option(Path("out/paper"), "--out", help="Folder for results.csv and the figures."),
     margin: float = typer.Option(
-        0.0, "--margin", help="Collision margin of the paper rules, px (the authors' code used 8)."
+        0.0, "--margin", help="Collision margin of the paper rules, px (the authors' code used 8).",
+        parser=finite_flag("--margin"),
     ),
     rules: str = typer.Option("both", "--rules", help="Rule sets to run: both, original (the authors' code) or paper."),
-    workers: int = typer.Option(0, "--workers", help="Threads (0: one per core)."),
+    workers: int = typer.Option(
+        0, "--workers", help="Threads (0: one per core).", parser=whole_flag("--workers", 0, MAX_WORKERS)
+    ),
 ) -> None:
     """Run the paper's 30 runs (N = 1..6 × TABLE III) under the original and the paper rules,
     beside the values published in the paper: table, results.csv, Fig. 6-8."""

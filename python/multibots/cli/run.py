@@ -16,6 +16,7 @@ from multibots.cli._common import (
     EXIT_INCOMPLETE,
     GOODS,
     MARGIN,
+    MAX_STEPS,
     ROBOTS,
     RULES,
     STARTS,
@@ -24,6 +25,7 @@ from multibots.cli._common import (
     UNLOAD,
     check_code,
     quick_scenario,
+    whole_flag,
 )
 from multibots.exceptions import ScenarioError
 
@@ -52,7 +54,8 @@ def run(
         "package.module:Class, module:Class for a module in the current folder, or path/to/file.py:Class.",
     ),
     horizon: Optional[int] = typer.Option(
-        None, "--horizon", help="Lifelong scenarios: steps to run (overrides orders.horizon).", show_default=False
+        None, "--horizon", help="Lifelong scenarios: steps to run (overrides orders.horizon).", show_default=False,
+        parser=whole_flag("--horizon", 1, MAX_STEPS),
     ),
     allow_code: bool = ALLOW_CODE,
 ) -> None:

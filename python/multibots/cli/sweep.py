@@ -7,11 +7,10 @@ import time
 from pathlib import Path
 from typing import List, Optional
 
-import tomllib
 import typer
 
-from multibots._io import check_folder, read_input
-from multibots.cli._common import ALLOW_CODE, named_allocator
+from multibots._io import check_folder, load_toml, read_input
+from multibots.cli._common import ALLOW_CODE, MAX_WORKERS, named_allocator, whole_flag
 from multibots.exceptions import InputError
 
 __all__ = ["sweep"]
@@ -27,7 +26,8 @@ def sweep(
         show_default=False,
     ),
     workers: int = typer.Option(
-        0, "--workers", help="Threads or processes (0: one per core); Ray: CPUs of a local cluster."
+        0, "--workers", help="Threads or processes (0: one per core); Ray: CPUs of a local cluster.",
+        parser=whole_flag("--workers", 0, MAX_WORKERS),
     ),
     baseline: Optional[str] = typer.Option(
         None, "--baseline", help="AXIS=VALUE: paired tests of every other value of AXIS against VALUE (tests.csv).",
@@ -81,8 +81,8 @@ def _named_allocators(spec: Path) -> set[str]:
     """The strategies a spec file names (its base's and the allocator axis), read as plain
     TOML; what cannot be read is left to load_spec, which reports it."""
     try:
-        data = tomllib.loads(read_input(spec, InputError, "sweep spec"))
-    except (InputError, tomllib.TOMLDecodeError):
+        data = load_toml(read_input(spec, InputError, "sweep spec"), str(spec), InputError)
+    except InputError:
         return set()
     base = data.get("base")
     if isinstance(base, str):

@@ -25,7 +25,9 @@ from multibots.cli._common import (
     TRAFFIC,
     UNLOAD,
     check_code,
+    finite_flag,
     quick_scenario,
+    whole_flag,
 )
 from multibots.exceptions import InputError, ReplayError
 
@@ -41,7 +43,8 @@ def view(
     ),
     live: bool = typer.Option(False, "--live", help="Run a simulation and stream it to the page."),
     port: Optional[int] = typer.Option(
-        None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken)."
+        None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken).",
+        parser=whole_flag("--port", 0, 65535),
     ),
     host: str = typer.Option(
         "127.0.0.1", "--host", help="Address to listen on. Only change it if you mean to share the viewer."
@@ -52,7 +55,8 @@ def view(
         help="Also accept this Host name (behind a proxy that renames the host, such as a cloud IDE's port "
         "forwarding); repeatable.",
     ),
-    speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second)."),
+    speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second).",
+                                parser=finite_flag("--speed")),
     paused: bool = typer.Option(False, "--paused", help="Live: start paused."),
     robots: Optional[str] = ROBOTS,
     goods: Optional[str] = GOODS,
@@ -77,15 +81,22 @@ def view(
         if path is None:
             raise InputError("give a REPLAY file to play, or --live with a SCENARIO.toml or --robots/--goods")
         from multibots.replay import Replay
+        from multibots.viewer.server import ReplaySource
 
         try:
-            Replay(path).close()  # check it before binding anything
+            # Opened once, checked before binding anything, and served as opened: the path is
+            # not looked up again (a file put in its place later is not served).
+            replay = Replay(path)
         except ReplayError as exc:
             hint = " (to run a scenario, add --live)" if str(path).endswith(".toml") else ""
             raise ReplayError(f"{exc}{hint}") from None
-        viewer = _make_viewer(
-            lambda **kw: Viewer.for_replay(str(path), allow_hosts=tuple(allow_host), **kw), host, port
-        )
+        try:
+            viewer = _make_viewer(
+                lambda **kw: Viewer(ReplaySource(replay), allow_hosts=tuple(allow_host), **kw), host, port
+            )
+        except BaseException:
+            replay.close()
+            raise
         _serve(viewer, f"replay {path}", no_browser)
         return
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from typing import Any, Optional
 
 from multibots import _core
+from multibots._text import shown
 from multibots.exceptions import InputError, ScenarioError
 from multibots.experiments.summary import (
     BASELINE,
@@ -91,24 +92,25 @@ def parse_robots(text: str) -> list[int]:
     out: list[int] = []
     for part in text.split(","):
         part = part.strip()
-        m = re.fullmatch(r"(\d+)\s*\.\.\s*(\d+)", part)
+        # ASCII digits, and few of them: int() refuses other digits ("²") and 5,000 of them.
+        m = re.fullmatch(r"([0-9]{1,18})\s*\.\.\s*([0-9]{1,18})", part)
         if m:
             lo, hi = int(m.group(1)), int(m.group(2))
             if lo > hi:
-                raise InputError(f"--robots = {text!r}: the range {part} is empty (write LOW..HIGH)")
+                raise InputError(f"--robots = {shown(text)!r}: the range {part} is empty (write LOW..HIGH)")
             if hi - lo + 1 > MAX_SIZES:
-                raise InputError(f"--robots = {text[:40]!r}: more than {MAX_SIZES} fleet sizes")
+                raise InputError(f"--robots = {shown(text, 40)!r}: more than {MAX_SIZES} fleet sizes")
             out.extend(range(lo, hi + 1))
-        elif part.isdigit():
+        elif re.fullmatch(r"[0-9]{1,18}", part):
             out.append(int(part))
         else:
-            raise InputError(f"--robots = {text!r}: expected a range such as 1..6 or a list such as 1,2,4")
+            raise InputError(f"--robots = {shown(text)!r}: expected a range such as 1..6 or a list such as 1,2,4")
     if len(out) > MAX_SIZES:
-        raise InputError(f"--robots = {text[:40]!r}: more than {MAX_SIZES} fleet sizes")
+        raise InputError(f"--robots = {shown(text, 40)!r}: more than {MAX_SIZES} fleet sizes")
     if not out or min(out) < 1:
-        raise InputError(f"--robots = {text!r}: fleet sizes must be 1 or more")
+        raise InputError(f"--robots = {shown(text)!r}: fleet sizes must be 1 or more")
     if max(out) > MAX_ROBOTS:
-        raise InputError(f"--robots = {text!r}: at most {MAX_ROBOTS:,} robots")
+        raise InputError(f"--robots = {shown(text)!r}: at most {MAX_ROBOTS:,} robots")
     return sorted(set(out))
 
 
@@ -117,26 +119,26 @@ def parse_tasks(text: str) -> TaskSpec:
     t = text.strip()
     if t in ("paper", "scenario"):
         return TaskSpec(t)
-    m = re.fullmatch(r"random:(\d+)", t)
+    m = re.fullmatch(r"random:([0-9]{1,9})", t)
     if m and int(m.group(1)) >= 1:
         return TaskSpec("random", int(m.group(1)))
-    raise InputError(f"--tasks = {text!r}: expected paper, scenario or random:K with K >= 1, such as random:10")
+    raise InputError(f"--tasks = {shown(text)!r}: expected paper, scenario or random:K with K >= 1, such as random:10")
 
 
 def parse_strategies(text: str) -> list[str]:
     """Comma-separated strategy names: built-ins, ``module:Class`` or ``file.py:Class``; in order."""
     names = [n.strip() for n in text.split(",")]
     if not text.strip() or any(not n for n in names):
-        raise InputError(f"--strategies = {text!r}: expected comma-separated strategy names")
+        raise InputError(f"--strategies = {shown(text)!r}: expected comma-separated strategy names")
     for n in names:
         if not is_python_allocator(n) and n not in BUILT_INS:
             raise InputError(
-                f"--strategies = {n!r}: unknown strategy "
+                f"--strategies = {shown(n)!r}: unknown strategy "
                 f"(built-ins: {', '.join(BUILT_INS)}; or module:Class, file.py:Class)"
             )
     dup = [n for n in names if names.count(n) > 1]
     if dup:
-        raise InputError(f"--strategies = {dup[0]!r}: named twice")
+        raise InputError(f"--strategies = {shown(dup[0])!r}: named twice")
     return names
 
 
@@ -176,10 +178,10 @@ def parse_humans(text: str) -> list[Optional[int]]:
     out: list[Optional[int]] = []
     for part in text.split(","):
         part = part.strip()
-        if not part.isdigit() or int(part) > 100_000:
-            raise InputError(f"--humans = {part!r}: expected comma-separated counts from 0 to 100000")
+        if not re.fullmatch(r"[0-9]{1,6}", part) or int(part) > 100_000:
+            raise InputError(f"--humans = {shown(part)!r}: expected comma-separated counts from 0 to 100000")
         if int(part) in out:
-            raise InputError(f"--humans = {part!r}: named twice")
+            raise InputError(f"--humans = {shown(part)!r}: named twice")
         out.append(int(part))
     return out
 
@@ -188,12 +190,12 @@ def parse_choices(text: str, flag: str, known: Sequence[str]) -> list[str]:
     """A comma-separated list of names from ``known``, in order, each once."""
     names = [n.strip() for n in text.split(",")]
     if not text.strip() or any(not n for n in names):
-        raise InputError(f"{flag} = {text!r}: expected comma-separated names ({', '.join(known)})")
+        raise InputError(f"{flag} = {shown(text)!r}: expected comma-separated names ({', '.join(known)})")
     for n in names:
         if n not in known:
-            raise InputError(f"{flag} = {n!r}: expected one of {', '.join(known)}")
+            raise InputError(f"{flag} = {shown(n)!r}: expected one of {', '.join(known)}")
         if names.count(n) > 1:
-            raise InputError(f"{flag} = {n!r}: named twice")
+            raise InputError(f"{flag} = {shown(n)!r}: named twice")
     return names
 
 

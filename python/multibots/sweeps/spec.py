@@ -24,22 +24,16 @@ from __future__ import annotations
 import itertools
 import math
 import os
-import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Optional
 
 from multibots import _core
-from multibots._io import read_input
+from multibots._io import load_toml, read_input
 from multibots._text import shown
 from multibots.exceptions import InputError, ScenarioError
 from multibots.scenario import Scenario
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - the same parser, from PyPI
-    import tomli as tomllib
 
 __all__ = ["MAX_POINTS", "Point", "Spec", "load_spec", "parse_spec"]
 
@@ -145,10 +139,7 @@ def load_spec(path: str | os.PathLike[str]) -> Spec:
     """Reads and checks a spec file."""
     p = Path(path)
     text = read_input(p, InputError, "sweep spec")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        raise InputError(f"{p}: not TOML ({shown(e, 200)})") from None
+    data = load_toml(text, str(p), InputError)
     return parse_spec(data, source=str(p), folder=p.parent)
 
 

@@ -29,10 +29,11 @@ import re
 import socket
 import threading
 import urllib.parse
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from http.server import BaseHTTPRequestHandler, HTTPServer
 from typing import Any, Dict, Optional, Tuple
 
 from multibots.exceptions import ReplayError
+from multibots.viewer.gate import HeaderGate, Reader, Writer
 
 __all__ = ["STATIC_DIR", "ViewerHTTPServer", "ViewerHandler", "load_assets"]
 
@@ -50,8 +51,10 @@ _CTYPES = {
 }
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,100}$")
 _LOCAL_HOSTS = {"127.0.0.1", "localhost", "::1"}
-#: Connections served at once (each holds a thread); more are closed on arrival. A page
-#: uses a few (the stream, frames, control); 64 leaves room for many tabs.
+#: Requests served at once (each holds a thread; a live stream holds one for as long as it
+#: lasts); past that a request gets 503. Connections waiting for their headers, or idle
+#: between requests, hold none (gate.py). A page uses a few at once (the stream, frames,
+#: control); 64 leaves room for many tabs.
 MAX_CONNECTIONS = 64
 
 
@@ -77,8 +80,17 @@ def load_assets(directory: str = STATIC_DIR) -> Dict[str, Tuple[bytes, str]]:
     return out
 
 
-class ViewerHTTPServer(ThreadingHTTPServer):
-    daemon_threads = True
+class _Connection:
+    """What a handler is given: the socket and the request head the gate read."""
+
+    __slots__ = ("head", "sock")
+
+    def __init__(self, sock: socket.socket, head: bytes) -> None:
+        self.sock = sock
+        self.head = head
+
+
+class ViewerHTTPServer(HTTPServer):
     allow_reuse_address = True
     request_queue_size = 64
 
@@ -101,24 +113,45 @@ class ViewerHTTPServer(ThreadingHTTPServer):
         # Names under which other machines reach this one, for a server shared on purpose.
         self.own_names = {n.lower() for n in (socket.gethostname(), socket.getfqdn()) if n}
         self.slots = threading.BoundedSemaphore(MAX_CONNECTIONS)
+        # Connections wait for their headers in the gate, without a thread (gate.py).
+        self.gate = HeaderGate(self._dispatch)
 
     def process_request(self, request: Any, client_address: Any) -> None:
-        # One thread per connection, at most MAX_CONNECTIONS: past that a connection is
-        # closed at once, so idle sockets cannot pile up threads without bound.
+        self.gate.add(request, client_address)
+
+    def _dispatch(self, sock: socket.socket, client_address: Any, head: bytes) -> None:
+        """A request whose headers are in: a handler thread serves it, at most
+        MAX_CONNECTIONS at once; past that it gets 503 at once."""
         if not self.slots.acquire(blocking=False):
-            self.shutdown_request(request)
+            try:
+                sock.setblocking(False)
+                sock.send(_BUSY)
+            except OSError:
+                pass
+            self.shutdown_request(sock)
             return
         try:
-            super().process_request(request, client_address)
+            threading.Thread(target=self._serve, args=(sock, client_address, head), daemon=True,
+                             name="multibots-viewer-request").start()
         except BaseException:
             self.slots.release()
+            self.shutdown_request(sock)
             raise
 
-    def process_request_thread(self, request: Any, client_address: Any) -> None:
+    def _serve(self, sock: socket.socket, client_address: Any, head: bytes) -> None:
+        handler: Optional[ViewerHandler] = None
         try:
-            super().process_request_thread(request, client_address)
+            handler = ViewerHandler(_Connection(sock, head), client_address, self)
+        except Exception:
+            self.handle_error(sock, client_address)
         finally:
             self.slots.release()
+            if handler is None or not handler.handed_back:
+                self.shutdown_request(sock)
+
+    def server_close(self) -> None:
+        self.gate.close()
+        super().server_close()
 
     def handle_error(self, request: Any, client_address: Any) -> None:
         # A client that vanishes mid-response is normal; never print tracebacks for it.
@@ -126,13 +159,32 @@ class ViewerHTTPServer(ThreadingHTTPServer):
             super().handle_error(request, client_address)
 
 
+_BUSY = b"HTTP/1.1 503 Service Unavailable\r\nContent-Length: 0\r\nConnection: close\r\n\r\n"
+
+
 class ViewerHandler(BaseHTTPRequestHandler):
     server: ViewerHTTPServer
     server_version = "MultiBotsViewer/1"
     sys_version = ""
     protocol_version = "HTTP/1.1"
-    timeout = 60  # a silent client does not hold a thread forever
+    timeout = 60  # a client that stops reading a response does not hold a thread forever
     default_request_version = "HTTP/1.0"  # errors always carry a status line
+    handed_back = False
+
+    def setup(self) -> None:
+        conn: _Connection = self.request
+        self.connection = conn.sock
+        self.connection.settimeout(self.timeout)
+        self.rfile = Reader(conn.sock, conn.head, self.timeout)  # type: ignore[assignment]
+        self.wfile = Writer(conn.sock)
+
+    def handle(self) -> None:
+        # One request, then the connection goes back to the gate to wait for the next.
+        self.close_connection = True
+        self.handle_one_request()
+        if not self.close_connection and not self.server.stopping.is_set():
+            self.handed_back = True
+            self.server.gate.add(self.connection, self.client_address, self.rfile.leftover(), idle=True)
 
     def parse_request(self) -> bool:
         if not super().parse_request():
@@ -295,7 +347,7 @@ class ViewerHandler(BaseHTTPRequestHandler):
                     self._json({"chunk": i, "cells": cells.tolist()}, head_only=head_only)
                 return
             if path == "/replay/" + src.file_name:
-                self._file(src.replay.path, head_only)
+                self._file(head_only)
                 return
         else:
             if path == "/api/stream":
@@ -338,27 +390,23 @@ class ViewerHandler(BaseHTTPRequestHandler):
             return
         self._send(200, body, "application/octet-stream", extra, head_only)
 
-    def _file(self, path: str, head_only: bool) -> None:
-        try:
-            size = os.path.getsize(path)
-            fh = open(path, "rb")
-        except OSError:
-            self._not_found()
+    def _file(self, head_only: bool) -> None:
+        # From the descriptor opened at start, never the path: a file put in its place since
+        # (a symlink to another file) is not served.
+        replay = self.server.source.replay
+        self.send_response(200)
+        self.send_header("Content-Type", "application/octet-stream")
+        self.send_header("Content-Length", str(replay.file_size))
+        self.send_header("Content-Disposition",
+                         "attachment; filename*=UTF-8''" + urllib.parse.quote(self.server.source.file_name))
+        self.end_headers()
+        if head_only:
             return
-        with fh:
-            self.send_response(200)
-            self.send_header("Content-Type", "application/octet-stream")
-            self.send_header("Content-Length", str(size))
-            self.send_header("Content-Disposition",
-                             "attachment; filename*=UTF-8''" + urllib.parse.quote(os.path.basename(path)))
-            self.end_headers()
-            if head_only:
-                return
-            while True:
-                block = fh.read(1 << 20)
-                if not block:
-                    break
+        try:
+            for block in replay.file_blocks():
                 self.wfile.write(block)
+        except ReplayError:  # the file shrank: the client sees a short body
+            self.close_connection = True
 
     def _stream(self, head_only: bool) -> None:
         srv = self.server

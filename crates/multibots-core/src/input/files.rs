@@ -26,6 +26,206 @@ pub fn read_text(path: &Path, limit: u64) -> Result<String, String> {
     String::from_utf8(bytes).map_err(|e| format!("is not UTF-8 text (byte {})", e.utf8_error().valid_up_to()))
 }
 
+/// Checks the shape of TOML text before a parser sees it: no value nested deeper than
+/// [`MAX_NESTING`] levels (tables, lists and the parts of dotted keys, counted together) and
+/// no key longer than [`MAX_KEY_BYTES`]. Parsers recurse once per level, and a dotted key of
+/// 100,000 parts makes 100,000 nested tables, so this is one pass over the bytes that
+/// allocates nothing but its stack of open brackets. The text need not be valid TOML: what
+/// is not, the parser reports afterwards. The error is one line: `line N: ...`.
+///
+/// [`MAX_NESTING`]: crate::input::limits::MAX_NESTING
+/// [`MAX_KEY_BYTES`]: crate::input::limits::MAX_KEY_BYTES
+pub fn check_toml_shape(text: &str) -> Result<(), String> {
+    Shape::new(text.as_bytes(), false).scan()
+}
+
+/// [`check_toml_shape`] for JSON text: nesting of arrays and objects, and the length of keys.
+pub fn check_json_shape(text: &str) -> Result<(), String> {
+    Shape::new(text.as_bytes(), true).scan()
+}
+
+/// The scanner of [`check_toml_shape`] and [`check_json_shape`].
+struct Shape<'a> {
+    b: &'a [u8],
+    i: usize,
+    line: usize,
+    json: bool,
+    /// Open brackets (`[` or `{`) and the depth of each.
+    open: Vec<(u8, usize)>,
+    /// Parts of the current `[table]` header (TOML).
+    header: usize,
+    /// The depth of the value that comes next.
+    pending: usize,
+    /// Whether a key comes next (TOML: at a line start, or after `{` or `,` in a table).
+    want_key: bool,
+}
+
+impl<'a> Shape<'a> {
+    fn new(b: &'a [u8], json: bool) -> Self {
+        Shape { b, i: 0, line: 1, json, open: Vec::new(), header: 0, pending: 0, want_key: !json }
+    }
+
+    fn deep(&self, depth: usize, what: &str) -> Result<(), String> {
+        use crate::input::limits::MAX_NESTING;
+        if depth > MAX_NESTING {
+            return Err(format!("line {}: {what} nested deeper than {MAX_NESTING} levels (docs/limits.md)", self.line));
+        }
+        Ok(())
+    }
+
+    fn long_key(&self, len: usize) -> String {
+        format!("line {}: a key of {len} bytes; at most {} (docs/limits.md)", self.line, crate::input::limits::MAX_KEY_BYTES)
+    }
+
+    fn blanks(&mut self) {
+        while self.i < self.b.len() && matches!(self.b[self.i], b' ' | b'\t') {
+            self.i += 1;
+        }
+    }
+
+    fn scan(mut self) -> Result<(), String> {
+        while self.i < self.b.len() {
+            let c = self.b[self.i];
+            match c {
+                b'\n' => {
+                    self.line += 1;
+                    self.i += 1;
+                    if self.open.is_empty() && !self.json {
+                        self.want_key = true;
+                    }
+                    continue;
+                }
+                b' ' | b'\t' | b'\r' => {
+                    self.i += 1;
+                    continue;
+                }
+                b'#' if !self.json => {
+                    while self.i < self.b.len() && self.b[self.i] != b'\n' {
+                        self.i += 1;
+                    }
+                    continue;
+                }
+                _ => {}
+            }
+            if self.want_key {
+                self.want_key = false;
+                if self.open.is_empty() && c == b'[' {
+                    // A [table] or [[array of tables]] header.
+                    self.i += if self.b.get(self.i + 1) == Some(&b'[') { 2 } else { 1 };
+                    self.header = self.key(0)?;
+                    continue;
+                }
+                if c != b'}' {
+                    let base = self.open.last().map_or(self.header, |o| o.1);
+                    self.pending = base + self.key(base)?;
+                    continue;
+                }
+            }
+            match c {
+                b'"' | b'\'' => {
+                    let start = self.i;
+                    self.string();
+                    if self.json && self.open.last().is_some_and(|o| o.0 == b'{') && self.i - start > crate::input::limits::MAX_KEY_BYTES + 2 {
+                        // An object's key: a string followed by ':'.
+                        let mut k = self.i;
+                        while k < self.b.len() && matches!(self.b[k], b' ' | b'\t' | b'\r' | b'\n') {
+                            k += 1;
+                        }
+                        if self.b.get(k) == Some(&b':') {
+                            return Err(self.long_key(self.i - start - 2));
+                        }
+                    }
+                }
+                b'[' | b'{' => {
+                    // In a list, or anywhere in JSON, one deeper than the container; in a
+                    // TOML table, one deeper than the key it is the value of.
+                    let depth = match self.open.last() {
+                        Some(&(b'[', d)) => d,
+                        Some(&(_, d)) if self.json => d,
+                        _ => self.pending,
+                    } + 1;
+                    self.deep(depth, "a value")?;
+                    self.open.push((c, depth));
+                    self.pending = depth;
+                    self.i += 1;
+                    self.want_key = c == b'{' && !self.json;
+                }
+                b']' | b'}' => {
+                    self.open.pop();
+                    self.i += 1;
+                }
+                b',' => {
+                    self.want_key = !self.json && self.open.last().is_some_and(|o| o.0 == b'{');
+                    self.i += 1;
+                }
+                _ => self.i += 1,
+            }
+        }
+        Ok(())
+    }
+
+    /// A TOML key (`a`, `"a b"`, `a.b.c`, with blanks around the dots); returns its number
+    /// of parts, having checked each part's length and the depth they reach from `base`.
+    fn key(&mut self, base: usize) -> Result<usize, String> {
+        let mut parts = 0;
+        loop {
+            self.blanks();
+            let start = self.i;
+            if matches!(self.b.get(self.i), Some(b'"' | b'\'')) {
+                self.string();
+            } else {
+                while self.i < self.b.len() && (self.b[self.i].is_ascii_alphanumeric() || matches!(self.b[self.i], b'_' | b'-')) {
+                    self.i += 1;
+                }
+            }
+            if self.i == start {
+                return Ok(parts); // not a key: the parser says what it is
+            }
+            if self.i - start > crate::input::limits::MAX_KEY_BYTES {
+                return Err(self.long_key(self.i - start));
+            }
+            parts += 1;
+            self.deep(base + parts, "a key")?;
+            self.blanks();
+            if self.b.get(self.i) != Some(&b'.') {
+                return Ok(parts);
+            }
+            self.i += 1;
+        }
+    }
+
+    /// Skips the string at `i`: JSON's, or TOML's basic, literal and multi-line strings.
+    fn string(&mut self) {
+        let q = self.b[self.i];
+        let triple = !self.json && self.b[self.i..].starts_with(&[q, q, q]);
+        self.i += if triple { 3 } else { 1 };
+        while self.i < self.b.len() {
+            let c = self.b[self.i];
+            if c == b'\\' && q == b'"' {
+                self.i += 2;
+                continue;
+            }
+            if c == b'\n' {
+                if !triple {
+                    return; // an unclosed string: the parser says so
+                }
+                self.line += 1;
+            }
+            if c == q && (!triple || self.b[self.i..].starts_with(&[q, q, q])) {
+                self.i += if triple { 3 } else { 1 };
+                // A multi-line string may end in one or two quotes of its own.
+                for _ in 0..2 {
+                    if triple && self.b.get(self.i) == Some(&q) {
+                        self.i += 1;
+                    }
+                }
+                return;
+            }
+            self.i += 1;
+        }
+    }
+}
+
 /// The temporary path beside an output file that the atomic writers (replays, layout
 /// files) write to before renaming it over `path`: `.NAME.PID.tmp`.
 ///
@@ -95,6 +295,51 @@ mod tests {
         std::fs::write(&f, [0xff, 0xfe]).unwrap();
         assert!(read_text(&f, 100).unwrap_err().starts_with("is not UTF-8"));
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn shape_refuses_deep_nesting_and_long_keys_before_parsing() {
+        let deep = |open: &str, close: &str, n: usize| format!("x = {}1{}\n", open.repeat(n), close.repeat(n));
+        // Depth counts the key: `x` is level 1, each bracket one more.
+        assert_eq!(check_toml_shape(&deep("[", "]", 31)), Ok(()));
+        assert_eq!(check_toml_shape(&deep("[", "]", 32)).unwrap_err(), "line 1: a value nested deeper than 32 levels (docs/limits.md)");
+        assert!(check_toml_shape(&format!("a = 1\n{}", deep("{a = ", "}", 10_000))).unwrap_err().starts_with("line 2: a key nested"));
+        assert!(check_toml_shape(&deep("{a = ", "}", 16)).unwrap_err().contains("a key nested"));
+        let dotted = vec!["a"; 100_000].join(".");
+        assert_eq!(check_toml_shape(&format!("\n\n{dotted} = 1\n")).unwrap_err(), "line 3: a key nested deeper than 32 levels (docs/limits.md)");
+        assert!(check_toml_shape(&format!("[{}]\n", vec!["a"; 40].join(" . "))).unwrap_err().contains("a key nested"));
+        assert!(check_toml_shape(&format!("[[{}]]\n", vec!["'a'"; 40].join("."))).unwrap_err().contains("a key nested"));
+        // A table header's parts count under its keys.
+        let header = format!("[{}]\n", vec!["a"; 31].join("."));
+        assert_eq!(check_toml_shape(&format!("{header}b = 1\n")), Ok(()));
+        assert_eq!(check_toml_shape(&format!("{header}b.c = 1\n")).unwrap_err(), "line 2: a key nested deeper than 32 levels (docs/limits.md)");
+        assert_eq!(check_toml_shape(&format!("{header}\n[b]\nc = [[1]]\n")), Ok(()));
+        assert_eq!(check_toml_shape(&format!("{} = 1\n", "k".repeat(2000))).unwrap_err(), "line 1: a key of 2000 bytes; at most 1024 (docs/limits.md)");
+        assert!(check_toml_shape(&format!("\"{}\" = 1\n", "k".repeat(2000))).unwrap_err().contains("a key of 2002 bytes"));
+        // Brackets in strings and comments are text, and long values are not keys.
+        let text = format!(
+            "a = \"{0}\\\"{0}\" # {1}\nb = '''\n{0}'''\nc = \"\"\"x\\\"\"\"\"\"\nd = \"{2}\"\ne = '{0}'\n",
+            "[".repeat(100),
+            "{".repeat(100),
+            "k".repeat(5000)
+        );
+        assert_eq!(check_toml_shape(&text), Ok(()));
+        // Siblings are as deep as each other, however many.
+        let wide = format!("{{{}}}", (0..100).map(|k| format!("\"k{k}\": {{\"a\": [1]}}")).collect::<Vec<_>>().join(", "));
+        assert_eq!(check_json_shape(&wide), Ok(()));
+        let wide = format!(
+            "x = [{}]\ny = {{ {} }}\n",
+            vec!["{ a = [1] }"; 100].join(", "),
+            (0..100).map(|k| format!("k{k} = {{ a = 1 }}")).collect::<Vec<_>>().join(", ")
+        );
+        assert_eq!(check_toml_shape(&wide), Ok(()));
+        // Shapes in use pass.
+        let real = "tasks = { random = 5, seed = 1 }\n[axes]\n\"robot.threshold\" = [2.5, 3.5]\ntasks = [{ random = 5 }]\n[[nodes]]\nout = [\"B\", \"C\"]\n";
+        assert_eq!(check_toml_shape(real), Ok(()));
+        assert!(check_json_shape(&format!("{}{}", "[".repeat(33), "]".repeat(33))).unwrap_err().contains("a value nested deeper than 32"));
+        assert_eq!(check_json_shape(&format!("{{\"a\": {}1{}}}", "[".repeat(31), "]".repeat(31))), Ok(()));
+        assert!(check_json_shape(&format!("{{\"{}\": 1}}", "k".repeat(2000))).unwrap_err().contains("a key of 2000 bytes"));
+        assert_eq!(check_json_shape(&format!("{{\"a\": \"{}\", \"b\": [\"{0}\"]}}", "k".repeat(2000))), Ok(()));
     }
 
     #[test]

@@ -254,6 +254,7 @@ pub fn check_layout(layout: &Layout) -> Result<HighwayGraph> {
 /// Parses a layout file's text; `source_name` (a file name) prefixes syntax errors. The
 /// layout's names and numbers are checked, not yet its graph (see [`check_layout`]).
 pub fn from_toml(text: &str, source_name: &str) -> Result<Layout> {
+    crate::input::files::check_toml_shape(text).map_err(|message| Error::LayoutFile { path: source_name.to_string(), message })?;
     let de = toml::Deserializer::new(text);
     let file: LayoutFile =
         serde_path_to_error::deserialize(de).map_err(|e| Error::LayoutFile { path: source_name.to_string(), message: toml_message(text, e) })?;

@@ -37,6 +37,31 @@ pub const MAX_ORDERS: f64 = 100_000_000.0;
 /// Highest order rate, orders per step.
 pub const MAX_ORDER_RATE: f64 = 100_000.0;
 
+/// Deepest nesting of a scenario, layout or sweep spec (TOML) or of scenario JSON: tables,
+/// lists and the parts of dotted keys, counted together. Checked on the text before a parser
+/// recurses into it (`files::check_toml_shape`); the deepest real file nests 5 levels.
+pub const MAX_NESTING: usize = 32;
+
+/// Longest key (one part of a dotted key) in a scenario, layout or sweep spec, bytes.
+pub const MAX_KEY_BYTES: usize = 1024;
+
+/// Most throughput windows a run may fill (run length / `metrics.window`): 8 bytes each, 80 MB.
+pub const MAX_WINDOWS: u64 = 10_000_000;
+
+/// Most storage cells in one worker's pick tour (`[humans] tour`): each worker holds its
+/// tour, 4 bytes a cell (100,000 workers × 100 cells: 40 MB).
+pub const MAX_TOUR: u32 = 100;
+
+/// Ranges of the `[humans]` fields in metres, seconds and m/s² (docs/limits.md): beyond them
+/// the zones around robots or the walking model leave any layout's scale. `(low, high)`,
+/// the low end excluded where the field must be above 0.
+pub const HUMAN_SPEED: (f64, f64) = (0.0, 10.0);
+pub const HUMAN_RADIUS: (f64, f64) = (0.0, 5.0);
+pub const HUMAN_PX_PER_M: (f64, f64) = (0.01, 1000.0);
+pub const HUMAN_STEP_SECONDS: (f64, f64) = (0.001, 10.0);
+pub const HUMAN_DECEL: (f64, f64) = (0.01, 100.0);
+pub const HUMAN_ZONE_M: f64 = 100.0;
+
 /// Most cells of the collision grid: beyond it the grid's cells grow (which changes no
 /// result, only how many candidates each robot looks at).
 pub const MAX_GRID_CELLS: usize = 1 << 22;
@@ -47,6 +72,22 @@ pub const MAX_GRID_CELLS: usize = 1 << 22;
 #[must_use]
 pub fn shown(value: &str) -> String {
     shown_within(value, 60)
+}
+
+/// A number as a message shows it: as written for ordinary sizes (`12.5`, `2000000000`), in
+/// exponent form past them (`1e308`, `2.5e-7`), `nan` and `inf` as TOML spells them, never
+/// 300 digits.
+#[must_use]
+pub fn number(v: f64) -> String {
+    if v.is_nan() {
+        "nan".into()
+    } else if v.is_infinite() {
+        if v > 0.0 { "inf" } else { "-inf" }.into()
+    } else if v == 0.0 || (1e-4..1e16).contains(&v.abs()) {
+        v.to_string()
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// A message from a parser or the system, cut to 240 characters and with its control
@@ -84,5 +125,16 @@ mod tests {
         let long = "x".repeat(10_000_000);
         let s = shown(&long);
         assert!(s.len() < 100 && s.ends_with("(10000000 characters)"), "{s}");
+    }
+
+    #[test]
+    fn numbers_in_messages_are_short() {
+        assert_eq!(number(12.5), "12.5");
+        assert_eq!(number(2e9), "2000000000");
+        assert_eq!(number(1e308), "1e308");
+        assert_eq!(number(-2.5e-7), "-2.5e-7");
+        assert_eq!(number(f64::NAN), "nan");
+        assert_eq!(number(f64::NEG_INFINITY), "-inf");
+        assert_eq!(number(0.0), "0");
     }
 }

@@ -6,7 +6,7 @@
 //! [`crate::world`] and [`crate::rules`].
 
 pub(crate) mod csv;
-pub(crate) mod files;
+pub mod files;
 pub mod layout_file;
 pub(crate) mod limits;
 pub mod scenario;

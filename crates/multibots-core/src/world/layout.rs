@@ -142,8 +142,33 @@ impl LayoutParams {
         *n == 1
     }
 
-    /// Checks every parameter; errors name the field as `layout.FIELD`.
+    /// Parses the parameters from JSON (what the Python API sends); errors name the field as
+    /// `layout.FIELD` with the value.
+    pub fn from_json(text: &str) -> Result<LayoutParams> {
+        crate::input::files::check_json_shape(text).map_err(|m| Error::Parse {
+            source_name: "layout parameters".into(),
+            message: m.split_once(": ").map_or(m.clone(), |(_, rest)| rest.to_string()),
+        })?;
+        let mut de = serde_json::Deserializer::from_str(text);
+        serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let path = crate::input::limits::shown(&e.path().to_string());
+            let field = if path.is_empty() || path == "." { "layout".to_string() } else { format!("layout.{path}") };
+            // The JSON position is left out: the user set a flag or a dictionary, not this text.
+            let text = e.inner().to_string();
+            let text = text.lines().next().unwrap_or_default();
+            let text = text.rfind(" at line ").map_or(text, |k| &text[..k]).trim();
+            match crate::error::plain_parts(text, None) {
+                (Some(value), reason) => Error::Scenario { field, value, reason },
+                (None, message) => Error::Parse { source_name: field, message },
+            }
+        })
+    }
+
+    /// Checks every parameter; errors name the field as `layout.FIELD`. A size that is too
+    /// large names the field that makes it so: the largest factor of a product, the field
+    /// whose default would shrink an extent the most.
     pub fn check(&self) -> Result<()> {
+        use crate::input::limits::{number, MAX_CELLS, MAX_COORD};
         let bad = |field: &str, value: String, reason: &str| Err(Error::scenario(format!("layout.{field}"), value, reason));
         if self.group_rows == 0 {
             return bad("group_rows", self.group_rows.to_string(), "must be at least 1");
@@ -157,40 +182,67 @@ impl LayoutParams {
         if self.group_height == 0 {
             return bad("group_height", self.group_height.to_string(), "must be at least 1");
         }
-        if !(self.aisle.is_finite() && self.aisle > 0.0) {
-            return bad("aisle", self.aisle.to_string(), "must be greater than 0");
-        }
-        if !(self.cell.is_finite() && self.cell > 0.0) {
-            return bad("cell", self.cell.to_string(), "must be greater than 0");
-        }
-        if !(self.spur.is_finite() && self.spur > 0.0) {
-            return bad("spur", self.spur.to_string(), "must be greater than 0");
+        for (field, v) in [("aisle", self.aisle), ("cell", self.cell), ("spur", self.spur)] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(field, number(v), "must be greater than 0");
+            }
         }
         if self.unloading_rows == 0 || self.unloading_rows > self.group_rows {
             return bad("unloading_rows", self.unloading_rows.to_string(), &format!("must be between 1 and group_rows ({})", self.group_rows));
         }
-        if self.chargers == 0 || self.chargers > self.group_cols + 1 {
-            return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {} (one per top-aisle crossing)", self.group_cols + 1));
-        }
-        let cells = u64::from(self.group_rows) * u64::from(self.group_cols) * u64::from(self.group_width) * u64::from(self.group_height);
-        if cells > crate::input::limits::MAX_CELLS as u64 {
+        if self.chargers == 0 || u64::from(self.chargers) > u64::from(self.group_cols) + 1 {
             return bad(
-                "group_rows",
-                self.group_rows.to_string(),
-                &format!("layout too large: {cells} storage cells (at most {})", crate::input::limits::MAX_CELLS),
+                "chargers",
+                self.chargers.to_string(),
+                &format!("must be between 1 and {} (one per top-aisle crossing)", u64::from(self.group_cols) + 1),
             );
         }
-        let width = f64::from(self.group_cols) * (f64::from(self.group_width) * self.cell + self.aisle) + self.aisle;
-        let height = f64::from(self.group_rows) * (f64::from(self.group_height) * self.cell + self.aisle) + self.aisle + self.spur;
-        for (field, value, extent) in [("cell", self.cell, width.max(height)), ("aisle", self.aisle, width.max(height)), ("spur", self.spur, self.spur)] {
-            if extent > crate::input::limits::MAX_COORD {
-                return bad(field, value.to_string(), &format!("layout too large: {extent:.3e} px across (at most {:.0e})", crate::input::limits::MAX_COORD));
-            }
+        let factors =
+            [("group_rows", self.group_rows), ("group_cols", self.group_cols), ("group_width", self.group_width), ("group_height", self.group_height)];
+        let cells: u64 = factors.iter().map(|f| u64::from(f.1)).product();
+        if cells > MAX_CELLS as u64 {
+            let (field, value) = factors.iter().max_by_key(|f| f.1).expect("four factors");
+            return bad(field, value.to_string(), &format!("layout too large: {cells} storage cells (at most {MAX_CELLS})"));
         }
-        let nodes = u64::from(self.group_rows + 1) * u64::from(self.group_cols + 1);
+        let extent = |p: &LayoutParams| {
+            let width = f64::from(p.group_cols) * (f64::from(p.group_width) * p.cell + p.aisle) + p.aisle;
+            let height = f64::from(p.group_rows) * (f64::from(p.group_height) * p.cell + p.aisle) + p.aisle + p.spur;
+            width.max(height)
+        };
+        let across = extent(self);
+        if across > MAX_COORD {
+            // The field whose paper value would shrink the layout the most.
+            let paper = LayoutParams::paper();
+            let with = |f: &str| {
+                let mut p = self.clone();
+                match f {
+                    "group_rows" => p.group_rows = paper.group_rows,
+                    "group_cols" => p.group_cols = paper.group_cols,
+                    "group_height" => p.group_height = paper.group_height,
+                    "aisle" => p.aisle = paper.aisle,
+                    "cell" => p.cell = paper.cell,
+                    _ => p.spur = paper.spur,
+                }
+                extent(&p)
+            };
+            let fields = ["aisle", "cell", "spur", "group_rows", "group_cols", "group_height"];
+            let field = fields.into_iter().min_by(|a, b| with(a).total_cmp(&with(b))).expect("six fields");
+            let value = match field {
+                "aisle" => number(self.aisle),
+                "cell" => number(self.cell),
+                "spur" => number(self.spur),
+                "group_rows" => self.group_rows.to_string(),
+                "group_cols" => self.group_cols.to_string(),
+                _ => self.group_height.to_string(),
+            };
+            let size = if across.is_finite() { format!("{across:.3e} px across") } else { "more than 1e308 px across".into() };
+            return bad(field, value, &format!("layout too large: {size} (at most {MAX_COORD:.0e})"));
+        }
+        let nodes = (u64::from(self.group_rows) + 1) * (u64::from(self.group_cols) + 1);
         // The next-hop table takes one byte per (node, target) pair: 10,000 crossings are 100 MB.
         if nodes > 10_000 {
-            return bad("group_rows", self.group_rows.to_string(), &format!("layout too large: {nodes} aisle crossings (at most 10,000)"));
+            let (field, value) = if self.group_rows >= self.group_cols { ("group_rows", self.group_rows) } else { ("group_cols", self.group_cols) };
+            return bad(field, value.to_string(), &format!("layout too large: {nodes} aisle crossings (at most 10,000)"));
         }
         Ok(())
     }

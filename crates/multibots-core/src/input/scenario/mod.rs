@@ -1,7 +1,7 @@
 //! The scenario schema: the one definition of every field, its default and its checks.
 //! TOML files, Python dictionaries and the command line all land here.
 
-use crate::error::{toml_message, Error, Result};
+use crate::error::{json_message, toml_message, Error, Result};
 use crate::world::layout::{Layout, LayoutParams};
 use rand::{Rng, SeedableRng};
 use schemars::JsonSchema;
@@ -132,22 +132,18 @@ pub fn random_cells(count: u32, seed: u64, cells: usize) -> Vec<u32> {
 impl Scenario {
     /// Parses TOML text; `source_name` (a file name) prefixes error messages.
     pub fn from_toml(text: &str, source_name: &str) -> Result<Scenario> {
+        crate::input::files::check_toml_shape(text).map_err(|message| Error::Parse { source_name: source_name.to_string(), message })?;
         let de = toml::Deserializer::new(text);
         serde_path_to_error::deserialize(de).map_err(|e| Error::Parse { source_name: source_name.to_string(), message: toml_message(text, e) })
     }
 
     /// Parses JSON text (what the Python API sends).
     pub fn from_json(text: &str) -> Result<Scenario> {
+        let fail = |message: String| Error::Parse { source_name: "scenario".to_string(), message };
+        // The position in the JSON text is left out of messages: the user never wrote it.
+        crate::input::files::check_json_shape(text).map_err(|m| fail(m.split_once(": ").map_or(m.clone(), |(_, rest)| rest.to_string())))?;
         let mut de = serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = crate::input::limits::shown(&e.path().to_string());
-            let at = if path.is_empty() || path == "." { String::new() } else { format!("{path}: ") };
-            // serde_json ends with the position in the JSON text, which the user never wrote.
-            let text = e.inner().to_string();
-            let text = text.lines().next().unwrap_or_default();
-            let text = text.rfind(" at line ").map_or(text, |k| &text[..k]).trim();
-            Error::Parse { source_name: "scenario".to_string(), message: format!("{at}{}", crate::input::limits::inert(text)) }
-        })
+        serde_path_to_error::deserialize(&mut de).map_err(|e| fail(json_message(&e)))
     }
 
     /// The scenario as TOML.
@@ -279,7 +275,7 @@ impl Scenario {
             }
         }
         if let Some(h) = &self.humans {
-            h.check()?;
+            h.check(&self.robot)?;
             if h.count > 0 && self.rules == Rules::Original {
                 return Err(Error::scenario("humans.count", h.count, "people need the paper rules (rules = \"paper\"): the authors' code has none"));
             }
@@ -293,15 +289,17 @@ impl Scenario {
             }
             let expected = o.rate * o.horizon as f64;
             if expected > crate::input::limits::MAX_ORDERS {
-                return Err(Error::scenario(
-                    "orders.rate",
-                    o.rate,
-                    format!(
-                        "expects {expected:.3e} orders over orders.horizon = {} steps; at most {:.0e}: lower the rate or the horizon",
-                        o.horizon,
-                        crate::input::limits::MAX_ORDERS
-                    ),
-                ));
+                let most = crate::input::limits::MAX_ORDERS;
+                // The factor nearer its own limit is the one to name.
+                let err = if o.horizon as f64 / crate::input::limits::MAX_STEPS as f64 > o.rate / crate::input::limits::MAX_ORDER_RATE {
+                    let why = format!("expects {expected:.3e} orders at orders.rate = {} per step; at most {most:.0e}: lower the horizon or the rate", o.rate);
+                    Error::scenario("orders.horizon", o.horizon, why)
+                } else {
+                    let why =
+                        format!("expects {expected:.3e} orders over orders.horizon = {} steps; at most {most:.0e}: lower the rate or the horizon", o.horizon);
+                    Error::scenario("orders.rate", o.rate, why)
+                };
+                return Err(err);
             }
             if o.horizon == 0 {
                 return Err(Error::scenario("orders.horizon", 0, "must be at least 1 step"));
@@ -318,6 +316,15 @@ impl Scenario {
         }
         if self.metrics.window == 0 {
             return Err(Error::scenario("metrics.window", 0, "must be at least 1 step"));
+        }
+        // The run's windows are kept, one count each: bounded before the run starts.
+        let (run, by) = self.orders.as_ref().map_or((self.step_limit, "step_limit"), |o| (o.horizon, "orders.horizon"));
+        if run / self.metrics.window > crate::input::limits::MAX_WINDOWS {
+            return Err(Error::scenario(
+                "metrics.window",
+                self.metrics.window,
+                format!("{by} = {run} makes {} throughput windows; at most {} (docs/limits.md)", run / self.metrics.window, crate::input::limits::MAX_WINDOWS),
+            ));
         }
         if self.placement == Placement::Spread && self.starts.is_some() {
             return Err(Error::scenario(
@@ -381,14 +388,48 @@ mod tests {
     #[test]
     fn errors_name_the_field() {
         let e = Scenario::from_toml("tasks = [1]\nrobot = { speed = \"fast\" }", "s.toml").unwrap_err().to_string();
-        assert!(e.starts_with("s.toml: robot.speed: invalid type: string \"fast\""), "{e}");
+        assert_eq!(e, "s.toml: robot.speed = \"fast\": expected a number");
         let e = Scenario::from_toml("tasks = [1]\nrobts = 3", "s.toml").unwrap_err().to_string();
-        assert!(e.contains("unknown field `robts`"), "{e}");
+        assert!(e.starts_with("s.toml: unknown field `robts` (known: layout, robots, "), "{e}");
+        let e = Scenario::from_toml("tasks = [1]\n[robot]\nsped = 3", "s.toml").unwrap_err().to_string();
+        assert!(e.starts_with("s.toml: robot: unknown field `sped` (known: radius, speed, "), "{e}");
         let e = Scenario::from_toml("tasks = [1, \"x\"]", "s.toml").unwrap_err().to_string();
         assert!(e.contains("tasks[1]") || e.contains("tasks"), "{e}");
         let e = Scenario::from_toml("tasks = [1", "s.toml").unwrap_err().to_string();
         assert!(e.starts_with("s.toml: "), "{e}");
         assert!(!e.contains('\n'));
+    }
+
+    #[test]
+    fn type_errors_speak_the_users_words() {
+        let err = |text: &str| Scenario::from_toml(text, "s.toml").unwrap_err().to_string();
+        let cases = [
+            ("robots = 4294967296", "s.toml: robots = 4294967296: expected a whole number from 0 to 4294967295"),
+            ("[layout_generate]\ngroup_height = 2e9", "s.toml: layout_generate.group_height = 2000000000.0: expected a whole number from 0 to 4294967295, written without a decimal point or exponent"),
+            ("robots = [1]", "s.toml: robots: expected a whole number from 0 to 4294967295, not a list"),
+            ("traffic = \"x\"", "s.toml: traffic = \"x\": expected one of wait, gate, reserve"),
+            ("rules = 5", "s.toml: rules: expected text in quotes"),
+            ("starts = [1]", "s.toml: starts[0] = 1: expected text in quotes"),
+            ("orders = 5", "s.toml: orders = 5: expected a table"),
+            ("[humans]\nseed = 18446744073709551615 # big", "s.toml: line 3: seed = 18446744073709551615: too large (TOML whole numbers are at most 9223372036854775807)"),
+        ];
+        for (body, want) in cases {
+            // Tables after the task list.
+            assert_eq!(err(&format!("tasks = [1]\n{body}")), want);
+        }
+        let json = |text: &str| Scenario::from_json(text).unwrap_err().to_string();
+        assert_eq!(
+            json(r#"{"tasks":[1],"robots":1e20}"#),
+            "scenario: robots = 1e20: expected a whole number from 0 to 4294967295, written without a decimal point or exponent"
+        );
+        assert_eq!(json(r#"{"tasks":[1],"collision":{"margin":1e400}}"#), "scenario: collision.margin: a number out of range (at most ±1.8e308)");
+        let deep = format!("{{\"tasks\":[1],\"x\":{}{}}}", "[".repeat(40), "]".repeat(40));
+        assert_eq!(json(&deep), "scenario: a value nested deeper than 32 levels (docs/limits.md)");
+        for e in [err("tasks = [1]\nrobots = 2.5"), json(r#"{"tasks":[1],"robots":"x"}"#)] {
+            for word in ["u32", "invalid type", "floating point", "line 1 column", "sequence"] {
+                assert!(!e.contains(word), "{e}");
+            }
+        }
     }
 
     #[test]
@@ -417,5 +458,18 @@ mod tests {
         assert_eq!(s.cells(&Layout::paper()).unwrap_err().to_string(), "tasks[1] = 80: cell id out of range 0..79");
         let s = Scenario::paper(3, &[5, 5]);
         assert_eq!(s.cells(&Layout::paper()).unwrap_err().to_string(), "tasks[1] = 5: cell named twice in the task list");
+        // A product too large names the factor nearer its own limit.
+        let mut s = Scenario::paper(3, &[1]);
+        s.orders = Some(Orders { rate: 100_000.0, horizon: 30_000_000, ..Orders::default() });
+        assert!(s.check_values().unwrap_err().to_string().starts_with("orders.rate = 100000: expects 3.000e12 orders"));
+        s.orders = Some(Orders { rate: 1.0, horizon: 4_000_000_000, ..Orders::default() });
+        assert!(s.check_values().unwrap_err().to_string().starts_with("orders.horizon = 4000000000: expects 4.000e9 orders at orders.rate = 1"));
+        let mut s = Scenario::paper(3, &[1]);
+        s.metrics.window = 1;
+        s.step_limit = crate::input::limits::MAX_STEPS;
+        assert_eq!(
+            s.check_values().unwrap_err().to_string(),
+            "metrics.window = 1: step_limit = 4294967295 makes 4294967295 throughput windows; at most 10000000 (docs/limits.md)"
+        );
     }
 }

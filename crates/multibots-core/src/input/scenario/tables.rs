@@ -392,16 +392,16 @@ impl<'de> Deserialize<'de> for Tasks {
 pub struct Humans {
     /// Number of workers (0 to 100000). Default: 0.
     pub count: u32,
-    /// Walking speed, m/s (> 0). Default: 1.2.
+    /// Walking speed, m/s (> 0, at most 10). Default: 1.2.
     pub speed: f64,
-    /// Body radius, m (> 0). Default: 0.25.
+    /// Body radius, m (> 0, at most 5). Default: 0.25.
     pub radius: f64,
-    /// Pixels per metre of the layout (> 0). Default: 25 (the paper's 25 px robot is 1 m wide,
+    /// Pixels per metre of the layout (0.01 to 1000). Default: 25 (the paper's 25 px robot is 1 m wide,
     /// its 50 px aisles 2 m).
     pub px_per_m: f64,
-    /// Seconds per step (> 0). Default: 0.05 (the paper's T fits 0.0508 s per step).
+    /// Seconds per step (0.001 to 10). Default: 0.05 (the paper's T fits 0.0508 s per step).
     pub step_seconds: f64,
-    /// Storage cells visited per pick tour (≥ 1). Default: 3.
+    /// Storage cells visited per pick tour (1 to 100). Default: 3.
     pub tour: u32,
     /// Steps spent picking at each cell (≥ 0). Default: 40.
     pub pick: u32,
@@ -413,13 +413,13 @@ pub struct Humans {
     /// drawn tours).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub csv: Option<String>,
-    /// Robot deceleration, m/s² (> 0): sizes the stopping distance v²/2a. Default: 5.
+    /// Robot deceleration, m/s² (0.01 to 100): sizes the stopping distance v²/2a. Default: 5.
     pub decel: f64,
-    /// Protective zone: stopping distance, one step of travel and this margin, m (≥ 0), beyond
+    /// Protective zone: stopping distance, one step of travel and this margin, m (0 to 100), beyond
     /// the robot's and the person's radii. A person ahead or beside inside it stops the robot.
     /// Default: 0.2.
     pub protective: f64,
-    /// Warning zone: this much further than the protective zone, m (≥ 0); inside it a robot
+    /// Warning zone: this much further than the protective zone, m (0 to 100); inside it a robot
     /// slows to `slow` of its speed. Default: 1.
     pub warning: f64,
     /// Speed factor in the warning zone, in (0, 1]. Default: 0.5.
@@ -448,38 +448,75 @@ impl Default for Humans {
 }
 
 impl Humans {
-    /// Checks every value; the error names the field as `humans.NAME`.
-    pub(crate) fn check(&self) -> crate::error::Result<()> {
+    /// Checks every value against its range in [`crate::input::limits`] before anything is built
+    /// from it; the error names the field as `humans.NAME`. `robot`: the zones grow with the
+    /// robots' speed (their stopping distance).
+    pub(crate) fn check(&self, robot: &RobotParams) -> crate::error::Result<()> {
         use crate::error::Error;
-        if self.count > crate::input::limits::MAX_HUMANS {
-            return Err(Error::scenario("humans.count", self.count, format!("at most {}", crate::input::limits::MAX_HUMANS)));
+        use crate::input::limits::{number, MAX_COORD, MAX_HUMANS, MAX_TOUR};
+        if self.count > MAX_HUMANS {
+            return Err(Error::scenario("humans.count", self.count, format!("at most {MAX_HUMANS} (docs/limits.md)")));
         }
-        for (field, v) in [
-            ("humans.speed", self.speed),
-            ("humans.radius", self.radius),
-            ("humans.px_per_m", self.px_per_m),
-            ("humans.step_seconds", self.step_seconds),
-            ("humans.decel", self.decel),
+        for (field, v, (low, high), unit) in [
+            ("humans.speed", self.speed, crate::input::limits::HUMAN_SPEED, "m/s"),
+            ("humans.radius", self.radius, crate::input::limits::HUMAN_RADIUS, "m"),
+            ("humans.px_per_m", self.px_per_m, crate::input::limits::HUMAN_PX_PER_M, "px per m"),
+            ("humans.step_seconds", self.step_seconds, crate::input::limits::HUMAN_STEP_SECONDS, "s"),
+            ("humans.decel", self.decel, crate::input::limits::HUMAN_DECEL, "m/s²"),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(Error::scenario(field, v, "must be greater than 0"));
+                return Err(Error::scenario(field, number(v), "must be greater than 0"));
+            }
+            if !(low..=high).contains(&v) {
+                let from = if low > 0.0 { format!("from {low}") } else { "above 0".into() };
+                return Err(Error::scenario(field, number(v), format!("must be {from} and at most {high} {unit} (docs/limits.md)")));
             }
         }
         for (field, v) in [("humans.protective", self.protective), ("humans.warning", self.warning)] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(Error::scenario(field, v, "must be 0 or more"));
+                return Err(Error::scenario(field, number(v), "must be 0 or more"));
+            }
+            if v > crate::input::limits::HUMAN_ZONE_M {
+                return Err(Error::scenario(field, number(v), format!("at most {} m (docs/limits.md)", crate::input::limits::HUMAN_ZONE_M)));
             }
         }
         if !(self.slow.is_finite() && self.slow > 0.0 && self.slow <= 1.0) {
-            return Err(Error::scenario("humans.slow", self.slow, "must be in (0, 1]"));
+            return Err(Error::scenario("humans.slow", number(self.slow), "must be in (0, 1]"));
         }
         if self.tour == 0 {
             return Err(Error::scenario("humans.tour", 0, "must be at least 1 cell"));
         }
-        // Zones in pixels must stay within the layout's coordinate range.
-        let px = self.px_per_m * (self.radius + self.protective + self.warning + self.speed * self.step_seconds);
-        if !(px.is_finite() && px <= crate::input::limits::MAX_COORD) {
-            return Err(Error::scenario("humans.px_per_m", self.px_per_m, "makes the zones larger than any layout"));
+        if self.tour > MAX_TOUR {
+            return Err(Error::scenario("humans.tour", self.tour, format!("at most {MAX_TOUR} cells per tour (docs/limits.md)")));
+        }
+        // The zones around a robot (people/zones.rs) must stay within the layout's
+        // coordinates; within the ranges above only a robot's stopping distance can leave
+        // them, so its largest factor against the defaults is named.
+        let m = self.px_per_m;
+        let v = robot.speed / m / self.step_seconds;
+        let stopping = v * v / (2.0 * self.decel) * m;
+        let zones = robot.radius + self.radius * m + stopping + self.protective * m + robot.speed + self.warning * m;
+        if !(zones.is_finite() && zones <= MAX_COORD) {
+            if robot.radius >= stopping {
+                return Err(Error::scenario(
+                    "robot.radius",
+                    number(robot.radius),
+                    format!("makes the zones around robots larger than any layout (at most {MAX_COORD:.0e} px)"),
+                ));
+            }
+            let d = Humans::default();
+            let factors = [
+                ("robot.speed", robot.speed, (robot.speed / RobotParams::default().speed).powi(2)),
+                ("humans.px_per_m", m, d.px_per_m / m),
+                ("humans.step_seconds", self.step_seconds, (d.step_seconds / self.step_seconds).powi(2)),
+                ("humans.decel", self.decel, d.decel / self.decel),
+            ];
+            let (field, value, _) = factors.into_iter().max_by(|a, b| a.2.total_cmp(&b.2)).expect("four factors");
+            return Err(Error::scenario(
+                field,
+                number(value),
+                format!("a robot would need {} px to stop before a person; the zones must stay within {MAX_COORD:.0e} px (docs/people.md)", number(stopping)),
+            ));
         }
         Ok(())
     }
