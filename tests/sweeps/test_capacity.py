@@ -89,7 +89,7 @@ def test_the_command_prints_one_json_object_with_the_rate_and_the_curve(tmp_path
 @pytest.mark.parametrize("args,why", [
     (["--seeds", "0"], "--seeds = 0: must be at least 1"),
     (["--served", "1.5"], "--served = 1.5: must be above 0 and at most 1"),
-    (["--robots-for", "nan"], "--robots-for = 'nan': must be a finite number"),
+    (["--robots-for", "nan"], "--robots-for = nan: must be a finite number"),
     (["--horizon", "500"], "--horizon = 500: at least 2000 steps"),
 ])
 def test_bad_flags_get_one_line_naming_the_flag(tmp_path, args, why):
