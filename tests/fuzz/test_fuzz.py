@@ -358,6 +358,12 @@ NUMERIC_FLAGS = [
     (["render", "no-such.mbr", "--out", "x.gif"], "--every", "int", []),
     (["render", "no-such.mbr", "--out", "x.gif"], "--scale", "float", []),
     (["sweep", "no-such.toml"], "--workers", "int", []),
+    (["capacity", "no-such.toml"], "--seeds", "int", []),
+    (["capacity", "no-such.toml"], "--horizon", "int", []),
+    (["capacity", "no-such.toml"], "--robots-for", "float", []),
+    (["capacity", "no-such.toml"], "--start", "float", []),
+    (["capacity", "no-such.toml"], "--served", "float", []),
+    (["capacity", "no-such.toml"], "--workers", "int", []),
 ]
 
 
@@ -392,7 +398,7 @@ def flag_argv(entry: tuple, value: str, out: Path) -> list[str]:
     argv = [*before, f"{flag}={value}", *after]
     if before[:2] == ["layout", "generate"]:
         argv += ["--out", str(out / "g.toml")]
-    if before[0] in ("compare", "sweep", "paper"):
+    if before[0] in ("compare", "sweep", "paper", "capacity"):
         argv += ["--out", str(out / "o")]
     return argv
 
