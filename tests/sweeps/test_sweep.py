@@ -150,6 +150,20 @@ def test_outputs_summary_tests_and_plot(cli, tmp_path: Path) -> None:
     assert "reused 0 of 12" in out.stdout
 
 
+def test_a_bad_plot_costs_no_run_and_lifelong_runs_at_their_horizon_are_complete(cli, tmp_path: Path) -> None:
+    (tmp_path / "s.toml").write_text('base = { layout = "paper", robots = 2, tasks = [], orders = { rate = 0.01, '
+                                     'horizon = 2000, seed = 1 } }\n[axes]\nrobots = [1, 2]\nseed = [1, 2]\n')
+    out = tmp_path / "o"
+    for plot, why in (("latency_p99:robots", "METRIC one of"), ("T:robots:robots", "is not another axis"),
+                      ("T:seed:nope", "is not another axis")):
+        bad = cli("sweep", tmp_path / "s.toml", "--out", out, "--plot", plot, "--quiet")
+        assert bad.returncode == 2 and f"--plot = {plot!r}" in bad.stderr and why in bad.stderr, bad.stderr
+        assert not (out / "runs").exists() or not any((out / "runs").iterdir())
+    ok = cli("sweep", tmp_path / "s.toml", "--out", out, "--plot", "latency_p50:robots", "--quiet")
+    assert ok.returncode == 0, ok.stderr
+    assert "did not complete" not in ok.stdout and (out / "plot-latency_p50-robots.png").stat().st_size > 0
+
+
 ray = pytest.importorskip("ray", reason="the ray extra is not installed")
 
 

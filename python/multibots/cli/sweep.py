@@ -60,6 +60,10 @@ def sweep(
         raise InputError(f"{spec}: names Python code ({', '.join(code)}), which would run; add --allow-code if you "
                          "trust the spec")
     sp = load_spec(spec)
+    from multibots.sweeps.analysis import parse_plot
+
+    for p in plot:  # before any run: a bad --plot must not cost the study
+        parse_plot(p, sp.axis_names, sp.axes)
     points = sp.points(workers)
     reuse: list[int] = []
     start = time.perf_counter()
@@ -70,9 +74,12 @@ def sweep(
     print(f"{len(points)} runs ({', '.join(f'{n}: {len(v)}' for n, v in sp.axes.items())}"
           f"{f', repeats: {sp.repeats}' if sp.repeats > 1 else ''}) in {seconds:.1f} s, backend {backend}")
     print(f"reused {reuse[0] if reuse else 0} of {len(points)} runs from {out / 'runs'}")
-    incomplete = df.filter(df["outcome"] != "complete").height if "outcome" in df.columns else 0
-    if incomplete:
-        print(f"{incomplete} runs did not complete (see the outcome column)")
+    # A lifelong run that reached its horizon finished its work; the rest ended early.
+    if "outcome" in df.columns:
+        ended = [o for o in df["outcome"].to_list() if o not in ("complete", "horizon")]
+        if ended:
+            counts = ", ".join(f"{o}: {ended.count(o)}" for o in sorted(set(map(str, ended))))
+            print(f"{len(ended)} runs did not complete ({counts}; see the outcome column)")
     for p in write_outputs(df, sp, out, baseline=baseline, plots=tuple(plot)):
         print(f"wrote {p}")
 

@@ -14,7 +14,11 @@ from multibots.stats import mean_ci, paired_t_test, wilcoxon
 __all__ = ["METRICS", "paired_tests", "plot", "summarize"]
 
 #: The metrics summarised (those a run has; None values are left out).
-METRICS = ("T", "S", "C", "cost", "distance", "throughput", "wait_share", "contacts")
+#: Every numeric figure a run stores (``runner.figures_of``) can be plotted.
+METRICS = ("T", "S", "C", "cost", "distance", "steps", "delivered", "goods_total", "throughput",
+           "sustained_throughput", "wait_share", "utilisation", "contacts", "closest", "latency_p50", "latency_p95",
+           "energy_per_delivery", "people_protective_stops", "people_min_gap", "people_warning_steps",
+           "people_person_wait_steps")
 
 
 def _number(v: Any) -> Optional[float]:
@@ -78,22 +82,34 @@ def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str,
     return out
 
 
-def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Path) -> Path:
-    """``METRIC:AXIS[:BY]``: the metric's mean (with its 95% interval) against a numeric axis,
-    one line per value of BY (default: the first other axis with several values)."""
-    from multibots.plots._common import new_figure, save_atomic
-
+def parse_plot(spec: str, axes: Sequence[str], values: Optional[dict[str, Sequence[Any]]] = None) -> tuple[str, str, Optional[str]]:
+    """Checks ``METRIC:AXIS[:BY]`` against the sweep's axes (and, given the axes' ``values``,
+    that AXIS is numeric) before any run: ``(metric, axis, by)``, ``by`` None when not given."""
     parts = spec.split(":")
     if len(parts) not in (2, 3) or parts[0] not in METRICS or parts[1] not in axes:
         raise InputError(f"--plot = {spec!r}: expected METRIC:AXIS[:BY], METRIC one of {', '.join(METRICS)}, "
                          f"AXIS one of {', '.join(axes)}")
     metric, axis = parts[0], parts[1]
+    if values is not None and any(_number(v) is None for v in values.get(axis, ())):
+        raise InputError(f"--plot = {spec!r}: axis {axis} is not numeric")
+    by = parts[2] if len(parts) == 3 else None
+    if by is not None and (by not in axes or by == axis):
+        raise InputError(f"--plot = {spec!r}: {by} is not another axis (one of {', '.join(a for a in axes if a != axis)})")
+    return metric, axis, by
+
+
+def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Path) -> Path:
+    """``METRIC:AXIS[:BY]``: the metric's mean (with its 95% interval) against a numeric axis,
+    one line per value of BY (default: the first other axis with several values). The title
+    names the axes the means are taken over."""
+    from multibots.plots._common import new_figure, save_atomic
+
+    metric, axis, by = parse_plot(spec, axes)
     if any(_number(r.get(axis)) is None for r in rows):
         raise InputError(f"--plot = {spec!r}: axis {axis} is not numeric")
-    by = parts[2] if len(parts) == 3 else next(
-        (a for a in axes if a not in (axis, "seed") and len({repr(r.get(a)) for r in rows}) > 1), None)
-    if by is not None and by not in axes:
-        raise InputError(f"--plot = {spec!r}: {by} is not an axis")
+    if by is None:
+        by = next((a for a in axes if a not in (axis, "seed") and len({repr(r.get(a)) for r in rows}) > 1), None)
+    over = [a for a in axes if a not in (axis, by) and len({repr(r.get(a)) for r in rows}) > 1]
     fig = new_figure(figsize=(7, 4.5))
     ax = fig.add_subplot()
     lines = sorted({repr(r.get(by)) for r in rows}) if by else ["all"]
@@ -112,6 +128,7 @@ def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Pa
         ax.fill_between(xs, los, his, alpha=0.15)
     ax.set_xlabel(axis)
     ax.set_ylabel(f"{metric} (mean, 95% interval)")
+    ax.set_title(f"mean over {', '.join(over)}" if over else "one run per point", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     path = out / f"plot-{metric}-{axis.replace('.', '_')}.png"
