@@ -82,7 +82,8 @@ def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str,
     return out
 
 
-def parse_plot(spec: str, axes: Sequence[str], values: Optional[dict[str, Sequence[Any]]] = None) -> tuple[str, str, Optional[str]]:
+def parse_plot(spec: str, axes: Sequence[str],
+               values: Optional[dict[str, Sequence[Any]]] = None) -> tuple[str, str, Optional[str]]:
     """Checks ``METRIC:AXIS[:BY]`` against the sweep's axes (and, given the axes' ``values``,
     that AXIS is numeric) before any run: ``(metric, axis, by)``, ``by`` None when not given."""
     parts = spec.split(":")
@@ -94,7 +95,8 @@ def parse_plot(spec: str, axes: Sequence[str], values: Optional[dict[str, Sequen
         raise InputError(f"--plot = {spec!r}: axis {axis} is not numeric")
     by = parts[2] if len(parts) == 3 else None
     if by is not None and (by not in axes or by == axis):
-        raise InputError(f"--plot = {spec!r}: {by} is not another axis (one of {', '.join(a for a in axes if a != axis)})")
+        others = ", ".join(a for a in axes if a != axis)
+        raise InputError(f"--plot = {spec!r}: {by} is not another axis (one of {others})")
     return metric, axis, by
 
 
