@@ -209,6 +209,21 @@ def _exact_signed_rank_p(ranks: Sequence[float], r_plus: float) -> float:
     return min(1.0, 2.0 * min(below, above) / 2 ** len(doubled))
 
 
+def wilcoxon_floor(n: int) -> float:
+    """The smallest two-sided p-value the exact Wilcoxon signed-rank test can give with ``n``
+    nonzero differences: every difference of one sign, 2 / 2^n. With 5 pairs that is 0.0625,
+    so no data can reach p < 0.05."""
+    return min(1.0, 2.0 / 2.0**n) if n > 0 else 1.0
+
+
+def pairs_to_reach(alpha: float = 0.05) -> int:
+    """The fewest pairs with which the exact Wilcoxon test can give p below ``alpha``."""
+    n = 1
+    while wilcoxon_floor(n) >= alpha:
+        n += 1
+    return n
+
+
 def wilcoxon(diffs: Sequence[float], correction: bool = False) -> float:
     """Two-sided p-value of the Wilcoxon signed-rank test that ``diffs`` centre on 0.
 

@@ -132,3 +132,14 @@ def test_a_real_study_has_no_negative_interval():
     rows = study.run_study(list(study.BUILT_INS), [1, 2, 3], study.TaskSpec("paper"))
     for r in study.summarize(rows):
         assert r["ci_low"] is None or 0 <= r["ci_low"] <= r["mean"] <= r["ci_high"], r
+
+
+def test_the_summary_says_when_the_wilcoxon_test_cannot_reach_significance():
+    from multibots import stats
+
+    assert stats.wilcoxon_floor(5) == 0.0625 and stats.pairs_to_reach(0.05) == 6
+    assert stats.wilcoxon([-1, -2, -3, -4, -5]) == stats.wilcoxon_floor(5)  # the floor is reached
+    few = study.format_summary(study.summarize(_rows({"in-turn": [10, 12, 14, 16, 18], "fast": [8, 9, 12, 13, 15]})))
+    assert "with 5 pairs the Wilcoxon test cannot give p below 0.0625" in " ".join(few.split())
+    enough = study.summarize(_rows({"in-turn": [10, 12, 14, 16, 18, 20], "fast": [8, 9, 12, 13, 15, 16]}))
+    assert "cannot give p below" not in study.format_summary(enough)

@@ -262,6 +262,12 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
                     f"{_fmt(r['rel_diff_pct'], 1):>7} | {_fmt_p(r['p_ttest']):>10} | {_fmt_p(r['p_wilcoxon']):>12}"
                 )
                 lines += _labelled(label, w, rest)
+        few = min((r["pairs"] for r in summary if r["pairs"]), default=0)
+        if 0 < few < stats.pairs_to_reach(0.05):
+            lines += textwrap.wrap(
+                f"note: with {few} pairs the Wilcoxon test cannot give p below {stats.wilcoxon_floor(few):.4g} "
+                f"(2 / 2^{few}), whatever the data, so it cannot reach 0.05; it needs at least "
+                f"{stats.pairs_to_reach(0.05)} pairs (more seeds or task lists)", WIDTH, subsequent_indent="  ")
     for metric in ("T", "cost"):
         best = headline(summary, metric)
         if best is None:
