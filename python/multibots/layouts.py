@@ -52,8 +52,11 @@ def generate_layout(
     chargers: Optional[int] = None,
     spur: float = 40.0,
     name: str = "generated",
+    unloading_rows: int = 1,
+    aisles: str = "paper",
 ) -> str:
-    """The layout file text of a generated grid warehouse (checked by the engine).
+    """The layout file text of a generated grid warehouse (checked by the engine): every
+    field of a scenario's ``[layout_generate]`` (docs/layout-format.md).
 
     The defaults are the paper's warehouse; ``chargers`` defaults to one per top-aisle
     crossing (``group_cols + 1``).
@@ -68,8 +71,10 @@ def generate_layout(
         "cell": float(cell),
         "chargers": group_cols + 1 if chargers is None else chargers,
         "spur": float(spur),
+        "unloading_rows": unloading_rows,
+        "aisles": aisles,
     }
-    for key in ("group_rows", "group_cols", "group_width", "group_height", "chargers"):
+    for key in ("group_rows", "group_cols", "group_width", "group_height", "chargers", "unloading_rows"):
         if params[key] < 0:
             raise ScenarioError(f"layout.{key} = {params[key]}: must be at least 1")
     for key in ("aisle", "cell", "spur"):

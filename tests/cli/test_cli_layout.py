@@ -76,3 +76,21 @@ def test_cli_generate_errors_are_one_line_exit_2(cli, tmp_path, args, message):
     assert p.returncode == 2, (p.stdout, p.stderr)
     assert p.stderr.count("\n") == 1 and message in p.stderr, p.stderr
     assert not (tmp_path / "x.toml").exists()
+
+
+def test_layout_generate_has_a_flag_for_every_layout_generate_field(cli, tmp_path) -> None:
+    import re
+    from pathlib import Path
+
+    schema = json.loads((Path(__file__).resolve().parents[2] / "docs/schema/scenario.schema.json").read_text())
+    fields = set(schema["$defs"]["LayoutParams"]["properties"])
+    help_text = cli("layout", "generate", "--help").stdout
+    flags = {f.replace("-", "_") for f in re.findall(r"--([a-z][a-z-]+)", help_text)}
+    # The group's two sizes share --group-size (ACROSSxDOWN).
+    assert not fields - flags - {"group_width", "group_height"}, fields - flags
+    assert "group_size" in flags
+    out = tmp_path / "g.toml"
+    p = cli("layout", "generate", "--out", out, "--group-rows", "4", "--unloading-rows", "2", "--aisles", "alternate")
+    assert p.returncode == 0, p.stderr
+    text = out.read_text()
+    assert "unloading_rows = 2" in text and 'aisles = "alternate"' in text

@@ -351,6 +351,7 @@ NUMERIC_FLAGS = [
     (["layout", "generate"], "--aisle", "float", []),
     (["layout", "generate"], "--cell", "float", []),
     (["layout", "generate"], "--spur", "float", []),
+    (["layout", "generate"], "--unloading-rows", "int", []),
     (["layout", "generate"], "--group-size", "int", []),
     (["render", "no-such.mbr", "--out", "x.gif"], "--fps", "int", []),
     (["render", "no-such.mbr", "--out", "x.gif"], "--from", "int", []),

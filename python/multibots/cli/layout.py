@@ -68,6 +68,8 @@ _FLAGS = {
     "cell": "--cell",
     "chargers": "--chargers",
     "spur": "--spur",
+    "unloading_rows": "--unloading-rows",
+    "aisles": "--aisles",
 }
 
 
@@ -87,13 +89,20 @@ def generate(
     ),
     spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur")),
     name: str = typer.Option("generated", "--name", help="The layout's name."),
+    unloading_rows: int = typer.Option(
+        1, "--unloading-rows", help="Rows of crossings that are unloading zones, spread from the bottom up.",
+        parser=whole_flag("--unloading-rows", 0, MAX_GROUPS, _TOO_LARGE),
+    ),
+    aisles: str = typer.Option("paper", "--aisles", help="Horizontal aisle directions: paper (every row east but "
+                               "the bottom one) or alternate (rows alternate east and west)."),
 ) -> None:
-    """Generate a grid warehouse layout file (the defaults give the paper's layout)."""
+    """Generate a grid warehouse layout file (the defaults give the paper's layout); every
+    field of a scenario's [layout_generate] has its flag."""
     from multibots._io import atomic_write_text
     from multibots.layouts import check_layout_text, generate_layout
 
     try:
-        text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name)
+        text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name, unloading_rows, aisles)
     except ScenarioError as e:
         # The engine names its field; the user set a flag, with this text.
         m = re.fullmatch(r"layout\.(\w+)(?: = (.*?))?: (.*)", str(e))
