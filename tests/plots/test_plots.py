@@ -439,3 +439,12 @@ def test_strategy_comparison_partial_metrics_and_missing_ci(tmp_path):
     paths = plots.draw_strategy_comparison(rows, tmp_path)
     assert [p.name for p in paths] == ["strategy_collisions.png", "strategy_collisions.svg"]
     assert len(_gids(_svg(paths[1]), "strategy-line-")) == 2
+
+
+def test_strategy_comparison_writes_no_empty_figure(tmp_path):
+    # Lifelong runs never complete: T and cost have no mean anywhere, and get no figure.
+    rows = [{**r, "mean": None, "ci_low": None, "ci_high": None} if r["metric"] in ("T", "cost") else r
+            for r in _strategy_rows(["a", "b"])]
+    paths = plots.draw_strategy_comparison(rows, tmp_path)
+    assert [p.name for p in paths] == ["strategy_collisions.png", "strategy_collisions.svg",
+                                       "strategy_charging.png", "strategy_charging.svg"]

@@ -60,7 +60,8 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
 
     Returns:
         The paths written, PNG then SVG per metric, metrics in the order T, S, C,
-        cost, then any others in order of appearance.
+        cost, then any others in order of appearance; a metric with no mean anywhere (T of
+        lifelong runs) gets no figure.
 
     Raises:
         ValueError: ``summary_rows`` is empty.
@@ -87,6 +88,9 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
     written: list[Path] = []
     with matplotlib.rc_context(_RC):
         for metric in metrics:
+            # No figure without data: T and Cost_total of lifelong runs, which never complete.
+            if all(is_missing(r["mean"]) for r in rows if r["metric"] == metric):
+                continue
             stem, ylabel, name = _metric_stem(metric)
             fig = new_figure(figsize=(6.4, 4.4), dpi=_PNG_DPI, layout="constrained")
             ax = fig.add_subplot()
