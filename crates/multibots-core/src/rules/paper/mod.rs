@@ -93,6 +93,8 @@ pub(crate) struct Paper {
     /// The fleet's largest radius and twice its top speed, for counting contacts (robots
     /// keep both for the whole run).
     contact_reach: (f64, f64),
+    /// The last step's contacts and closest approach (`None` before the first count).
+    last_contacts: Option<(u64, f64)>,
     events: Vec<Event>,
     /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
     people: Option<Box<People>>,
@@ -154,6 +156,7 @@ impl Paper {
             traffic: (scenario.traffic != Traffic::Wait)
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
+            last_contacts: None,
             contact_reach: (robots.radius.iter().copied().fold(0.0, f64::max), 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
             events: Vec::new(),
             robots,
