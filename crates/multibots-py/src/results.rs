@@ -41,6 +41,18 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
         }
         None => d.set_item("gridlock", py.None())?,
     }
+    match &r.collapse {
+        Some(c) => {
+            let cd = PyDict::new(py);
+            cd.set_item("step", c.step)?;
+            cd.set_item("best", c.best)?;
+            cd.set_item("last", c.last)?;
+            cd.set_item("stranded", c.stranded)?;
+            cd.set_item("crossings", c.crossings.clone())?;
+            d.set_item("collapse", cd)?;
+        }
+        None => d.set_item("collapse", py.None())?,
+    }
     let st = &r.robots;
     d.set_item("distance", PyArray1::from_slice(py, &st.distance))?;
     d.set_item("wait_steps", counts(py, &st.wait_steps))?;

@@ -281,6 +281,7 @@ impl Original {
             contacts: 0,
             closest: None,
             gridlock: None,
+            collapse: None,
         }
     }
 
