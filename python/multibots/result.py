@@ -40,6 +40,8 @@ FLOW_KEYS: tuple[str, ...] = (
     "closest",
     "gridlock",
     "collapse",
+    "resources",
+    "bottleneck",
 )
 
 _ARRAYS = ("distance", "wait_steps", "collisions", "energy_used", "robot_delivered", "charges", "state_steps")
@@ -111,7 +113,10 @@ class Result:
             robots closer than r_i + r_j after each step and the closest approach, for a
             gridlock the step, the waiting robots and the crossings where they wait, and
             for a collapse (outcomes ``collapse`` and ``stranded`` at the horizon) the step
-            it began, the best and last windows, the stranded robots and where robots stood.
+            it began, the best and last windows, the stranded robots and where robots stood;
+            resources: each unloading zone, charger, the charger queue and the busiest
+            crossings with kind, node, busy share, mean and longest queue; bottleneck: the
+            one that limits the fleet, with ``relieve`` (what would relieve it), or None.
         lifelong: for lifelong runs (``[orders]``), latency_p50/p95/p99/mean (steps),
             energy_per_delivery and the order counts (ordered = delivered + in_flight +
             queued + waiting), the keys of :data:`LIFELONG_KEYS`; None otherwise.
@@ -148,6 +153,8 @@ class Result:
     closest: float | None
     gridlock: dict[str, Any] | None
     collapse: dict[str, Any] | None
+    resources: list[dict[str, Any]]
+    bottleneck: dict[str, Any] | None
     lifelong: dict[str, Any] | None
     people: dict[str, Any] | None
     distance: np.ndarray
@@ -193,6 +200,7 @@ class Result:
             g = self.gridlock
             crossings = [list(c) for c in g["crossings"]]
             flow["gridlock"] = {"step": g["step"], "waiting": list(g["waiting"]), "crossings": crossings}
+        flow["resources"] = [dict(u) for u in (self.resources or [])]
         if self.collapse is not None:
             c = self.collapse
             flow["collapse"] = {**c, "crossings": [list(x) for x in c["crossings"]]}

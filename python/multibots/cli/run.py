@@ -115,6 +115,12 @@ def flow_lines(result: Any) -> list[str]:
     if g is not None:
         where = ", ".join(f"{name} ({k})" for name, k in g["crossings"][:5])
         lines.append(f"gridlock     at step {g['step']}: {len(g['waiting'])} robots waiting, at {where}")
+    b = getattr(result, "bottleneck", None)
+    if b is not None:
+        lines.append(
+            f"bottleneck   {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue {b['mean_queue']:.1f} on average"
+            f" ({b['longest_queue']} at most); relieve it with {b['relieve']}"
+        )
     c = getattr(result, "collapse", None)
     if c is not None:
         where = ", ".join(f"{name} ({k})" for name, k in c["crossings"][:5]) or "-"

@@ -147,6 +147,11 @@ pub struct RunResult {
     /// When and where throughput collapsed, for outcomes `collapse` and `stranded` at the
     /// horizon.
     pub collapse: Option<Collapse>,
+    /// How busy each unloading zone, charger and the busiest crossings were, and their
+    /// queues (paper rules; empty under the original rules).
+    pub resources: Vec<crate::output::resources::ResourceUse>,
+    /// The resource with the longest mean queue, and what would relieve it.
+    pub bottleneck: Option<crate::output::resources::Bottleneck>,
     pub robots: RobotStats,
     /// Lifelong runs only: throughput, latency, utilisation, energy per delivery.
     pub lifelong: Option<LifelongStats>,
@@ -373,6 +378,8 @@ impl Tally {
             closest: self.closest.is_finite().then_some(self.closest),
             gridlock: self.gridlock.clone(),
             collapse: self.collapse.clone(),
+            resources: Vec::new(),
+            bottleneck: None,
             robots: self.stats.clone(),
             lifelong,
             people: None,

@@ -282,6 +282,8 @@ impl Original {
             closest: None,
             gridlock: None,
             collapse: None,
+            resources: Vec::new(),
+            bottleneck: None,
         }
     }
 

@@ -108,6 +108,9 @@ impl Paper {
             }
         }
         self.progress = progress;
+        // The steps that ended here, each in the same state (a due step ends in `end`).
+        self.collisions.waits[..n].fill(false);
+        self.observe_resources(k - u64::from(due));
         if due {
             // The last step's phases 7 and 8, the usual way.
             self.transitions();

@@ -12,6 +12,7 @@ impl Paper {
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
     pub(crate) fn end(&mut self) {
+        self.observe_resources(1);
         let complete =
             self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
         let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
@@ -43,7 +44,16 @@ impl Paper {
         let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
         let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
         result.people = self.people.as_ref().map(|p| p.figures(self.tally.t));
+        let (shared, nearest) = self.shared_and_nearest;
+        (result.resources, result.bottleneck) = self.usage.report(&self.world.layout, shared, nearest);
         result
+    }
+
+    /// This step's use of the resources, counted `times` times (runs of quiet steps).
+    pub(crate) fn observe_resources(&mut self, times: u64) {
+        let n = self.robots.len();
+        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        self.usage.observe(&self.robots, waits, &self.service_nodes, times);
     }
 
     /// How a lifelong run that reached its horizon ended: `horizon`, or, if its throughput
