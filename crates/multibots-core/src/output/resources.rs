@@ -6,9 +6,10 @@
 //! crossing serves robots in a step). Its **queue** is the robots waiting at collisions (or
 //! held by a traffic policy) whose next node it is: the node they stand at or drive
 //! towards. Robots queued for a shared charger (WAIT_CHARGER) form one more queue, the
-//! charger pool's. The **bottleneck** is the busiest saturated service (an unloading zone or
-//! the chargers, busy at least half the steps, with a mean queue of at least half a robot):
-//! the queues at crossings upstream of it are its symptoms. Without one, it is the crossing
+//! charger pool's. Unloading zones nobody unloaded at count as crossings. The **bottleneck**
+//! is the busiest saturated service (an unloading zone or the chargers, busy at least half
+//! the steps, with a mean queue of at least half a robot), or the only unloading zone in use
+//! where it has such a queue: the queues at crossings upstream of it are its symptoms. Without one, it is the crossing
 //! with the longest mean queue (at least half a robot). It names what would relieve it.
 
 use crate::fleet::robot::{Robots, State};
@@ -153,7 +154,10 @@ impl Usage {
             mean_queue: self.queued.get(k).map_or(0.0, |&q| q as f64 / steps),
             longest_queue: self.longest.get(k).copied().unwrap_or(0),
         };
-        let mut out: Vec<ResourceUse> = layout.unloading.iter().map(|n| of(ResourceKind::Unloading, n.index())).collect();
+        // Unloading zones and chargers nobody used are crossings (robots only pass them).
+        let used = |n: &crate::ids::NodeId| self.busy.get(n.index()).is_some_and(|&b| b > 0);
+        let mut out: Vec<ResourceUse> = layout.unloading.iter().filter(|n| used(n)).map(|n| of(ResourceKind::Unloading, n.index())).collect();
+        let zones_used = out.len();
         out.extend(layout.chargers.iter().map(|n| of(ResourceKind::Charger, n.index())));
         if self.pool_longest > 0 {
             out.push(ResourceUse {
@@ -168,20 +172,21 @@ impl Usage {
             let last = out.len() - 1;
             out[last].busy = layout.chargers.iter().map(|n| self.busy.get(n.index()).map_or(0.0, |&b| b as f64 / steps)).sum::<f64>() / chargers;
         }
-        let special: std::collections::HashSet<usize> = layout.unloading.iter().chain(&layout.chargers).map(|n| n.index()).collect();
+        let special: std::collections::HashSet<usize> = layout.unloading.iter().filter(|n| used(n)).chain(&layout.chargers).map(|n| n.index()).collect();
         let mut crossings: Vec<ResourceUse> =
             (0..self.queued.len()).filter(|k| !special.contains(k) && self.queued[*k] > 0).map(|k| of(ResourceKind::Crossing, k)).collect();
         crossings.sort_by(|a, b| b.mean_queue.total_cmp(&a.mean_queue).then_with(|| a.node.cmp(&b.node)));
         crossings.truncate(10);
         out.extend(crossings);
         // A saturated service (an unloading zone or the chargers, busy at least half the
-        // steps, with a queue) is the cause: the queues at crossings upstream of it are its
-        // symptoms. Without one, the crossing with the longest mean queue.
+        // steps, with a queue), or the one unloading zone every goods goes to (with a queue),
+        // is the cause: the queues at crossings upstream of it are its symptoms. Without
+        // one, the crossing with the longest mean queue.
         let queued = |u: &&ResourceUse| u.mean_queue >= MIN_QUEUE;
         let service = out
             .iter()
             .filter(queued)
-            .filter(|u| u.kind != ResourceKind::Crossing && u.busy >= SATURATED)
+            .filter(|u| u.kind != ResourceKind::Crossing && (u.busy >= SATURATED || (u.kind == ResourceKind::Unloading && zones_used == 1)))
             .max_by(|a, b| a.busy.total_cmp(&b.busy).then_with(|| a.mean_queue.total_cmp(&b.mean_queue)).then_with(|| b.node.cmp(&a.node)));
         let bottleneck = service
             .or_else(|| out.iter().filter(queued).max_by(|a, b| a.mean_queue.total_cmp(&b.mean_queue).then_with(|| b.node.cmp(&a.node))))
