@@ -39,7 +39,7 @@ fn one_unloading_zone_for_a_busy_fleet_is_the_bottleneck_and_its_figures_hold() 
             sim.step().unwrap();
             steps += 1;
             let r = sim.robots();
-            busy += u64::from(r.state.iter().any(|&st| st == State::Unloading));
+            busy += u64::from(r.state.contains(&State::Unloading));
             // Robots that waited this step, standing at the zone or driving towards it.
             let now = &sim.stats().wait_steps;
             let q = (0..r.len())

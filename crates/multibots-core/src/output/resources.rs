@@ -103,7 +103,7 @@ impl Usage {
         self.stamp += 1;
         let t = self.stamp;
         let mut pool = 0u32;
-        for i in 0..r.len() {
+        for (i, &held) in waits[..r.len()].iter().enumerate() {
             let state = r.state[i];
             pool += u32::from(state == State::WaitCharger);
             if matches!(state, State::Unloading | State::Charging) {
@@ -119,7 +119,7 @@ impl Usage {
                 continue;
             }
             let k = node as usize;
-            if waits[i] {
+            if held {
                 if self.now[k] == 0 {
                     self.touched.push(node);
                 }
