@@ -17,9 +17,14 @@ STATE_NAMES: tuple[str, ...] = tuple(_STATE_NAMES)
 #: How a run can end. ``complete``: every goods delivered and every robot home;
 #: ``horizon``: a lifelong run reached its horizon; ``incomplete``: the step limit came first;
 #: ``gridlock``: nothing moved for ``metrics.gridlock`` steps while robots waited at
-#: collisions; ``stranded``: robots ran out of energy and the rest could do nothing;
-#: ``stalled``: nothing happened while robots stood idle with work left.
-OUTCOMES: tuple[str, ...] = ("complete", "horizon", "incomplete", "gridlock", "stranded", "stalled")
+#: collisions; ``stranded``: robots ran out of energy and the rest could do nothing, or (at
+#: the horizon) robots stranded while throughput collapsed; ``stalled``: nothing happened
+#: while robots stood idle with work left; ``collapse``: a lifelong run reached its horizon
+#: with its last windows each under a tenth of the best while orders waited; ``livelock``:
+#: robots moved but nothing was picked up or delivered for two battery cycles.
+OUTCOMES: tuple[str, ...] = (
+    "complete", "horizon", "incomplete", "gridlock", "stranded", "stalled", "collapse", "livelock",
+)
 
 #: How well the fleet flowed, for every run (docs/metrics.md): deliveries per window,
 #: throughput after the warm-up and sustained over the last half, the shares of robot-steps
@@ -34,6 +39,9 @@ FLOW_KEYS: tuple[str, ...] = (
     "contacts",
     "closest",
     "gridlock",
+    "collapse",
+    "resources",
+    "bottleneck",
 )
 
 _ARRAYS = ("distance", "wait_steps", "collisions", "energy_used", "robot_delivered", "charges", "state_steps")
@@ -102,8 +110,13 @@ class Result:
             docs/metrics.md): deliveries in each complete window of ``window`` steps,
             deliveries per 1,000 steps after the warm-up and over the last half of the
             windows, the shares of robot-steps spent waiting and working on orders, pairs of
-            robots closer than r_i + r_j after a move and the closest approach, and for a
-            gridlock the step, the waiting robots and the crossings where they wait.
+            robots closer than r_i + r_j after each step and the closest approach, for a
+            gridlock the step, the waiting robots and the crossings where they wait, and
+            for a collapse (outcomes ``collapse`` and ``stranded`` at the horizon) the step
+            it began, the best and last windows, the stranded robots and where robots stood;
+            resources: each unloading zone, charger, the charger queue and the busiest
+            crossings with kind, node, busy share, mean and longest queue; bottleneck: the
+            one that limits the fleet, with ``relieve`` (what would relieve it), or None.
         lifelong: for lifelong runs (``[orders]``), latency_p50/p95/p99/mean (steps),
             energy_per_delivery and the order counts (ordered = delivered + in_flight +
             queued + waiting), the keys of :data:`LIFELONG_KEYS`; None otherwise.
@@ -139,6 +152,9 @@ class Result:
     contacts: int
     closest: float | None
     gridlock: dict[str, Any] | None
+    collapse: dict[str, Any] | None
+    resources: list[dict[str, Any]]
+    bottleneck: dict[str, Any] | None
     lifelong: dict[str, Any] | None
     people: dict[str, Any] | None
     distance: np.ndarray
@@ -184,6 +200,10 @@ class Result:
             g = self.gridlock
             crossings = [list(c) for c in g["crossings"]]
             flow["gridlock"] = {"step": g["step"], "waiting": list(g["waiting"]), "crossings": crossings}
+        flow["resources"] = [dict(u) for u in (self.resources or [])]
+        if self.collapse is not None:
+            c = self.collapse
+            flow["collapse"] = {**c, "crossings": [list(x) for x in c["crossings"]]}
         top = {"cost": self.cost, **flow}
         if rounded:
             robots = {k: _rounded(k, v) for k, v in robots.items()}

@@ -127,7 +127,7 @@ def test_scenario_text_is_used_or_refused_in_one_line(text: str) -> None:
             assert_clean(e)
             return
         assert r.outcome in {"complete", "incomplete", "gridlock", "stranded", "stalled", "livelock",
-                             "deadlock", "fault"}
+                             "collapse", "horizon", "deadlock", "fault"}
 
 
 # ---------------------------------------------------------------- nesting (issue 28)

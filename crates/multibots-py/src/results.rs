@@ -41,6 +41,37 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
         }
         None => d.set_item("gridlock", py.None())?,
     }
+    match &r.collapse {
+        Some(c) => {
+            let cd = PyDict::new(py);
+            cd.set_item("step", c.step)?;
+            cd.set_item("best", c.best)?;
+            cd.set_item("last", c.last)?;
+            cd.set_item("stranded", c.stranded)?;
+            cd.set_item("crossings", c.crossings.clone())?;
+            d.set_item("collapse", cd)?;
+        }
+        None => d.set_item("collapse", py.None())?,
+    }
+    let resource = |u: &multibots_core::output::resources::ResourceUse| -> PyResult<Bound<'py, PyDict>> {
+        let ud = PyDict::new(py);
+        ud.set_item("kind", u.kind.as_str())?;
+        ud.set_item("node", u.node.clone())?;
+        ud.set_item("busy", u.busy)?;
+        ud.set_item("mean_queue", u.mean_queue)?;
+        ud.set_item("longest_queue", u.longest_queue)?;
+        Ok(ud)
+    };
+    let resources = r.resources.iter().map(resource).collect::<PyResult<Vec<_>>>()?;
+    d.set_item("resources", resources)?;
+    match &r.bottleneck {
+        Some(b) => {
+            let bd = resource(&b.resource)?;
+            bd.set_item("relieve", b.relieve.clone())?;
+            d.set_item("bottleneck", bd)?;
+        }
+        None => d.set_item("bottleneck", py.None())?,
+    }
     let st = &r.robots;
     d.set_item("distance", PyArray1::from_slice(py, &st.distance))?;
     d.set_item("wait_steps", counts(py, &st.wait_steps))?;

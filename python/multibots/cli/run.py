@@ -111,13 +111,27 @@ def flow_lines(result: Any) -> list[str]:
     lines += [
         f"waiting      {result.wait_share:.1%} of robot-steps",
         f"utilisation  {result.utilisation:.1%} of robot-steps working on orders (not waiting)",
-        f"contacts     {result.contacts} (robots closer than r_i + r_j after a move);"
+        f"contacts     {result.contacts} (pairs of robots closer than r_i + r_j, summed over steps);"
         f" closest {opt(result.closest, '{:.1f} px')}",
     ]
     g = result.gridlock
     if g is not None:
         where = ", ".join(f"{name} ({k})" for name, k in g["crossings"][:5])
         lines.append(f"gridlock     at step {g['step']}: {len(g['waiting'])} robots waiting, at {where}")
+    b = getattr(result, "bottleneck", None)
+    if b is not None:
+        lines.append(
+            f"bottleneck   {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue {b['mean_queue']:.1f} on average"
+            f" ({b['longest_queue']} at most); relieve it with {b['relieve']}"
+        )
+    c = getattr(result, "collapse", None)
+    if c is not None:
+        where = ", ".join(f"{name} ({k})" for name, k in c["crossings"][:5]) or "-"
+        stranded = f", {c['stranded']} robots stranded" if c["stranded"] else ""
+        lines.append(
+            f"collapse     from step {c['step']:,}: windows fell from {c['best']} to {c['last']}{stranded};"
+            f" robots stand still at {where}"
+        )
     return lines
 
 

@@ -43,9 +43,97 @@ impl Collisions {
         self.contacts_by_boxes(x, y, radius, moved, r_max, slack)
     }
 
+    /// Contacts after this step's moves, from positions alone (docs/metrics.md): every pair
+    /// of robots closer than `r_i + r_j`, whatever their state (in a bay, still, queued),
+    /// counted once; and the smallest distance among pairs within `r_i + r_j + margin`
+    /// (`f64::INFINITY` if none). `slack` is at least twice the farthest any robot moved; the
+    /// grid is this step's, built before the moves (as for [`Collisions::contacts`]).
+    ///
+    /// Robots in the grid are counted as [`Collisions::contacts_within`] counts them with
+    /// every one of them marked as moved (each pair once, from the smaller id); robots in
+    /// bays, out of the grid, against the grid from their own side (a box around each), and
+    /// against one another by a sort of their cells (cells are at least `2 r_max + margin`
+    /// wide, so a pair within that stands in neighbouring cells). Widening `slack` by
+    /// `2 margin` makes every pair within `r_i + r_j + margin` one that is looked at.
+    #[allow(clippy::too_many_arguments)]
+    pub fn contacts_of_every_pair(&mut self, x: &[f64], y: &[f64], radius: &[f64], r_max: f64, slack: f64, margin: f64) -> (u64, f64) {
+        let n = x.len();
+        if n < 2 {
+            return (0, f64::INFINITY);
+        }
+        self.closest_within = margin;
+        let slack = slack + 2.0 * margin;
+        let mut in_grid = std::mem::take(&mut self.in_grid);
+        let mut in_bay = std::mem::take(&mut self.in_bay);
+        in_grid.clear();
+        in_bay.clear();
+        let cell_of = &self.space.cell_of[..n];
+        in_grid.extend(cell_of.iter().map(|&c| c != u32::MAX));
+        in_bay.extend(cell_of.iter().map(|&c| c == u32::MAX));
+        let (mut count, mut closest) = self.contacts_within(x, y, radius, &in_grid, r_max, slack);
+        if in_bay.contains(&true) {
+            // Robots in bays against the grid: each bay robot looks from its own side (the
+            // grid's robots are never "moved" here, so each pair is seen once).
+            let (c, d) = if self.space.tiny {
+                self.contacts_tiny(x, y, radius, &in_bay, r_max, slack)
+            } else {
+                self.contacts_by_boxes(x, y, radius, &in_bay, r_max, slack)
+            };
+            count += c;
+            closest = closest.min(d);
+            let (c, d) = self.bays_among_themselves(x, y, radius, &in_bay, margin);
+            count += c;
+            closest = closest.min(d);
+        }
+        self.in_grid = in_grid;
+        self.in_bay = in_bay;
+        (count, closest)
+    }
+
+    /// Pairs of robots in bays, by their positions now: sorted by cell, each robot looks at
+    /// the neighbouring cells for robots with a larger id.
+    fn bays_among_themselves(&mut self, x: &[f64], y: &[f64], radius: &[f64], in_bay: &[bool], margin: f64) -> (u64, f64) {
+        let grid = self.space.grid;
+        let cols = grid.cols as u64;
+        let key = |i: usize| {
+            let (tx, ty) = grid.scaled(x[i], y[i]);
+            let (c, r) = grid.cell(tx, ty);
+            u64::from(r) * cols + u64::from(c)
+        };
+        let list = &mut self.bays_by_cell;
+        list.clear();
+        list.extend((0..in_bay.len()).filter(|&i| in_bay[i]).map(|i| (key(i), i as u32)));
+        list.sort_unstable();
+        let (mut count, mut closest) = (0u64, f64::INFINITY);
+        for &(k, i) in list.iter() {
+            let i = i as usize;
+            let (row, col) = (k / cols, k % cols);
+            for r in row.saturating_sub(1)..=row + 1 {
+                let (lo, hi) = (r * cols + col.saturating_sub(1), r * cols + col + 1);
+                let start = list.partition_point(|e| e.0 < lo);
+                for &(kj, j) in &list[start..] {
+                    if kj > hi {
+                        break;
+                    }
+                    let j = j as usize;
+                    if j <= i {
+                        continue;
+                    }
+                    let d = crate::fleet::motion::axis_dist(x[j] - x[i], y[j] - y[i]);
+                    if d <= radius[i] + radius[j] + margin {
+                        closest = closest.min(d);
+                    }
+                    count += u64::from(d < radius[i] + radius[j]);
+                }
+            }
+        }
+        (count, closest)
+    }
+
     /// [`Collisions::contacts_within`] for tiny fleets: the robots flagged near each robot
     /// that moved, by the step's pass over pairs (see `Collisions::tiny`).
     fn contacts_tiny(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+        let within = self.closest_within;
         let n = x.len();
         let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
         // The widest pair looked at: the other robot before the moves within `near` of `i`
@@ -101,7 +189,9 @@ impl Collisions {
                     continue;
                 }
                 let d = crate::fleet::motion::axis_dist(x[j] - xi, y[j] - yi);
-                closest = closest.min(d);
+                if d <= ri + radius[j] + within {
+                    closest = closest.min(d);
+                }
                 count += u64::from(d < ri + radius[j]);
             }
         }
@@ -111,6 +201,7 @@ impl Collisions {
     /// [`Collisions::contacts_within`] robot by robot: the cells of a box around each robot
     /// that moved.
     fn contacts_by_boxes(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+        let within = self.closest_within;
         let n = x.len();
         let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
         let grid = self.space.grid;
@@ -133,7 +224,9 @@ impl Collisions {
                     return;
                 }
                 let d = crate::fleet::motion::axis_dist(x[j] - xi, y[j] - yi);
-                closest = closest.min(d);
+                if d <= ri + radius[j] + within {
+                    closest = closest.min(d);
+                }
                 count += u64::from(d < ri + radius[j]);
             };
             // Far is `d² > near2`, and the rest near (NaN included, as ever).
@@ -186,6 +279,7 @@ impl Collisions {
     /// promised: a neighbour could lie beyond the next cell, or a robot that moved stands
     /// in a bay, out of the grid.
     fn contacts_by_cell_pairs(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
+        let within = self.closest_within;
         let n = x.len();
         let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.space.cell_of[..n]);
         // A pair the box scan looks at stood (before the moves) within its `near` (at most
@@ -227,7 +321,9 @@ impl Collisions {
                 continue;
             }
             let d = crate::fleet::motion::axis_dist(x[o] - x[l], y[o] - y[l]);
-            closest = closest.min(d);
+            if d <= radius[l] + radius[o] + within {
+                closest = closest.min(d);
+            }
             count += u64::from(d < radius[l] + radius[o]);
         }
         Some((count, closest))

@@ -68,6 +68,13 @@ pub struct Collisions {
     margin: f64,
     /// Tiny fleets: the widest distance [`Collisions::contacts`] has looked at.
     contact_need: f64,
+    /// `closest` counts pairs within `r_i + r_j` plus this (infinite: every pair looked at).
+    closest_within: f64,
+    /// [`Collisions::contacts_of_every_pair`]'s buffers: who is in the grid, who is in a bay,
+    /// and the robots in bays by cell.
+    in_grid: Vec<bool>,
+    in_bay: Vec<bool>,
+    bays_by_cell: Vec<(u64, u32)>,
     /// The last collision angle and its sine (the same every step).
     sin_angle: (f64, f64),
     /// Output: robots that wait this step.
@@ -128,6 +135,10 @@ impl Collisions {
             graph: Blocking { blocked_bits: vec![0; robots.div_ceil(8)], rank: vec![0; robots.div_ceil(8)], ..Blocking::default() },
             margin: 0.0,
             contact_need: 0.0,
+            closest_within: f64::INFINITY,
+            in_grid: Vec::new(),
+            in_bay: Vec::new(),
+            bays_by_cell: Vec::new(),
             sin_angle: (0.0, 0.0),
             waits: vec![false; robots],
             bay: Vec::new(),

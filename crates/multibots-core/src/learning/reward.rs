@@ -99,6 +99,8 @@ impl Ending {
             None => (false, false, false),
             Some(Outcome::Complete) => (true, false, false),
             Some(Outcome::Incomplete | Outcome::Horizon) => (false, true, false),
+            // The horizon ended it, with the fleet no longer delivering.
+            Some(Outcome::Collapse) => (false, true, true),
             Some(Outcome::Gridlock | Outcome::Stalled | Outcome::Stranded | Outcome::Livelock | Outcome::Deadlock | Outcome::Fault) => (true, false, true),
         };
         Ending { terminated, truncated, failed }

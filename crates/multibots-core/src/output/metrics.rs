@@ -29,6 +29,10 @@ pub enum Outcome {
     /// Nothing happened for `metrics.gridlock` steps while work remained, and no robot was
     /// waiting or stranded: robots stood idle (a strategy that hands out no goods).
     Stalled,
+    /// A lifelong run reached its horizon with its throughput collapsed: the last windows
+    /// each delivered under a tenth of the best window while orders waited (see
+    /// [`RunResult::collapse`] for when and where).
+    Collapse,
     /// Robots kept moving, but nothing was picked up or delivered for two full battery cycles
     /// while work remained (robots going out and turning back to charge, for ever).
     Livelock,
@@ -42,7 +46,7 @@ pub enum Outcome {
 
 impl Outcome {
     /// The outcome's name: `"complete"`, `"incomplete"`, `"horizon"`, `"gridlock"`,
-    /// `"stranded"`, `"stalled"`, `"livelock"`, `"deadlock"` or `"fault"`.
+    /// `"stranded"`, `"stalled"`, `"collapse"`, `"livelock"`, `"deadlock"` or `"fault"`.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
@@ -52,6 +56,7 @@ impl Outcome {
             Outcome::Gridlock => "gridlock",
             Outcome::Stranded => "stranded",
             Outcome::Stalled => "stalled",
+            Outcome::Collapse => "collapse",
             Outcome::Livelock => "livelock",
             Outcome::Deadlock => "deadlock",
             Outcome::Fault => "fault",
@@ -139,6 +144,14 @@ pub struct RunResult {
     pub closest: Option<f64>,
     /// Where the fleet jammed, for outcome `gridlock`.
     pub gridlock: Option<Gridlock>,
+    /// When and where throughput collapsed, for outcomes `collapse` and `stranded` at the
+    /// horizon.
+    pub collapse: Option<Collapse>,
+    /// How busy each unloading zone, charger and the busiest crossings were, and their
+    /// queues (paper rules; empty under the original rules).
+    pub resources: Vec<crate::output::resources::ResourceUse>,
+    /// The resource with the longest mean queue, and what would relieve it.
+    pub bottleneck: Option<crate::output::resources::Bottleneck>,
     pub robots: RobotStats,
     /// Lifelong runs only: throughput, latency, utilisation, energy per delivery.
     pub lifelong: Option<LifelongStats>,
@@ -175,6 +188,22 @@ pub struct Gridlock {
     pub waiting: Vec<u32>,
     /// The crossings waiting robots stand at or queue for (the node ahead of them), with
     /// how many robots each, most first (at most ten).
+    pub crossings: Vec<(String, u32)>,
+}
+
+/// When and where a lifelong run's throughput collapsed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Collapse {
+    /// The first step of the first window of the run of last windows that each delivered
+    /// under a tenth of the best window.
+    pub step: u64,
+    /// Deliveries in the best window, and in the last one.
+    pub best: u64,
+    pub last: u64,
+    /// Robots out of energy at the end.
+    pub stranded: u32,
+    /// Where robots stood still at the end: the crossings that waiting or stranded robots
+    /// stand at or drive towards, with how many robots each, most first (at most ten).
     pub crossings: Vec<(String, u32)>,
 }
 
@@ -227,6 +256,7 @@ pub(crate) struct Tally {
     pub contacts: u64,
     pub closest: f64,
     pub gridlock: Option<Gridlock>,
+    pub collapse: Option<Collapse>,
     /// The last step a robot picked up or delivered goods.
     pub last_work: u64,
     /// Steps without a pickup or delivery (while work remains) that make a livelock; 0: never.
@@ -253,6 +283,7 @@ impl Tally {
             contacts: 0,
             closest: f64::INFINITY,
             gridlock: None,
+            collapse: None,
             last_work: 0,
             livelock_after: 0,
         };
@@ -346,11 +377,37 @@ impl Tally {
             contacts: self.contacts,
             closest: self.closest.is_finite().then_some(self.closest),
             gridlock: self.gridlock.clone(),
+            collapse: self.collapse.clone(),
+            resources: Vec::new(),
+            bottleneck: None,
             robots: self.stats.clone(),
             lifelong,
             people: None,
         }
         .with_steady(self.steady.map(|s| (s, Snapshot::of(self), self.t - self.warmup, robots as u64)))
+    }
+
+    /// Whether the throughput has collapsed: at least 4 complete windows, of which the last
+    /// quarter (at least 2) each delivered under a tenth of the best window. Returns the
+    /// first window of the run of last windows under a tenth of the best, the best and the
+    /// last window's deliveries.
+    #[must_use]
+    pub fn collapsed(&self) -> Option<(usize, u64, u64)> {
+        let w = &self.windows;
+        let best = w.iter().copied().max().unwrap_or(0);
+        let low = |d: u64| d * 10 < best;
+        let tail = (w.len() / 4).max(2);
+        if w.len() < 4 || best == 0 || !w[w.len() - tail..].iter().all(|&d| low(d)) {
+            return None;
+        }
+        let first = w.iter().rposition(|&d| !low(d)).map_or(0, |k| k + 1);
+        Some((first, best, w[w.len() - 1]))
+    }
+
+    /// Steps per window.
+    #[must_use]
+    pub fn window(&self) -> u64 {
+        self.window
     }
 
     /// Deliveries per 1,000 steps over the last half of the complete windows after the

@@ -18,18 +18,15 @@ pub(crate) struct OriginalRun {
     world: Arc<World>,
     tally: Tally,
     weights: CostWeights,
-    /// Positions after the previous tick, to know who moved.
-    last: Vec<(f64, f64)>,
 }
 
 impl OriginalRun {
     /// The original rules on `scenario`, whose world is `world` (for viewers and replays).
     pub(crate) fn new(world: Arc<World>, scenario: &Scenario) -> Result<OriginalRun> {
         let o = Original::new(scenario)?;
-        let last = o.robots().x.iter().zip(&o.robots().y).map(|(&x, &y)| (x, y)).collect();
         let metrics = MetricsParams { gridlock: 0, ..scenario.metrics.clone() };
         let tally = Tally::new(o.robots().len(), o.result().goods_total, &metrics);
-        Ok(OriginalRun { o, world, tally, weights: scenario.cost.clone(), last })
+        Ok(OriginalRun { o, world, tally, weights: scenario.cost.clone() })
     }
 
     /// After a tick: the counters, windows, warm-up and contacts.
@@ -43,15 +40,12 @@ impl OriginalRun {
             t.stats.clone_from(o.stats());
         }
         t.end_step(true, false);
-        // Contacts: at most six robots, so every pair.
+        // Contacts: every pair closer than r_i + r_j after the tick, moved or not, as under
+        // the paper rules (docs/metrics.md); at most six robots, so every pair.
         let r = o.robots();
         let n = r.len();
         for i in 0..n {
-            let moved_i = (r.x[i], r.y[i]) != self.last[i];
             for j in i + 1..n {
-                if !moved_i && (r.x[j], r.y[j]) == self.last[j] {
-                    continue;
-                }
                 let d = crate::fleet::route::dist(r.x[i], r.y[i], r.x[j], r.y[j]);
                 let contact = r.radius[i] + r.radius[j];
                 if d <= contact + 8.0 {
@@ -59,9 +53,6 @@ impl OriginalRun {
                 }
                 t.contacts += u64::from(d < contact);
             }
-        }
-        for (i, p) in self.last.iter_mut().enumerate() {
-            *p = (r.x[i], r.y[i]);
         }
     }
 

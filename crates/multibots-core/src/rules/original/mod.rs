@@ -291,6 +291,9 @@ impl Original {
             contacts: 0,
             closest: None,
             gridlock: None,
+            collapse: None,
+            resources: Vec::new(),
+            bottleneck: None,
         }
     }
 

@@ -57,6 +57,15 @@ impl Paper {
         if k_max == 0 {
             return 0;
         }
+        // Contacts each step (counted from positions, every pair): none while robots move
+        // (quiet steps bring nobody near anybody); the last step's while nobody moves, so a
+        // first step must have counted them.
+        let per_step = match (moving, self.last_contacts) {
+            (true, _) => (0, f64::INFINITY),
+            (false, Some(last)) => last,
+            (false, None) => return 0,
+        };
+        self.last_contacts = Some(per_step);
         // What each step's phases 0 and 3 would leave: no events, nobody waiting.
         self.events.clear();
         self.collisions.waits[..n].fill(false);
@@ -69,6 +78,8 @@ impl Paper {
         while k < k_max && !due {
             tally.t += 1;
             k += 1;
+            tally.contacts += per_step.0;
+            tally.closest = tally.closest.min(per_step.1);
             let st = &mut tally.stats;
             let (distance, energy_used) = (&mut st.distance[..n], &mut st.energy_used[..n]);
             for i in 0..n {
@@ -97,6 +108,9 @@ impl Paper {
             }
         }
         self.progress = progress;
+        // The steps that ended here, each in the same state (a due step ends in `end`).
+        self.collisions.waits[..n].fill(false);
+        self.observe_resources(k - u64::from(due));
         if due {
             // The last step's phases 7 and 8, the usual way.
             self.transitions();

@@ -4,7 +4,7 @@
 
 use crate::fleet::robot::State;
 use crate::ids::NONE;
-use crate::output::metrics::{Gridlock, LifelongStats, Outcome, RunResult};
+use crate::output::metrics::{Collapse, Gridlock, LifelongStats, Outcome, RunResult};
 use crate::rules::paper::lifelong::{self, Lifelong};
 use crate::rules::paper::Paper;
 
@@ -12,6 +12,7 @@ impl Paper {
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
     pub(crate) fn end(&mut self) {
+        self.observe_resources(1);
         let complete =
             self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
         let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
@@ -28,7 +29,7 @@ impl Paper {
             self.outcome = Some(Outcome::Livelock);
         } else if let Some(ll) = &self.lifelong {
             if self.tally.t >= ll.horizon {
-                self.outcome = Some(Outcome::Horizon);
+                self.outcome = Some(self.at_horizon(work_remains));
             }
         } else if self.tally.t >= self.p.step_limit {
             self.outcome = Some(Outcome::Incomplete);
@@ -43,23 +44,47 @@ impl Paper {
         let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
         let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
         result.people = self.people.as_ref().map(|p| p.figures(self.tally.t));
+        let (shared, nearest) = self.shared_and_nearest;
+        (result.resources, result.bottleneck) = self.usage.report(&self.world.layout, shared, nearest);
         result
     }
 
-    /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),
-    /// stranded robots, or robots standing idle.
-    pub(crate) fn declare_stall(&mut self, waits: &[bool]) {
+    /// This step's use of the resources, counted `times` times (runs of quiet steps).
+    pub(crate) fn observe_resources(&mut self, times: u64) {
+        let n = self.robots.len();
+        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        self.usage.observe(&self.robots, waits, &self.service_nodes, times);
+    }
+
+    /// How a lifelong run that reached its horizon ended: `horizon`, or, if its throughput
+    /// collapsed while orders waited ([`crate::output::metrics::Tally::collapsed`]),
+    /// `stranded` when robots ran out of energy and `collapse` otherwise, with when and where
+    /// in the result.
+    fn at_horizon(&mut self, work_remains: bool) -> Outcome {
+        let Some((first, best, last)) = self.tally.collapsed().filter(|_| work_remains) else {
+            return Outcome::Horizon;
+        };
+        let r = &self.robots;
+        let n = r.len();
+        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        let still = |i: usize| waits[i] || r.state[i] == State::Stranded;
+        let stranded = (0..n).filter(|&i| r.state[i] == State::Stranded).count() as u32;
+        let crossings = self.busiest_nodes((0..n).filter(|&i| still(i)));
+        self.tally.collapse = Some(Collapse { step: first as u64 * self.tally.window() + 1, best, last, stranded, crossings });
+        if stranded > 0 {
+            Outcome::Stranded
+        } else {
+            Outcome::Collapse
+        }
+    }
+
+    /// The nodes `robots` stand at or drive towards, with how many robots each, most first
+    /// (at most ten).
+    fn busiest_nodes(&self, robots: impl Iterator<Item = usize>) -> Vec<(String, u32)> {
         let r = &self.robots;
         let layout = &self.world.layout;
-        let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
-        if waiting.is_empty() {
-            let stranded = r.state.contains(&crate::fleet::robot::State::Stranded);
-            self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
-            return;
-        }
         let mut per_node = vec![0u32; layout.nodes.len()];
-        for &i in &waiting {
-            let i = i as usize;
+        for i in robots {
             let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
             if node != NONE {
                 per_node[node as usize] += 1;
@@ -68,6 +93,20 @@ impl Paper {
         let mut crossings: Vec<(String, u32)> = per_node.iter().enumerate().filter(|(_, &c)| c > 0).map(|(k, &c)| (layout.nodes[k].name.clone(), c)).collect();
         crossings.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
         crossings.truncate(10);
+        crossings
+    }
+
+    /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),
+    /// stranded robots, or robots standing idle.
+    pub(crate) fn declare_stall(&mut self, waits: &[bool]) {
+        let r = &self.robots;
+        let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
+        if waiting.is_empty() {
+            let stranded = r.state.contains(&crate::fleet::robot::State::Stranded);
+            self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
+            return;
+        }
+        let crossings = self.busiest_nodes(waiting.iter().map(|&i| i as usize));
         self.tally.gridlock = Some(Gridlock { step: self.tally.t, waiting, crossings });
         self.outcome = Some(Outcome::Gridlock);
     }

@@ -94,6 +94,15 @@ pub(crate) struct Paper {
     /// The fleet's largest radius and twice its top speed, for counting contacts (robots
     /// keep both for the whole run).
     contact_reach: (f64, f64),
+    /// How busy each resource was, and its queues (`output/resources.rs`); the nodes that
+    /// are unloading zones or chargers.
+    usage: crate::output::resources::Usage,
+    service_nodes: Vec<bool>,
+    /// Whether chargers are shared and goods go to the nearest unloading zone (what the
+    /// bottleneck's remedy depends on).
+    shared_and_nearest: (bool, bool),
+    /// The last step's contacts and closest approach (`None` before the first count).
+    last_contacts: Option<(u64, f64)>,
     events: Vec<Event>,
     /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
     people: Option<Box<People>>,
@@ -155,6 +164,16 @@ impl Paper {
             traffic: (scenario.traffic != Traffic::Wait)
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
+            last_contacts: None,
+            usage: crate::output::resources::Usage::new(world.layout.nodes.len()),
+            shared_and_nearest: (scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared, scenario.unload == crate::input::scenario::Unload::Nearest),
+            service_nodes: {
+                let mut v = vec![false; world.layout.nodes.len()];
+                for n in world.layout.unloading.iter().chain(&world.layout.chargers) {
+                    v[n.index()] = true;
+                }
+                v
+            },
             contact_reach: (robots.radius.iter().copied().fold(0.0, f64::max), 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
             events: Vec::new(),
             robots,

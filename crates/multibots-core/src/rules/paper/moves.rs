@@ -63,25 +63,31 @@ impl Paper {
             progress |= moves | state.busy_in_place();
         }
         self.progress |= progress;
-        if progress {
-            self.count_contacts();
-        }
+        self.count_contacts();
     }
 
-    /// Contacts after the moves of this step (see [`Collisions::contacts`]).
+    /// Contacts after the moves of this step, from positions (see
+    /// [`Collisions::contacts_of_every_pair`]): every step, every pair. Positions change only
+    /// by moves, so a step in which nobody moved has the last step's pairs again.
     fn count_contacts(&mut self) {
         let n = self.robots.len();
-        // Robots that moved: wanted to and did not wait (reusing the phase's buffer).
+        // Robots that may have moved: wanted to and did not wait.
         let (waits, _) = traffic::moves(self.traffic.as_ref(), &self.collisions, n);
-        for (w, &waited) in self.wants[..n].iter_mut().zip(waits) {
-            *w &= !waited;
-        }
-        if !self.wants.contains(&true) {
-            return;
-        }
-        let r = &self.robots;
-        let (r_max, slack) = self.contact_reach;
-        let (count, closest) = self.collisions.contacts_within(&r.x, &r.y, &r.radius, &self.wants, r_max, slack);
+        let moved = self.wants[..n].iter().zip(waits).any(|(&w, &waited)| w && !waited);
+        let (count, closest) = match self.last_contacts {
+            Some(last) if !moved => last,
+            _ => {
+                let r = &self.robots;
+                let (r_max, slack) = self.contact_reach;
+                if !moved {
+                    // No grid was built this step (nobody wanted to move).
+                    self.collisions.build_grid(&r.x, &r.y, &r.radius);
+                }
+                let found = self.collisions.contacts_of_every_pair(&r.x, &r.y, &r.radius, r_max, slack, self.p.margin);
+                self.last_contacts = Some(found);
+                found
+            }
+        };
         self.tally.contacts += count;
         self.tally.closest = self.tally.closest.min(closest);
     }

@@ -1,0 +1,211 @@
+//! Resources and the bottleneck (docs/metrics.md): how busy each unloading zone, charger and
+//! crossing was, how long the queue before it grew, and which one limits the fleet.
+//!
+//! Each step (phase 8) a node is **busy** while a robot unloads or charges at it (unloading
+//! zones, chargers), or while a robot waits to enter it (crossings: congestion, as a
+//! crossing serves robots in a step). Its **queue** is the robots waiting at collisions (or
+//! held by a traffic policy) whose next node it is: the node they stand at or drive
+//! towards. Robots queued for a shared charger (WAIT_CHARGER) form one more queue, the
+//! charger pool's. Unloading zones nobody unloaded at count as crossings. The **bottleneck**
+//! is the busiest saturated service (an unloading zone or the chargers, busy at least half
+//! the steps, with a mean queue of at least half a robot), or the only unloading zone in use
+//! where it has such a queue: the queues at crossings upstream of it are its symptoms. Without one, it is the crossing
+//! with the longest mean queue (at least half a robot). It names what would relieve it.
+
+use crate::fleet::robot::{Robots, State};
+use crate::ids::NONE;
+use crate::world::layout::Layout;
+
+/// What kind of place a resource is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResourceKind {
+    /// An unloading zone.
+    Unloading,
+    /// A charger.
+    Charger,
+    /// The shared chargers' queue (robots in WAIT_CHARGER), as one resource.
+    ChargerQueue,
+    /// Any other node of the highway graph.
+    Crossing,
+}
+
+impl ResourceKind {
+    /// `"unloading"`, `"charger"`, `"charger-queue"` or `"crossing"`.
+    #[must_use]
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ResourceKind::Unloading => "unloading",
+            ResourceKind::Charger => "charger",
+            ResourceKind::ChargerQueue => "charger-queue",
+            ResourceKind::Crossing => "crossing",
+        }
+    }
+}
+
+/// How one resource was used over a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResourceUse {
+    pub kind: ResourceKind,
+    /// The node's name (`"chargers"` for the charger queue).
+    pub node: String,
+    /// Share of steps busy (see the module doc).
+    pub busy: f64,
+    /// Robots in its queue, on average over the steps, and at most.
+    pub mean_queue: f64,
+    pub longest_queue: u32,
+}
+
+/// The resource that limits the fleet, and what would relieve it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bottleneck {
+    pub resource: ResourceUse,
+    /// One line: the scenario keys that would relieve it.
+    pub relieve: String,
+}
+
+/// The shortest mean queue that makes a bottleneck: half a robot waiting, on average, at
+/// every step. Below it robots rarely wait for anything and nothing limits the fleet but
+/// its size and the orders.
+const MIN_QUEUE: f64 = 0.5;
+
+/// The busy share from which a service with a queue is saturated.
+const SATURATED: f64 = 0.5;
+
+/// The running sums, per node and for the charger queue.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Usage {
+    steps: u64,
+    /// Observations so far, and the one each node was last counted busy in, so a node
+    /// counts once per observation.
+    stamp: u64,
+    busy: Vec<u64>,
+    busy_at: Vec<u64>,
+    queued: Vec<u64>,
+    longest: Vec<u32>,
+    now: Vec<u32>,
+    touched: Vec<u32>,
+    pool_queued: u64,
+    pool_longest: u32,
+}
+
+impl Usage {
+    pub fn new(nodes: usize) -> Usage {
+        Usage { busy: vec![0; nodes], busy_at: vec![u64::MAX; nodes], queued: vec![0; nodes], longest: vec![0; nodes], now: vec![0; nodes], ..Usage::default() }
+    }
+
+    /// One step, `times` times over (the same state for each: runs of quiet steps), with
+    /// `waits` the robots held this step; `unloading_or_charger` marks those nodes.
+    pub fn observe(&mut self, r: &Robots, waits: &[bool], unloading_or_charger: &[bool], times: u64) {
+        if times == 0 {
+            return;
+        }
+        self.steps += times;
+        self.stamp += 1;
+        let t = self.stamp;
+        let mut pool = 0u32;
+        for (i, &held) in waits[..r.len()].iter().enumerate() {
+            let state = r.state[i];
+            pool += u32::from(state == State::WaitCharger);
+            if matches!(state, State::Unloading | State::Charging) {
+                // It stands at the end of its route: the zone or the charger.
+                let k = r.goal[i] as usize;
+                if r.goal[i] != NONE && unloading_or_charger[k] && self.busy_at[k] != t {
+                    self.busy_at[k] = t;
+                    self.busy[k] += times;
+                }
+            }
+            let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
+            if node == NONE {
+                continue;
+            }
+            let k = node as usize;
+            if held {
+                if self.now[k] == 0 {
+                    self.touched.push(node);
+                }
+                self.now[k] += 1;
+            }
+        }
+        for &node in &self.touched {
+            let k = node as usize;
+            let q = self.now[k];
+            self.queued[k] += u64::from(q) * times;
+            self.longest[k] = self.longest[k].max(q);
+            if !unloading_or_charger[k] && self.busy_at[k] != t {
+                // A crossing is busy while robots wait to enter it.
+                self.busy_at[k] = t;
+                self.busy[k] += times;
+            }
+            self.now[k] = 0;
+        }
+        self.touched.clear();
+        self.pool_queued += u64::from(pool) * times;
+        self.pool_longest = self.pool_longest.max(pool);
+    }
+
+    /// Every unloading zone and charger, the charger queue where robots queued, and the ten
+    /// crossings with the longest mean queue (of those with any); then the bottleneck.
+    pub fn report(&self, layout: &Layout, shared_chargers: bool, unload_nearest: bool) -> (Vec<ResourceUse>, Option<Bottleneck>) {
+        let steps = self.steps.max(1) as f64;
+        let of = |kind, k: usize| ResourceUse {
+            kind,
+            node: layout.nodes[k].name.clone(),
+            busy: self.busy.get(k).map_or(0.0, |&b| b as f64 / steps),
+            mean_queue: self.queued.get(k).map_or(0.0, |&q| q as f64 / steps),
+            longest_queue: self.longest.get(k).copied().unwrap_or(0),
+        };
+        // Unloading zones and chargers nobody used are crossings (robots only pass them).
+        let used = |n: &crate::ids::NodeId| self.busy.get(n.index()).is_some_and(|&b| b > 0);
+        let mut out: Vec<ResourceUse> = layout.unloading.iter().filter(|n| used(n)).map(|n| of(ResourceKind::Unloading, n.index())).collect();
+        let zones_used = out.len();
+        out.extend(layout.chargers.iter().map(|n| of(ResourceKind::Charger, n.index())));
+        if self.pool_longest > 0 {
+            out.push(ResourceUse {
+                kind: ResourceKind::ChargerQueue,
+                node: "chargers".into(),
+                busy: 0.0,
+                mean_queue: self.pool_queued as f64 / steps,
+                longest_queue: self.pool_longest,
+            });
+            // The chargers' own share, for the pool: the mean over them.
+            let chargers = layout.chargers.len().max(1) as f64;
+            let last = out.len() - 1;
+            out[last].busy = layout.chargers.iter().map(|n| self.busy.get(n.index()).map_or(0.0, |&b| b as f64 / steps)).sum::<f64>() / chargers;
+        }
+        let special: std::collections::HashSet<usize> = layout.unloading.iter().filter(|n| used(n)).chain(&layout.chargers).map(|n| n.index()).collect();
+        let mut crossings: Vec<ResourceUse> =
+            (0..self.queued.len()).filter(|k| !special.contains(k) && self.queued[*k] > 0).map(|k| of(ResourceKind::Crossing, k)).collect();
+        crossings.sort_by(|a, b| b.mean_queue.total_cmp(&a.mean_queue).then_with(|| a.node.cmp(&b.node)));
+        crossings.truncate(10);
+        out.extend(crossings);
+        // A saturated service (an unloading zone or the chargers, busy at least half the
+        // steps, with a queue), or the one unloading zone every goods goes to (with a queue),
+        // is the cause: the queues at crossings upstream of it are its symptoms. Without
+        // one, the crossing with the longest mean queue.
+        let queued = |u: &&ResourceUse| u.mean_queue >= MIN_QUEUE;
+        let service = out
+            .iter()
+            .filter(queued)
+            .filter(|u| u.kind != ResourceKind::Crossing && (u.busy >= SATURATED || (u.kind == ResourceKind::Unloading && zones_used == 1)))
+            .max_by(|a, b| a.busy.total_cmp(&b.busy).then_with(|| a.mean_queue.total_cmp(&b.mean_queue)).then_with(|| b.node.cmp(&a.node)));
+        let bottleneck = service
+            .or_else(|| out.iter().filter(queued).max_by(|a, b| a.mean_queue.total_cmp(&b.mean_queue).then_with(|| b.node.cmp(&a.node))))
+            .map(|u| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, shared_chargers, unload_nearest) });
+        (out, bottleneck)
+    }
+}
+
+/// What would relieve a bottleneck of this kind.
+fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_nearest: bool) -> String {
+    match kind {
+        ResourceKind::Unloading if layout.unloading.len() == 1 || !unload_nearest => {
+            "more unloading zones: layout_generate.unloading_rows, with unload = \"nearest\"".into()
+        }
+        ResourceKind::Unloading => "more unloading zones: a larger layout_generate.unloading_rows".into(),
+        ResourceKind::Charger | ResourceKind::ChargerQueue if !shared_chargers => "charging.chargers = \"shared\", or more chargers: layout_generate.chargers".into(),
+        ResourceKind::Charger | ResourceKind::ChargerQueue => {
+            "more chargers (layout_generate.chargers), or charging earlier in quiet times (charging.level)".into()
+        }
+        ResourceKind::Crossing => "spread the flow: layout_generate.aisles = \"alternate\", traffic = \"reserve\"".into(),
+    }
+}

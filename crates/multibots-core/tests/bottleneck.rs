@@ -1,0 +1,110 @@
+//! The bottleneck, named (docs/metrics.md): each unloading zone's and charger's busy share
+//! and queue, recomputed from outside (robot states, who waited, where each stands or
+//! heads), and the bottleneck on constructed warehouses.
+
+use multibots_core::fleet::robot::State;
+use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
+use multibots_core::output::resources::ResourceKind;
+use multibots_core::world::layout::Aisles;
+use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
+
+#[allow(clippy::too_many_arguments)]
+fn lifelong(rows: u32, cols: u32, unloading_rows: u32, chargers: u32, robots: u32, rate: f64, steps: u64, traffic: Traffic) -> Scenario {
+    let mut s = Scenario::paper(robots, &[]);
+    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles: Aisles::Alternate, ..LayoutParams::paper() });
+    s.placement = Placement::Spread;
+    s.charging.chargers = ChargerUse::Shared;
+    s.unload = Unload::Nearest;
+    s.allocator = "nearest".into();
+    s.traffic = traffic;
+    s.robot.consumption = 0.0002;
+    s.tasks = Tasks::Cells(vec![]);
+    s.orders = Some(Orders { rate, horizon: steps, restock: 50, seed: u64::from(robots), csv: None });
+    s
+}
+
+#[test]
+fn one_unloading_zone_for_a_busy_fleet_is_the_bottleneck_and_its_figures_hold() {
+    // 200 robots, every goods to one unloading zone (the layout's first), far more orders
+    // than it can take.
+    for traffic in [Traffic::Wait, Traffic::Reserve] {
+        let mut s = lifelong(6, 8, 1, 9, 200, 2.0, 3000, traffic);
+        s.unload = Unload::First;
+        let mut sim = Simulation::new(&s).unwrap();
+        let zone = sim.world().layout.unloading[0];
+        let name = sim.world().layout.nodes[zone.index()].name.clone();
+        let (mut busy, mut queued, mut longest, mut steps) = (0u64, 0u64, 0u32, 0u64);
+        let mut waited = sim.stats().wait_steps.clone();
+        while !sim.done() {
+            sim.step().unwrap();
+            steps += 1;
+            let r = sim.robots();
+            busy += u64::from(r.state.contains(&State::Unloading));
+            // Robots that waited this step, standing at the zone or driving towards it.
+            let now = &sim.stats().wait_steps;
+            let q = (0..r.len())
+                .filter(|&i| now[i] > waited[i])
+                .filter(|&i| if r.at_node[i] == u32::MAX { r.edge_v[i] == zone.0 } else { r.at_node[i] == zone.0 })
+                .count() as u32;
+            waited.clone_from(now);
+            queued += u64::from(q);
+            longest = longest.max(q);
+        }
+        let r = sim.result();
+        let u = r.resources.iter().find(|u| u.kind == ResourceKind::Unloading).unwrap();
+        assert_eq!(u.node, name);
+        assert!((u.busy - busy as f64 / steps as f64).abs() < 1e-12, "{traffic:?}: {} vs {busy}/{steps}", u.busy);
+        assert!((u.mean_queue - queued as f64 / steps as f64).abs() < 1e-12, "{traffic:?}");
+        assert_eq!(u.longest_queue, longest, "{traffic:?}");
+        assert!(u.busy > 0.5 && longest > 2, "{traffic:?}: a busy zone with a queue: {u:?}");
+        let b = r.bottleneck.unwrap_or_else(|| panic!("{traffic:?}: {:?}", r.resources));
+        assert_eq!((b.resource.kind, b.resource.node.as_str()), (ResourceKind::Unloading, name.as_str()), "{traffic:?}: {:?}", r.resources);
+        assert!(b.relieve.contains("unloading_rows"), "{}", b.relieve);
+    }
+}
+
+#[test]
+fn too_few_shared_chargers_are_the_bottleneck() {
+    // Three chargers for 150 robots whose battery lasts 5,000 steps, and plenty of
+    // unloading zones: robots queue for a charger.
+    let mut s = lifelong(6, 10, 3, 3, 150, 0.5, 6000, Traffic::Reserve);
+    s.robot.consumption = 0.002;
+    let mut sim = Simulation::new(&s).unwrap();
+    let r = sim.run().unwrap();
+    let layout = &sim.world().layout;
+    let b = r.bottleneck.unwrap_or_else(|| panic!("{:?}", r.resources));
+    assert_eq!(b.resource.kind, ResourceKind::ChargerQueue, "{:?}", r.resources);
+    assert!(b.resource.longest_queue > 10 && b.relieve.contains("chargers"), "{b:?}");
+    // Every charger is reported, and the unloading zones robots unloaded at.
+    let zones = r.resources.iter().filter(|u| u.kind == ResourceKind::Unloading).count();
+    assert!(zones > 1 && zones <= layout.unloading.len());
+    assert_eq!(r.resources.iter().filter(|u| u.kind == ResourceKind::Charger).count(), 3);
+}
+
+#[test]
+fn a_light_load_has_no_bottleneck() {
+    let s = lifelong(4, 6, 1, 7, 10, 0.01, 3000, Traffic::Reserve);
+    let r = Simulation::new(&s).unwrap().run().unwrap();
+    assert!(r.delivered > 0);
+    assert!(r.bottleneck.is_none(), "{:?}", r.bottleneck);
+}
+
+#[test]
+fn the_default_warehouse_with_600_robots_is_held_up_by_its_one_unloading_zone() {
+    // The generator's aisle directions and one row of unloading zones, every goods to the
+    // first (the defaults), 1 order per step: robots jam on the way to that zone.
+    let mut s = Scenario::paper(600, &[]);
+    s.layout_generate = Some(LayoutParams { group_rows: 12, group_cols: 25, group_width: 2, group_height: 8, chargers: 26, ..LayoutParams::paper() });
+    s.placement = Placement::Spread;
+    s.charging.chargers = ChargerUse::Shared;
+    s.allocator = "nearest".into();
+    s.robot.consumption = 0.00002;
+    s.tasks = Tasks::Cells(vec![]);
+    s.orders = Some(Orders { rate: 1.0, horizon: 3000, restock: 100, seed: 1, csv: None });
+    let mut sim = Simulation::new(&s).unwrap();
+    let r = sim.run().unwrap();
+    let first = &sim.world().layout.nodes[sim.world().layout.unloading[0].index()].name;
+    let b = r.bottleneck.unwrap_or_else(|| panic!("{:?}", r.resources));
+    assert_eq!((b.resource.kind, &b.resource.node), (ResourceKind::Unloading, first), "{:?}", r.resources);
+    assert!(b.relieve.contains("unloading_rows") && b.relieve.contains("nearest"), "{}", b.relieve);
+}

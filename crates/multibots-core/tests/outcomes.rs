@@ -1,0 +1,82 @@
+//! Outcomes that say what happened (docs/metrics.md): a lifelong run whose throughput
+//! collapses ends `collapse`, or `stranded` when robots ran out of energy, with when and
+//! where; a fleet that keeps delivering ends `horizon`. Judged from the windows the run
+//! reports and from the robots' states.
+
+use multibots_core::fleet::robot::State;
+use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
+use multibots_core::output::metrics::{Outcome, RunResult};
+use multibots_core::world::layout::Aisles;
+use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
+
+#[allow(clippy::too_many_arguments)]
+fn lifelong(rows: u32, cols: u32, unloading_rows: u32, chargers: u32, aisles: Aisles, robots: u32, rate: f64, steps: u64, traffic: Traffic) -> Scenario {
+    let mut s = Scenario::paper(robots, &[]);
+    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles, ..LayoutParams::paper() });
+    s.placement = Placement::Spread;
+    s.charging.chargers = ChargerUse::Shared;
+    s.unload = Unload::Nearest;
+    s.allocator = "nearest".into();
+    s.traffic = traffic;
+    s.robot.consumption = 0.0002;
+    s.tasks = Tasks::Cells(vec![]);
+    s.orders = Some(Orders { rate, horizon: steps, restock: 50, seed: u64::from(robots), csv: None });
+    s
+}
+
+/// Whether the last quarter of the windows (at least 2) each delivered under a tenth of the
+/// best, and the first of the run of such windows at the end.
+fn collapsed_from_windows(r: &RunResult) -> Option<usize> {
+    let w = &r.windows;
+    let best = *w.iter().max()?;
+    let low: Vec<bool> = w.iter().map(|&d| (d as f64) < best as f64 / 10.0).collect();
+    let tail = (w.len() / 4).max(2);
+    if w.len() < 4 || best == 0 || !low[w.len() - tail..].iter().all(|&l| l) {
+        return None;
+    }
+    let mut first = w.len();
+    while first > 0 && low[first - 1] {
+        first -= 1;
+    }
+    Some(first)
+}
+
+#[test]
+fn a_jammed_fleet_ends_collapse_and_says_when_and_where() {
+    // 600 robots under collision waiting, the paper's aisle directions: the fleet jams
+    // (windows 355, 30, 9, 1, 38, 4, 2, 2).
+    let s = lifelong(8, 12, 2, 13, Aisles::Paper, 600, 6.0, 8000, Traffic::Wait);
+    let mut sim = Simulation::new(&s).unwrap();
+    let r = sim.run().unwrap();
+    let first = collapsed_from_windows(&r).unwrap_or_else(|| panic!("windows {:?}", r.windows));
+    assert_eq!(r.outcome, Some(Outcome::Collapse), "{:?}", r.windows);
+    let c = r.collapse.as_ref().unwrap();
+    assert_eq!(c.step, first as u64 * r.window + 1);
+    assert_eq!((c.best, c.last), (*r.windows.iter().max().unwrap(), *r.windows.last().unwrap()));
+    assert_eq!(c.stranded, 0);
+    assert!(!c.crossings.is_empty() && c.crossings.windows(2).all(|p| p[0].1 >= p[1].1), "{:?}", c.crossings);
+}
+
+#[test]
+fn a_fleet_that_keeps_delivering_ends_at_its_horizon() {
+    let s = lifelong(8, 12, 2, 13, Aisles::Alternate, 400, 4.0, 8000, Traffic::Reserve);
+    let r = Simulation::new(&s).unwrap().run().unwrap();
+    assert!(collapsed_from_windows(&r).is_none(), "{:?}", r.windows);
+    assert_eq!((r.outcome, r.collapse), (Some(Outcome::Horizon), None));
+}
+
+#[test]
+fn a_fleet_stranding_robot_by_robot_ends_stranded() {
+    // Three shared chargers for 150 robots whose battery lasts 5,000 steps: robots queue for
+    // a charger, drain there and strand one by one (142 of them by step 6,000) while a few
+    // still move (windows 119, 129, 125, 121, 5, 1).
+    let mut s = lifelong(6, 10, 1, 3, Aisles::Alternate, 150, 1.5, 6000, Traffic::Reserve);
+    s.robot.consumption = 0.002;
+    let mut sim = Simulation::new(&s).unwrap();
+    let r = sim.run().unwrap();
+    let stranded = sim.robots().state.iter().filter(|&&st| st == State::Stranded).count();
+    assert!(collapsed_from_windows(&r).is_some(), "{:?}", r.windows);
+    assert!(stranded > 0 && stranded < 150);
+    assert_eq!(r.outcome, Some(Outcome::Stranded));
+    assert_eq!(r.collapse.as_ref().unwrap().stranded as usize, stranded);
+}
