@@ -104,3 +104,14 @@ def test_a_fixed_task_list_is_refused_with_what_to_do(tmp_path):
     path.write_text('layout = "paper"\nrobots = 2\ntasks = [1, 2]\n')
     p = _cli(str(path), "--out", str(tmp_path / "out"), cwd=tmp_path)
     assert p.returncode == 2 and "[orders]" in p.stderr, p.stderr
+
+
+def test_past_the_knee_the_single_unloading_zone_is_named_with_its_relief(tmp_path):
+    # The generator's default: one unloading zone for the whole warehouse.
+    one_zone = {**BASE, "unload": "M", "layout_generate": {**BASE["layout_generate"], "unloading_rows": 1}}
+    one_zone.pop("unload")
+    answer = mb.capacity(Scenario.from_dict(one_zone), out=tmp_path, seeds=2)
+    b = answer.bottleneck
+    assert answer.sustainable_rate is not None and b is not None, answer.to_dict()
+    assert b["kind"] == "unloading" and "unloading_rows" in b["relieve"]
+    assert json.loads(json.dumps(answer.to_dict()))["bottleneck"]["node"] == b["node"]

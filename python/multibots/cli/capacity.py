@@ -113,6 +113,10 @@ def _print(answer: object, scenario: Path, seconds: float) -> None:
         print(f"{d['rate']:>9.4g} {d['robots']:>7} {d['demand_per_1000']:>8.1f} {d['throughput_per_1000']:>9.1f} "
               f"{d['served']:>6.0%}{mark} {d['backlog_growth_per_1000']:>9.1f} {p50:>11} {p95:>6} "
               f"{d['wait_share']:>7.0%}  {', '.join(d['outcomes'])}")
+    b = answer.bottleneck
+    if b is not None:
+        print(f"past the knee the bottleneck is {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue "
+              f"{b['mean_queue']:.1f} on average ({b['longest_queue']} at most); relieve it with {b['relieve']}")
     if by_rate:
         if answer.sustainable_rate is None:
             print("no rate tried was sustained: the fleet does not keep up even with the lowest demand tried")

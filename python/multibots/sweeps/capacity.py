@@ -102,6 +102,10 @@ class Capacity:
     runs: int
     #: The rate asked about (:func:`fleet_for`); None for :func:`capacity`.
     rate: Optional[float] = None
+    #: What limits the warehouse just past the knee (``Result.bottleneck`` of a run at the
+    #: first level not sustained, seed 1: kind, node, busy share, queues, what would relieve
+    #: it), or None when no resource saturates.
+    bottleneck: Optional[dict[str, Any]] = None
 
     @property
     def knee(self) -> Optional[Level]:
@@ -119,6 +123,7 @@ class Capacity:
             "warmup": self.warmup,
             "runs": self.runs,
             "rate": self.rate,
+            "bottleneck": self.bottleneck,
             "curve": [lv.to_dict() | {"sustained": lv.sustained(self.served)} for lv in self.curve],
         }
 
@@ -139,7 +144,13 @@ def capacity(scenario: Union[Scenario, str, os.PathLike[str]], *, seeds: int = 3
     search = _Search(base, seeds, served, out, workers, backend, ray_address, progress)
     best = search.bracket(first, precision, lambda r: {"orders.rate": r})
     curve = sorted(search.levels.values(), key=lambda lv: lv.rate)
-    return Capacity("rate", best, robots, curve, served, horizon, warmup, search.runs)
+    answer = Capacity("rate", best, robots, curve, served, horizon, warmup, search.runs)
+    if best is not None:
+        # Where the limit binds: the first rate past the knee (the knee itself, when nothing
+        # above it was tried), whose queues show what saturates first.
+        past = [lv.rate for lv in curve if lv.rate > best]
+        answer.bottleneck = _bottleneck(base.replace(orders={"rate": past[0] if past else best, "seed": 1}))
+    return answer
 
 
 def fleet_for(scenario: Union[Scenario, str, os.PathLike[str]], rate: float, *, seeds: int = 3,
@@ -181,7 +192,18 @@ def fleet_for(scenario: Union[Scenario, str, os.PathLike[str]], rate: float, *, 
             else:
                 lo = mid
     curve = sorted(search.levels.values(), key=lambda lv: lv.robots)
-    return Capacity("robots", rate if hi is not None else None, hi, curve, served, horizon, warmup, search.runs, rate)
+    answer = Capacity("robots", rate if hi is not None else None, hi, curve, served, horizon, warmup, search.runs, rate)
+    if hi is not None:
+        answer.bottleneck = _bottleneck(base.replace(robots=hi, orders={"seed": 1}))
+    return answer
+
+
+def _bottleneck(scenario: Scenario) -> Optional[dict[str, Any]]:
+    """The bottleneck of one run at the knee (the busiest saturated resource, docs/metrics.md)."""
+    from multibots.simulation import simulate
+
+    b = simulate(scenario).bottleneck
+    return dict(b) if b is not None else None
 
 
 def check(scenario: Union[Scenario, str, os.PathLike[str]], horizon: Optional[int] = None, seeds: int = 3,
