@@ -102,7 +102,8 @@ def generate(
     from multibots.layouts import check_layout_text, generate_layout
 
     try:
-        text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name, unloading_rows, aisles)
+        text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name, unloading_rows,
+                              aisles)
     except ScenarioError as e:
         # The engine names its field; the user set a flag, with this text.
         m = re.fullmatch(r"layout\.(\w+)(?: = (.*?))?: (.*)", str(e))

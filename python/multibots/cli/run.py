@@ -121,7 +121,8 @@ def flow_lines(result: Any) -> list[str]:
     b = getattr(result, "bottleneck", None)
     if b is not None:
         lines.append(
-            f"bottleneck   {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue {b['mean_queue']:.1f} on average"
+            f"bottleneck   {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, "
+            f"queue {b['mean_queue']:.1f} on average"
             f" ({b['longest_queue']} at most); relieve it with {b['relieve']}"
         )
     c = getattr(result, "collapse", None)
