@@ -4,5 +4,6 @@
 
 pub mod codec;
 pub(crate) mod events;
+pub mod lorr;
 pub mod metrics;
 pub mod replay;
