@@ -72,6 +72,7 @@ SUBMODULES: tuple[str, ...] = (
     "exceptions",
     "experiments",
     "layouts",
+    "lorr",
     "paper",
     "plots",
     "render",

@@ -5,6 +5,7 @@
 ``paper``    the paper's 30 runs, table and figures (``cli/paper.py``)
 ``compare``  strategies against each other (``cli/compare.py``)
 ``layout``   draw, generate and check layouts (``cli/layout.py``)
+``lorr``     a League of Robot Runners problem, scored as the competition does (``cli/lorr.py``)
 ``view``     the browser viewer (``cli/view.py``)
 ``render``   a replay to MP4 or GIF (``cli/render.py``, the ``render`` extra)
 =========  ===============================================================
@@ -19,7 +20,7 @@ from typing import Optional
 
 import typer
 
-from multibots.cli import compare, layout, paper, render, run, sweep, view
+from multibots.cli import compare, layout, lorr, paper, render, run, sweep, view
 from multibots.cli._common import EXIT_CODES_HELP, run_app
 
 __all__ = ["app", "main"]
@@ -57,6 +58,7 @@ app.command("paper")(paper.paper)
 app.command("compare")(compare.compare)
 app.command("sweep")(sweep.sweep)
 app.add_typer(layout.app, name="layout")
+app.command("lorr")(lorr.lorr)
 app.command("view")(view.view)
 app.command("render")(render.render)
 

@@ -36,7 +36,7 @@ pub struct PlanView<'a> {
 }
 
 /// A planner: one action per robot per step.
-pub trait Planner: Send {
+pub trait Planner: Send + Sync {
     /// The planner's name, as [`built_in`] knows it.
     fn name(&self) -> &'static str;
     /// Fills `actions` (one per robot) for the step from `view`.

@@ -429,8 +429,9 @@ mod tests {
     #[test]
     fn a_pushed_robot_that_must_turn_holds_up_the_pusher() {
         let map = "type octile\nheight 2\nwidth 3\nmap\n...\n@@.\n";
-        // Robot 1 must leave 2 southwards (to 5) but faces east: it turns, robot 0 waits.
-        let a = plan(map, &[1, 2], &[0, 0], &[2, NO_GOAL]);
+        // Robot 1 leaves 2 southwards (to 5) but faces east: it turns, and robot 0, which
+        // would enter 2, waits.
+        let a = plan(map, &[1, 2], &[0, 0], &[2, 5]);
         assert_eq!(a, vec![Action::W, Action::R]);
     }
 }

@@ -71,7 +71,7 @@ impl ScheduleView<'_> {
 }
 
 /// A scheduler: proposes one task id (or -1) per robot.
-pub trait Scheduler: Send {
+pub trait Scheduler: Send + Sync {
     /// The scheduler's name, as [`built_in`] knows it.
     fn name(&self) -> &'static str;
     /// Fills `proposal`, which holds the schedule in force when called.
