@@ -84,9 +84,15 @@ pub struct LorrRun {
 impl LorrRun {
     /// A run at step 0: robots on their start cells facing east, the first tasks revealed.
     pub fn new(problem: Arc<Problem>, options: LorrOptions) -> Result<LorrRun> {
-        let n = problem.team_size();
-        let planner = planner::built_in(&options.planner, &problem.map, n, options.seed)?;
+        let planner = planner::built_in(&options.planner, &problem.map, problem.team_size(), options.seed)?;
         let scheduler = schedule::built_in(&options.scheduler)?;
+        LorrRun::with(problem, options, planner, scheduler)
+    }
+
+    /// A run with a planner and a scheduler of the caller's (the names in `options` are
+    /// then only labels).
+    pub fn with(problem: Arc<Problem>, options: LorrOptions, planner: Box<dyn Planner>, scheduler: Box<dyn Scheduler>) -> Result<LorrRun> {
+        let n = problem.team_size();
         if options.plan_time_limit_ms == Some(0) {
             return Err(crate::Error::scenario("plan_time_limit", 0, "must be at least 1 ms"));
         }

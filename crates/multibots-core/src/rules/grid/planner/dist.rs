@@ -147,6 +147,6 @@ mod tests {
         d.tick();
         let s2 = d.slot(0);
         assert!(!d.holds(s, 6) && d.holds(s2, 0));
-        assert_eq!(d.get(s2, 8), 6);
+        assert_eq!(d.get(s2, 8), 4);
     }
 }
