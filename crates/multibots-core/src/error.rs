@@ -56,7 +56,11 @@ impl Error {
     }
 
     pub(crate) fn input_file(path: &std::path::Path, line: Option<usize>, message: impl Into<String>) -> Self {
-        let shown = crate::input::limits::shown(&path.display().to_string());
+        // The file's name is what the user needs: a long path keeps its end.
+        let full = path.display().to_string();
+        let count = full.chars().count();
+        let tail: String = if count > 160 { format!("…{}", full.chars().skip(count - 160).collect::<String>()) } else { full };
+        let shown = crate::input::limits::inert(&tail);
         let place = match line {
             Some(n) => format!("{shown}, line {n}"),
             None => shown,
