@@ -41,9 +41,9 @@ impl Record {
     }
 
     pub(crate) fn push_timeout(&mut self, y2023: bool, t: u32) {
-        self.planned.extend(std::iter::repeat_n(Action::T as u8, self.n));
+        self.planned.extend(std::iter::repeat(Action::T as u8).take(self.n));
         let carried = if y2023 { Action::W } else { Action::T };
-        self.actual.extend(std::iter::repeat_n(carried as u8, self.n));
+        self.actual.extend(std::iter::repeat(carried as u8).take(self.n));
         if y2023 {
             // The 2023 system checks an empty action vector and records its size as wrong.
             self.errors.push(ActionError { kind: "incorrect vector size", agent: -1, other: -1, timestep: t });

@@ -178,7 +178,7 @@ impl LorrRun {
             }
             Some(e) => {
                 self.record.errors.push(e);
-                self.record.actual.extend(std::iter::repeat_n(Action::W as u8, n));
+                self.record.actual.extend(std::iter::repeat(Action::W as u8).take(n));
             }
         }
         self.t += 1;

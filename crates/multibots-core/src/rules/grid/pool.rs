@@ -135,7 +135,7 @@ impl TaskPool {
 
     fn set_schedule(&mut self, t: u32, proposal: &[i64]) {
         for (k, &id) in proposal.iter().enumerate() {
-            if self.planner_schedule[k].last().is_none_or(|&(_, last)| last != id) {
+            if self.planner_schedule[k].last().map_or(true, |&(_, last)| last != id) {
                 self.planner_schedule[k].push((t, id));
             }
         }
@@ -155,7 +155,7 @@ impl TaskPool {
             }
         }
         for (k, &id) in self.current.iter().enumerate() {
-            if self.actual_schedule[k].last().is_none_or(|&(_, last)| last != id) {
+            if self.actual_schedule[k].last().map_or(true, |&(_, last)| last != id) {
                 self.actual_schedule[k].push((t, id));
             }
         }

@@ -21,10 +21,13 @@
 //! they can pass at the branch.
 //!
 //! A robot whose cell is not straight ahead turns towards it instead (`R` or `C`; a cell
-//! behind is turned to clockwise), and so stays where it is this step. Any robot that
-//! planned to enter the cell of a robot that stays must then wait too, and so on down the
-//! chain, so that the joint action stays valid. A robot standing on its errand, or one
-//! without, keeps its cell unless pushed.
+//! behind is turned to clockwise), and so stays where it is this step; it stays bound for
+//! that cell (reserved before anyone else plans) until it gets there, as the Start-Kit's
+//! default planner does, since choosing again would undo the turn. Any robot that planned
+//! to enter the cell of a robot that stays must then wait too, and so on down the chain
+//! (`settle`), so that the joint action is always valid. A robot in a dead end gets 10
+//! steps of priority (it can only leave the way others come in). A robot without an errand
+//! keeps its cell unless pushed.
 //!
 //! ## When to use it
 //! Always: it is the one planner built in, fast and never invalid. It does not look ahead,
@@ -309,6 +312,54 @@ impl Pibt {
 }
 
 impl Pibt {
+    /// Makes the joint action valid whatever the plan's cells: a robot going forward into a
+    /// cell another one also enters, into the cell of one that stays, or along the edge of
+    /// one coming the other way, waits instead; then whoever goes into its cell waits too,
+    /// down the chain. Cycles of three or more robots all going forward stay: the rules allow
+    /// them. `self.queue` holds the robots that stay.
+    fn settle(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
+        let n = view.loc.len();
+        // `occ_next` now marks, per cell, the robot going forward into it.
+        for a in 0..n {
+            self.occ_next[self.next[a] as usize] = NONE;
+        }
+        for a in 0..n {
+            if actions[a] != Action::F {
+                continue;
+            }
+            let q = ahead(view.map, view.loc[a], view.heading[a]).expect("a planned cell is on the map");
+            self.next[a] = q;
+            let other = self.occ_next[q as usize];
+            if other == NONE {
+                self.occ_next[q as usize] = a as u32;
+            } else {
+                actions[a] = Action::W;
+                self.queue.push(a as u32);
+            }
+        }
+        for a in 0..n {
+            if actions[a] == Action::F {
+                let j = self.occ_now[self.next[a] as usize];
+                if j != NONE && actions[j as usize] == Action::F && self.next[j as usize] == view.loc[a] {
+                    actions[a] = Action::W;
+                    self.queue.push(a as u32);
+                }
+            } else {
+                self.next[a] = view.loc[a];
+            }
+        }
+        while let Some(j) = self.queue.pop() {
+            let cell = view.loc[j as usize];
+            self.next[j as usize] = cell;
+            let i = self.occ_next[cell as usize];
+            if i != NONE && i != j && actions[i as usize] == Action::F {
+                actions[i as usize] = Action::W;
+                self.occ_next[cell as usize] = NONE;
+                self.queue.push(i);
+            }
+        }
+    }
+
     /// After robot `stack[top]` secured its first candidate: the swap partner, if any and
     /// still unplanned, follows into its cell.
     fn pull(&mut self, view: &PlanView<'_>, top: usize) {
@@ -393,14 +444,7 @@ impl Planner for Pibt {
                 self.queue.push(a as u32);
             }
         }
-        while let Some(j) = self.queue.pop() {
-            let cell = view.loc[j as usize];
-            let i = self.occ_next[cell as usize];
-            if i != NONE && i != j && self.next[i as usize] == cell && actions[i as usize] == Action::F {
-                actions[i as usize] = Action::W;
-                self.queue.push(i);
-            }
-        }
+        self.settle(view, actions);
         for a in 0..n {
             self.occ_now[view.loc[a] as usize] = NONE;
             self.occ_next[self.next[a] as usize] = NONE;
