@@ -2,9 +2,11 @@
 them (``docs/lorr.md``). The engine owns the rules (``crates/multibots-core/src/rules/grid``);
 this module runs it, writes the competition's result file and MultiBots' figures.
 
-    >>> import multibots.lorr
-    >>> r = multibots.lorr.run("tests/data/lorr/tiny.json", steps=20)  # doctest: +SKIP
-    >>> r.finished  # doctest: +SKIP
+Example (``multibots lorr`` on the command line does the same)::
+
+    import multibots.lorr
+    r = multibots.lorr.run("warehouse_large_5000.json", steps=5000, out="result.json")
+    print(r.finished, r.figures["finished_per_1000"])
 """
 
 from __future__ import annotations
