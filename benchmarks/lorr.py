@@ -66,7 +66,8 @@ def main() -> None:
 
     best = best_known(args.best_known)
     head = [
-        "| instance | rules | robots | steps | finished | best known | share | plan ms/step mean | max | wall s | checker |",
+        "| instance | rules | robots | steps | finished | best known | share | plan ms/step mean | max "
+        "| wall s | checker |",
         "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |",
     ]
     lines = []
@@ -78,7 +79,8 @@ def main() -> None:
             wall = time.monotonic() - began
             verdict = "not run"
             if CHECKER.is_file():
-                p = subprocess.run([sys.executable, str(CHECKER), str(problem), str(out)], capture_output=True, text=True)
+                argv = [sys.executable, str(CHECKER), str(problem), str(out)]
+                p = subprocess.run(argv, capture_output=True, text=True)
                 v = json.loads(p.stdout.strip().splitlines()[-1])
                 verdict = "valid, same count" if v["valid"] and v["finished"] == r.finished else f"REFUSED: {v}"
         known = best.get(problem.stem)

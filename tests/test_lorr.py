@@ -34,7 +34,8 @@ needs_examples = pytest.mark.skipif(not CHECKER.is_file(), reason=f"the LoRR exa
 
 
 def check(problem: Path, result: Path) -> dict:
-    p = subprocess.run([sys.executable, str(CHECKER), str(problem), str(result)], capture_output=True, text=True, timeout=600)
+    argv = [sys.executable, str(CHECKER), str(problem), str(result)]
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=600)
     assert p.stdout.strip(), p.stderr
     return json.loads(p.stdout.strip().splitlines()[-1])
 

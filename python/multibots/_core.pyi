@@ -9,6 +9,7 @@ from typing_extensions import Self
 
 __all__ = [
     "MultibotsError", "ScenarioError", "LayoutError", "AllocatorError", "EngineError", "Scenario", "Simulation",
+    "LorrRun",
     "simulate", "simulate_many", "check_many", "layout_json", "generate_layout_toml", "layout_file_json",
     "routing_table_bytes",
     "_panic_for_tests", "AllocView", "BUILT_INS", "BYTES_PER_ROBOT_STEP", "REPLAY_VERSION", "STATE_NAMES",
