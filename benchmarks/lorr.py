@@ -57,7 +57,7 @@ def main() -> None:
     ap.add_argument("--instances", type=Path, required=True)
     ap.add_argument("--steps", type=int, default=5000)
     ap.add_argument("--best-known", type=Path)
-    ap.add_argument("--scheduler", default="greedy")
+    ap.add_argument("--scheduler", default="nearest")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()

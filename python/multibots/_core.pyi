@@ -66,7 +66,7 @@ class LorrRun:
         cls,
         problem: str | PathLike[str],
         planner: str = "pibt",
-        scheduler: str = "greedy",
+        scheduler: str = "nearest",
         seed: int = 0,
         plan_time_limit_ms: int | None = None,
     ) -> LorrRun: ...

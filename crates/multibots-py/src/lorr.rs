@@ -19,7 +19,7 @@ pub(crate) struct PyLorrRun {
 #[pymethods]
 impl PyLorrRun {
     #[new]
-    #[pyo3(signature = (problem, planner="pibt", scheduler="greedy", seed=0, plan_time_limit_ms=None))]
+    #[pyo3(signature = (problem, planner="pibt", scheduler="nearest", seed=0, plan_time_limit_ms=None))]
     fn new(py: Python<'_>, problem: PathBuf, planner: &str, scheduler: &str, seed: u64, plan_time_limit_ms: Option<u64>) -> PyResult<Self> {
         let options = LorrOptions { planner: planner.into(), scheduler: scheduler.into(), seed, plan_time_limit_ms };
         let run = engine(py, move || LorrRun::new(Arc::new(Problem::load(&problem)?), options))?;

@@ -7,7 +7,8 @@
 //! one always finishes. `nearest` scores a task by its first errand only.
 //!
 //! ## When to use it
-//! `greedy` is the default. `nearest` for single-errand tasks, where the two agree.
+//! `nearest` is the default: it finishes the most tasks. `greedy` to play the Start-Kit's
+//! default scheduler's rule; it prefers short tasks, so long ones pile up in the pool.
 //!
 //! ## Cost
 //! O(free robots × free tasks) per step: 50 million pairs at step 0 of 5,000 robots and a
