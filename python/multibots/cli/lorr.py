@@ -42,11 +42,13 @@ def lorr(
     n_seed = parse_number(seed, "--seed", int, 2**64 - 1)
     began = time.monotonic()
     if sys.stderr.isatty():
+        from rich.console import Console
         from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
         with Progress(
             TextColumn("{task.description}"), BarColumn(), TextColumn("step {task.completed:,.0f}/{task.total:,.0f}"),
             TextColumn("finished {task.fields[finished]:,}"), TimeRemainingColumn(), transient=True,
+            console=Console(stderr=True),
         ) as bar:
             task = bar.add_task(problem.name, total=n_steps, finished=0)
             result = engine.run(
