@@ -67,6 +67,13 @@ impl Distances {
         self.clock += 1;
     }
 
+    /// The table slot for `goal` if it is cached (marked as used this round).
+    pub fn cached(&mut self, goal: u32) -> Option<u32> {
+        let s = *self.by_goal.get(&goal)?;
+        self.used[s as usize] = self.clock;
+        Some(s)
+    }
+
     /// The table slot for `goal`, searched if it is not cached.
     pub fn slot(&mut self, goal: u32) -> u32 {
         if let Some(&s) = self.by_goal.get(&goal) {
