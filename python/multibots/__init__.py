@@ -73,6 +73,7 @@ SUBMODULES: tuple[str, ...] = (
     "exceptions",
     "experiments",
     "layouts",
+    "lorr",
     "paper",
     "plots",
     "render",

@@ -35,6 +35,12 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io { path: String, message: String },
+
+    /// A problem file of another format (a League of Robot Runners problem, map, agents or
+    /// tasks file) that cannot be read; `place` names the file and, where there is one, the
+    /// line (`maps/a.map, line 7`).
+    #[error("{place}: {message}")]
+    InputFile { place: String, message: String },
 }
 
 impl Error {
@@ -47,6 +53,19 @@ impl Error {
 
     pub(crate) fn layout(field: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::Layout { field: crate::input::limits::shown(&field.into()), reason: crate::input::limits::inert(&reason.into()) }
+    }
+
+    pub(crate) fn input_file(path: &std::path::Path, line: Option<usize>, message: impl Into<String>) -> Self {
+        // The file's name is what the user needs: a long path keeps its end.
+        let full = path.display().to_string();
+        let count = full.chars().count();
+        let tail: String = if count > 160 { format!("…{}", full.chars().skip(count - 160).collect::<String>()) } else { full };
+        let shown = crate::input::limits::inert(&tail);
+        let place = match line {
+            Some(n) => format!("{shown}, line {n}"),
+            None => shown,
+        };
+        Error::InputFile { place, message: crate::input::limits::inert(&message.into()) }
     }
 
     pub(crate) fn io(path: impl Into<String>, err: &std::io::Error) -> Self {

@@ -29,6 +29,7 @@ pub(crate) fn to_py(e: Error) -> PyErr {
     match e {
         Error::Scenario { .. } | Error::Parse { .. } => ScenarioError::new_err(msg),
         Error::Layout { .. } | Error::LayoutFile { .. } => LayoutError::new_err(msg),
+        Error::InputFile { .. } => ScenarioError::new_err(msg),
         Error::Allocator { .. } => Python::with_gil(|py| crate::strategy::with_cause(py, AllocatorError::new_err(msg))),
         Error::Decision { .. } => DecisionError::new_err(msg),
         Error::Io { .. } => MultibotsError::new_err(msg),

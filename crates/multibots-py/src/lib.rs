@@ -11,6 +11,7 @@
 //! | `layouts` | layout files and layout JSON |
 //! | `codec` | state and event names, the paper's task lists, replay chunks |
 //! | `envs` | the learning environments' engines: `Dispatcher`, `Fleet`, `VectorDispatch` |
+//! | `lorr` | `LorrRun`: League of Robot Runners problems under the competition's rules |
 //! | `strategy` | allocators: built-ins by name, Python objects, `module:Class` names |
 
 use pyo3::prelude::*;
@@ -19,6 +20,7 @@ mod codec;
 mod envs;
 mod errors;
 mod layouts;
+mod lorr;
 mod results;
 mod run;
 mod scenario;
@@ -43,6 +45,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<simulation::PySimulation>()?;
+    m.add_class::<lorr::PyLorrRun>()?;
     m.add_function(wrap_pyfunction!(run::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(run::simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(run::check_many, m)?)?;

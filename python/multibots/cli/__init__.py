@@ -7,6 +7,7 @@
 ``sweep``    a study over any scenario fields (``cli/sweep.py``)
 ``capacity`` how much demand a warehouse and fleet carry (``cli/capacity.py``)
 ``layout``   draw, generate and check layouts (``cli/layout.py``)
+``lorr``     a League of Robot Runners problem, scored as the competition does (``cli/lorr.py``)
 ``view``     the browser viewer (``cli/view.py``)
 ``render``   a replay to MP4 or GIF (``cli/render.py``, the ``render`` extra)
 =========  ===============================================================
@@ -21,7 +22,7 @@ from typing import Optional
 
 import typer
 
-from multibots.cli import capacity, compare, layout, paper, render, run, sweep, view
+from multibots.cli import capacity, compare, layout, lorr, paper, render, run, sweep, view
 from multibots.cli._common import EXIT_CODES_HELP, run_app
 
 __all__ = ["app", "main"]
@@ -60,6 +61,7 @@ app.command("compare")(compare.compare)
 app.command("sweep")(sweep.sweep)
 app.command("capacity")(capacity.capacity)
 app.add_typer(layout.app, name="layout")
+app.command("lorr")(lorr.lorr)
 app.command("view")(view.view)
 app.command("render")(render.render)
 

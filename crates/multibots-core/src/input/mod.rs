@@ -8,6 +8,7 @@
 pub(crate) mod csv;
 pub mod files;
 pub mod layout_file;
+pub mod lorr;
 pub(crate) mod limits;
 pub mod scenario;
 pub mod schema;

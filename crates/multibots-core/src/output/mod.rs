@@ -5,6 +5,7 @@
 
 pub mod codec;
 pub(crate) mod events;
+pub mod lorr;
 pub mod metrics;
 pub mod replay;
 pub mod resources;

@@ -7,6 +7,7 @@
 //! Both rule sets report the same figures (`docs/metrics.md`).
 
 pub mod batch;
+pub mod grid;
 pub mod original;
 pub(crate) mod paper;
 

@@ -1,0 +1,34 @@
+//! Runs a League of Robot Runners problem and writes the competition's result file:
+//! `cargo run --release -p multibots-core --example lorr -- PROBLEM.json STEPS RESULT.json [SCHEDULER]`.
+//! Prints the score and MultiBots' figures.
+
+use multibots_core::input::lorr::Problem;
+use multibots_core::rules::grid::{LorrOptions, LorrRun};
+use std::sync::Arc;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() < 4 {
+        eprintln!("usage: lorr PROBLEM.json STEPS RESULT.json [SCHEDULER]");
+        std::process::exit(2);
+    }
+    let problem = match Problem::load(args[1].as_ref()) {
+        Ok(p) => Arc::new(p),
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
+    let steps: u32 = args[2].parse().expect("STEPS is a whole number");
+    let mut options = LorrOptions::default();
+    if let Some(s) = args.get(4) {
+        options.scheduler.clone_from(s);
+    }
+    let mut run = LorrRun::new(problem, options).expect("built-in options");
+    let began = std::time::Instant::now();
+    run.run_to(steps);
+    let wall = began.elapsed().as_secs_f64();
+    run.write_result(args[3].as_ref()).expect("result written");
+    let f = run.figures();
+    println!("finished {} in {} steps; {:.2} ms/step wall, plan {:.2} ms mean, {:.1} ms max; errors {}; per 1000: {:?}", f.finished, f.steps, wall * 1e3 / f64::from(f.steps.max(1)), f.plan_ms_mean, f.plan_ms_max, f.action_errors + f.schedule_errors, f.finished_per_1000);
+}

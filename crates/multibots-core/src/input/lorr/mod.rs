@@ -1,0 +1,131 @@
+//! League of Robot Runners problems (the 2023 and 2024 competitions), read and checked: the
+//! problem JSON, the MovingAI map (`map.rs`), the agents file and both task formats
+//! (`lists.rs`). Formats as in the Start-Kit's `Input_Output_Format.md`; a file that does
+//! not fit is one error that names the file and the line ([`crate::Error::InputFile`]).
+//!
+//! The problem JSON's paths are relative to the folder that holds it. Checks beyond the
+//! Start-Kit's: every start and every errand is a free cell of the map, and no two robots
+//! start on one cell; an instance that breaks these could not be played by the rules.
+
+mod lists;
+mod map;
+
+pub use map::GridMap;
+
+use crate::error::{Error, Result};
+use crate::input::files::read_text;
+use crate::input::limits::MAX_INPUT_BYTES;
+use std::path::{Path, PathBuf};
+
+/// The largest task file read: the 2023 archive's task files hold up to 500,000 lines.
+const MAX_TASK_BYTES: u64 = 256 << 20;
+
+/// Which competition's task rules a problem follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Version {
+    /// 2023: round-robin errands, one cell per task (`taskAssignmentStrategy: roundrobin`).
+    Y2023,
+    /// 2024: a task pool, a scheduler, tasks of several errands (`version: "2024 LoRR"`).
+    Y2024,
+}
+
+/// A LoRR problem, read whole.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    /// The problem file.
+    pub path: PathBuf,
+    /// The grid, with its obstacles.
+    pub map: GridMap,
+    /// Start cell (`row * cols + col`) of each of the `teamSize` robots.
+    pub starts: Vec<u32>,
+    /// The task file's lines, in order: one errand cell each in 2023, one or more in 2024.
+    pub tasks: Vec<Vec<u32>>,
+    /// `numTasksReveal`: 2023, errands each robot sees ahead; 2024, the pool is
+    /// `int(numTasksReveal * teamSize)` tasks.
+    pub num_tasks_reveal: f64,
+    /// The task rules.
+    pub version: Version,
+}
+
+#[derive(serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+struct ProblemJson {
+    map_file: String,
+    agent_file: String,
+    task_file: String,
+    team_size: i64,
+    #[serde(default = "one")]
+    num_tasks_reveal: f64,
+    #[serde(default)]
+    task_assignment_strategy: Option<String>,
+    #[serde(default)]
+    version: Option<String>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+impl Problem {
+    /// Reads a problem JSON and the files it names.
+    pub fn load(path: &Path) -> Result<Problem> {
+        let text = read_text(path, MAX_INPUT_BYTES).map_err(|m| Error::input_file(path, None, m))?;
+        let json: ProblemJson = serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
+        let line_of = |key: &str| text.lines().position(|l| l.contains(&format!("\"{key}\""))).map_or(1, |i| i + 1);
+        let version = match (&json.version, &json.task_assignment_strategy) {
+            (Some(v), _) if v.contains("2024") => Version::Y2024,
+            (Some(v), _) => return Err(Error::input_file(path, Some(line_of("version")), format!("version '{v}' is not one this reader knows (\"2024 LoRR\")"))),
+            (None, Some(s)) if s == "roundrobin" => Version::Y2023,
+            (None, Some(s)) => return Err(Error::input_file(path, Some(line_of("taskAssignmentStrategy")), format!("taskAssignmentStrategy '{s}': only 'roundrobin' is a rule of the 2023 competition"))),
+            (None, None) => Version::Y2023,
+        };
+        if json.team_size < 1 || json.team_size > i64::from(u32::MAX) {
+            return Err(Error::input_file(path, Some(line_of("teamSize")), format!("teamSize {} must be at least 1", json.team_size)));
+        }
+        if !(json.num_tasks_reveal.is_finite() && json.num_tasks_reveal > 0.0) {
+            return Err(Error::input_file(path, Some(line_of("numTasksReveal")), format!("numTasksReveal {} must be a positive number", json.num_tasks_reveal)));
+        }
+        let n = json.team_size as usize;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let map = GridMap::load(&base.join(&json.map_file))?;
+        let agent_path = base.join(&json.agent_file);
+        let starts = lists::agents(&agent_path, &read(&agent_path, MAX_INPUT_BYTES)?, n, &map)?;
+        let task_path = base.join(&json.task_file);
+        let task_text = read(&task_path, MAX_TASK_BYTES)?;
+        let tasks = match version {
+            Version::Y2023 => lists::tasks_2023(&task_path, &task_text, &map)?,
+            Version::Y2024 => lists::tasks_2024(&task_path, &task_text, &map)?,
+        };
+        if version == Version::Y2024 && (json.num_tasks_reveal * n as f64) < 1.0 {
+            return Err(Error::input_file(path, Some(line_of("numTasksReveal")), "numTasksReveal * teamSize is below 1: the task pool would be empty"));
+        }
+        Ok(Problem { path: path.to_path_buf(), map, starts, tasks, num_tasks_reveal: json.num_tasks_reveal, version })
+    }
+
+    /// The number of robots (`teamSize`).
+    #[must_use]
+    pub fn team_size(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// 2024: the size of the task pool, `int(numTasksReveal * teamSize)`; 2023: the errands
+    /// each robot sees ahead, `int(numTasksReveal)` and at least 1.
+    #[must_use]
+    pub fn reveal(&self) -> usize {
+        match self.version {
+            Version::Y2024 => (self.num_tasks_reveal * self.team_size() as f64) as usize,
+            Version::Y2023 => (self.num_tasks_reveal as usize).max(1),
+        }
+    }
+}
+
+fn read(path: &Path, limit: u64) -> Result<String> {
+    read_text(path, limit).map_err(|m| Error::input_file(path, None, m))
+}
+
+fn first_line(s: &str) -> String {
+    s.lines().next().unwrap_or_default().to_string()
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,55 @@
+//! Planners: each step a planner reads where every robot is, which way it faces and its next
+//! errand, and proposes one action per robot. A planner plugs in as allocators do: the
+//! [`Planner`] trait, and [`built_in`] maps the names the command line and Python use.
+//! The rules check what it proposes; a planner may be wrong, and its error costs a step of
+//! waiting for every robot.
+//!
+//! | name | what it does |
+//! | --- | --- |
+//! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs` |
+
+mod dist;
+mod pibt;
+
+pub use dist::Distances;
+pub use pibt::Pibt;
+
+use super::action::Action;
+use crate::error::{Error, Result};
+use crate::input::lorr::GridMap;
+
+/// "No errand" in [`PlanView::goals`].
+pub const NO_GOAL: u32 = u32::MAX;
+
+/// What a planner sees at a step.
+pub struct PlanView<'a> {
+    /// The grid.
+    pub map: &'a GridMap,
+    /// Each robot's cell.
+    pub loc: &'a [u32],
+    /// Each robot's heading (0 east, 1 south, 2 west, 3 north).
+    pub heading: &'a [u8],
+    /// Each robot's next errand, or [`NO_GOAL`].
+    pub goals: &'a [u32],
+    /// The current step.
+    pub t: u32,
+}
+
+/// A planner: one action per robot per step.
+pub trait Planner: Send + Sync {
+    /// The planner's name, as [`built_in`] knows it.
+    fn name(&self) -> &'static str;
+    /// Fills `actions` (one per robot) for the step from `view`.
+    fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]);
+}
+
+/// The built-in planners, by name.
+pub const BUILT_INS: &[&str] = &["pibt"];
+
+/// A built-in planner by name, for `map`, seeded by `seed`.
+pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
+    match name {
+        "pibt" => Ok(Box::new(Pibt::new(map, robots, seed))),
+        _ => Err(Error::scenario("planner", name, format!("is not a planner; the built-in ones are {}", BUILT_INS.join(", ")))),
+    }
+}

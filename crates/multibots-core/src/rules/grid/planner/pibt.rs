@@ -1,0 +1,494 @@
+//! PIBT with rotations: Priority Inheritance with Backtracking (Okumura, Machida, Défago,
+//! Tamura, "Priority inheritance with backtracking for iterative multi-agent path finding",
+//! AIJ 2022), run on cells, then turned into the rotation action model.
+//!
+//! ## What it does
+//! Each step, robots are taken in order of priority: steps since their errand was set, plus
+//! a fixed random fraction per robot to break ties (seeded, so a run is the same every
+//! time). A robot takes the free neighbouring cell (or its own) nearest its errand by exact
+//! grid distance; ties go to the cell straight ahead (no turn needed), then to a seeded
+//! random order. If another robot stands there, that robot is asked to move first and
+//! inherits the priority; if it cannot, the next cell is tried (backtracking). The
+//! result has no vertex conflict and no swap.
+//!
+//! Plain PIBT deadlocks where two robots meet head-on in a corridor that ends (a dead end of
+//! the random maps): the one of higher priority wants in, the other can only leave through
+//! it, and priorities that grow alike never change who wins. The swap operation of
+//! Okumura's later PIBT (LaCAM*, "Engineering LaCAM*", 2024) resolves it: when a robot's
+//! best cell holds a robot that must pass it (the corridor ahead has no branch before the
+//! second robot's way out), and the corridor behind the first robot has a branch, the first
+//! robot walks backwards (its candidates reversed) and pulls the second one after it until
+//! they can pass at the branch.
+//!
+//! A robot whose cell is not straight ahead turns towards it instead (`R` or `C`; a cell
+//! behind is turned to clockwise), and so stays where it is this step; it stays bound for
+//! that cell (reserved before anyone else plans) until it gets there, as the Start-Kit's
+//! default planner does, since choosing again would undo the turn. Any robot that planned
+//! to enter the cell of a robot that stays must then wait too, and so on down the chain
+//! (`settle`), so that the joint action is always valid. A robot in a dead end gets 10
+//! steps of priority (it can only leave the way others come in). A robot without an errand
+//! keeps its cell unless pushed.
+//!
+//! ## When to use it
+//! Always: it is the one planner built in, fast and never invalid. It does not look ahead,
+//! so in narrow corridors robots can oscillate.
+//!
+//! ## Cost
+//! O(N) per step, plus one breadth-first search of the map per new errand cell (cached).
+//!
+//! The recursion of the paper runs on an explicit stack: a chain of pushes can be as long
+//! as the fleet (10,000 robots), deeper than a thread's stack allows.
+
+use super::dist::{Distances, FAR};
+use super::{PlanView, Planner, NO_GOAL};
+use crate::input::lorr::GridMap;
+use crate::rules::grid::action::{ahead, heading_to, Action};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const NONE: u32 = u32::MAX;
+
+/// The PIBT planner's state between steps.
+pub struct Pibt {
+    dist: Distances,
+    cols: u32,
+    rng: ChaCha8Rng,
+    tie: Vec<f32>,
+    elapsed: Vec<u32>,
+    last_goal: Vec<u32>,
+    slot: Vec<u32>,
+    order: Vec<u32>,
+    occ_now: Vec<u32>,
+    occ_next: Vec<u32>,
+    next: Vec<u32>,
+    stack: Vec<Frame>,
+    queue: Vec<u32>,
+    /// The cell each robot is bound for and has not reached (it is still turning towards
+    /// it), or `NONE`.
+    bound: Vec<u32>,
+    bonus: Vec<u32>,
+}
+
+struct Frame {
+    agent: u32,
+    cands: [u32; 5],
+    n: u8,
+    i: u8,
+    /// The robot pulled into this one's cell if its first candidate is taken (a swap).
+    swap: u32,
+}
+
+/// Distance searches a planning round may make (about 0.4 s on `warehouse_large`); robots
+/// beyond them steer by grid distance until a later round searches for them, so that no
+/// round, the first included, takes much over a second at 10,000 robots.
+const SEARCHES_PER_ROUND: u32 = 1500;
+
+/// The memory the distance tables may take, 2 GB: the budget is 4 GB in all.
+const TABLE_BUDGET: usize = 2 << 30;
+
+impl Pibt {
+    /// A planner for `robots` robots on `map`, seeded by `seed`.
+    #[must_use]
+    pub fn new(map: &GridMap, robots: usize, seed: u64) -> Pibt {
+        let free = map.free.iter().filter(|&&f| f).count().max(1);
+        let capacity = (TABLE_BUDGET / (2 * free)).max(robots + 1);
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let tie = (0..robots).map(|_| rng.random::<f32>()).collect();
+        Pibt {
+            dist: Distances::new(map, capacity),
+            cols: map.cols,
+            rng,
+            tie,
+            elapsed: vec![0; robots],
+            last_goal: vec![NO_GOAL; robots],
+            slot: vec![NONE; robots],
+            order: (0..robots as u32).collect(),
+            occ_now: vec![NONE; map.cells()],
+            occ_next: vec![NONE; map.cells()],
+            next: vec![NONE; robots],
+            stack: Vec::new(),
+            queue: Vec::new(),
+            bound: vec![NONE; robots],
+            bonus: vec![0; robots],
+        }
+    }
+
+    /// Distance searches made so far.
+    #[must_use]
+    pub fn searches(&self) -> u64 {
+        self.dist.searches
+    }
+
+    fn cost(&self, a: usize, cell: u32, goal: u32) -> u16 {
+        if goal == NO_GOAL {
+            0
+        } else if self.slot[a] == NONE {
+            // No table yet (the round's searches are spent): the grid distance for now.
+            let (r0, c0) = (cell / self.cols, cell % self.cols);
+            let (r1, c1) = (goal / self.cols, goal % self.cols);
+            (r0.abs_diff(r1) + c0.abs_diff(c1)).min(u32::from(FAR - 1)) as u16
+        } else {
+            self.dist.get(self.slot[a], cell)
+        }
+    }
+
+    /// Candidate cells of robot `a`, best first.
+    fn candidates(&mut self, view: &PlanView<'_>, a: usize) -> ([u32; 5], u8) {
+        let p = view.loc[a];
+        let goal = view.goals[a];
+        let mut keyed: [(u16, u8, u32, u32); 5] = [(0, 0, 0, NONE); 5];
+        let mut n = 0;
+        // The key: distance to the goal, then the cell straight ahead first, then a seeded
+        // random draw. A robot without a goal stays first.
+        keyed[n] = (self.cost(a, p, goal), u8::from(goal != NO_GOAL), self.rng.random::<u32>(), p);
+        n += 1;
+        for h in 0..4u8 {
+            if let Some(q) = ahead(view.map, p, h) {
+                if !view.map.free[q as usize] {
+                    continue;
+                }
+                let d = self.cost(a, q, goal);
+                if d == FAR {
+                    continue;
+                }
+                keyed[n] = (d, u8::from(h != view.heading[a]), self.rng.random::<u32>(), q);
+                n += 1;
+            }
+        }
+        keyed[..n].sort_unstable();
+        let mut out = [NONE; 5];
+        for (o, k) in out.iter_mut().zip(&keyed[..n]) {
+            *o = k.3;
+        }
+        (out, n as u8)
+    }
+
+    /// A robot's frame: its candidates, reversed when a swap is needed.
+    fn frame(&mut self, view: &PlanView<'_>, a: u32) -> Frame {
+        let (mut cands, n) = self.candidates(view, a as usize);
+        let swap = self.swap_partner(view, a, cands[0]);
+        if swap != NONE {
+            cands[..n as usize].reverse();
+        }
+        Frame { agent: a, cands, n, i: 0, swap }
+    }
+
+    fn d(&self, view: &PlanView<'_>, a: u32, cell: u32) -> u32 {
+        let g = view.goals[a as usize];
+        u32::from(self.cost(a as usize, cell, g))
+    }
+
+    /// The free neighbours of `cell` that count as ways on in a corridor walk: not `from`,
+    /// and not a dead end where a robot stands on its own goal.
+    fn ways(&self, view: &PlanView<'_>, cell: u32, from: u32) -> (u32, u32) {
+        let (mut n, mut last) = (0, NONE);
+        for h in 0..4 {
+            let Some(u) = ahead(view.map, cell, h) else { continue };
+            if !view.map.free[u as usize] || u == from {
+                continue;
+            }
+            let k = self.occ_now[u as usize];
+            if k != NONE && view.goals[k as usize] == u && self.degree(view, u) == 1 {
+                continue;
+            }
+            n += 1;
+            last = u;
+        }
+        (n, last)
+    }
+
+    fn degree(&self, view: &PlanView<'_>, cell: u32) -> u32 {
+        (0..4).filter(|&h| ahead(view.map, cell, h).is_some_and(|u| view.map.free[u as usize])).count() as u32
+    }
+
+    /// The robot `a` must swap with to reach `best`, if a swap is both needed and possible.
+    fn swap_partner(&self, view: &PlanView<'_>, a: u32, best: u32) -> u32 {
+        let here = view.loc[a as usize];
+        if best == here || best == NONE {
+            return NONE;
+        }
+        let j = self.occ_now[best as usize];
+        if j != NONE && self.next[j as usize] == NONE && self.swap_required(view, a, j, here, best) && self.swap_possible(view, best, here) {
+            return j;
+        }
+        // Clearing the way for a robot behind (push and swap).
+        for h in 0..4 {
+            let Some(u) = ahead(view.map, here, h) else { continue };
+            let k = self.occ_now[u as usize];
+            if k != NONE && k != a && view.loc[k as usize] != best && self.swap_required(view, k, a, here, best) && self.swap_possible(view, best, here) {
+                return k;
+            }
+        }
+        NONE
+    }
+
+    /// Whether `pusher` (at `pusher_at`) can only get past `puller` (at `puller_at`) by a
+    /// swap: walking the corridor ahead finds no branch before the pusher's way is clear.
+    fn swap_required(&self, view: &PlanView<'_>, pusher: u32, puller: u32, pusher_at: u32, puller_at: u32) -> bool {
+        let (mut back, mut front) = (pusher_at, puller_at);
+        let mut guard = view.map.cells();
+        while self.d(view, pusher, front) < self.d(view, pusher, back) && guard > 0 {
+            guard -= 1;
+            let (n, next) = self.ways(view, front, back);
+            if n >= 2 {
+                return false;
+            }
+            if n == 0 {
+                break;
+            }
+            back = front;
+            front = next;
+        }
+        self.d(view, puller, back) < self.d(view, puller, front) && (self.d(view, pusher, back) == 0 || self.d(view, pusher, front) < self.d(view, pusher, back))
+    }
+
+    /// Whether walking back from `puller_at` away from `pusher_at` finds a branch where
+    /// the two can pass.
+    fn swap_possible(&self, view: &PlanView<'_>, pusher_at: u32, puller_at: u32) -> bool {
+        let (mut back, mut front) = (pusher_at, puller_at);
+        let mut guard = view.map.cells();
+        while front != pusher_at && guard > 0 {
+            guard -= 1;
+            let (n, next) = self.ways(view, front, back);
+            if n >= 2 {
+                return true;
+            }
+            if n == 0 {
+                return false;
+            }
+            back = front;
+            front = next;
+        }
+        false
+    }
+
+    /// Plans robot `root` and those it pushes (the paper's PIBT(a, ⊥)).
+    fn push_chain(&mut self, view: &PlanView<'_>, root: u32) {
+        let frame = self.frame(view, root);
+        self.stack.push(frame);
+        // The answer of the frame just popped, for the frame below it.
+        let mut answer: Option<bool> = None;
+        while let Some(top) = self.stack.len().checked_sub(1) {
+            if answer.take() == Some(true) {
+                self.pull(view, top);
+                self.stack.pop();
+                answer = Some(true);
+                continue;
+            }
+            let a = self.stack[top].agent;
+            let here = view.loc[a as usize];
+            let mut pushed = false;
+            while self.stack[top].i < self.stack[top].n {
+                let f = &mut self.stack[top];
+                let c = f.cands[f.i as usize];
+                f.i += 1;
+                if self.occ_next[c as usize] != NONE {
+                    continue;
+                }
+                let b = self.occ_now[c as usize];
+                // A swap with a robot already planned into this one's cell.
+                if b != NONE && b != a && self.next[b as usize] == here {
+                    continue;
+                }
+                self.next[a as usize] = c;
+                self.occ_next[c as usize] = a;
+                if b != NONE && b != a && self.next[b as usize] == NONE {
+                    let frame = self.frame(view, b);
+                    self.stack.push(frame);
+                    pushed = true;
+                    break;
+                }
+                answer = Some(true);
+                break;
+            }
+            if answer == Some(true) {
+                self.pull(view, top);
+            }
+            if pushed {
+                continue;
+            }
+            if answer.is_none() {
+                // Every cell refused: stay, and tell the parent to look elsewhere.
+                let p = view.loc[a as usize];
+                self.next[a as usize] = p;
+                self.occ_next[p as usize] = a;
+                answer = Some(false);
+            }
+            self.stack.pop();
+        }
+    }
+}
+
+impl Pibt {
+    /// Makes the joint action valid whatever the plan's cells: a robot going forward into a
+    /// cell another one also enters, into the cell of one that stays, or along the edge of
+    /// one coming the other way, waits instead; then whoever goes into its cell waits too,
+    /// down the chain. Cycles of three or more robots all going forward stay: the rules allow
+    /// them. `self.queue` holds the robots that stay.
+    fn settle(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
+        let n = view.loc.len();
+        // `occ_next` now marks, per cell, the robot going forward into it.
+        for a in 0..n {
+            self.occ_next[self.next[a] as usize] = NONE;
+        }
+        for a in 0..n {
+            if actions[a] != Action::F {
+                continue;
+            }
+            let q = ahead(view.map, view.loc[a], view.heading[a]).expect("a planned cell is on the map");
+            self.next[a] = q;
+            let other = self.occ_next[q as usize];
+            if other == NONE {
+                self.occ_next[q as usize] = a as u32;
+            } else {
+                actions[a] = Action::W;
+                self.queue.push(a as u32);
+            }
+        }
+        for a in 0..n {
+            if actions[a] == Action::F {
+                let j = self.occ_now[self.next[a] as usize];
+                if j != NONE && actions[j as usize] == Action::F && self.next[j as usize] == view.loc[a] {
+                    actions[a] = Action::W;
+                    self.queue.push(a as u32);
+                }
+            } else {
+                self.next[a] = view.loc[a];
+            }
+        }
+        while let Some(j) = self.queue.pop() {
+            let cell = view.loc[j as usize];
+            self.next[j as usize] = cell;
+            let i = self.occ_next[cell as usize];
+            if i != NONE && i != j && actions[i as usize] == Action::F {
+                actions[i as usize] = Action::W;
+                self.occ_next[cell as usize] = NONE;
+                self.queue.push(i);
+            }
+        }
+    }
+
+    /// After robot `stack[top]` secured its first candidate: the swap partner, if any and
+    /// still unplanned, follows into its cell.
+    fn pull(&mut self, view: &PlanView<'_>, top: usize) {
+        let f = &self.stack[top];
+        let (a, swap) = (f.agent, f.swap);
+        let here = view.loc[a as usize];
+        if f.i == 1 && swap != NONE && self.next[swap as usize] == NONE && self.occ_next[here as usize] == NONE {
+            self.next[swap as usize] = here;
+            self.occ_next[here as usize] = swap;
+        }
+    }
+}
+
+impl Planner for Pibt {
+    fn name(&self) -> &'static str {
+        "pibt"
+    }
+
+    fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
+        let n = view.loc.len();
+        self.dist.tick();
+        let mut budget = SEARCHES_PER_ROUND;
+        for a in 0..n {
+            let g = view.goals[a];
+            if g != self.last_goal[a] || g == NO_GOAL || view.loc[a] == g {
+                self.elapsed[a] = 0;
+                self.last_goal[a] = g;
+            } else {
+                self.elapsed[a] += 1;
+            }
+            // A robot in a dead end goes first: it can only leave the way others come in.
+            self.bonus[a] = if g != NO_GOAL && self.dist.degree(view.loc[a]) == 1 { 10 } else { 0 };
+            if g == NO_GOAL {
+                self.slot[a] = NONE;
+            } else if let Some(s) = self.dist.cached(g) {
+                self.slot[a] = s;
+            } else if budget > 0 {
+                budget -= 1;
+                self.slot[a] = self.dist.slot(g);
+            } else {
+                self.slot[a] = NONE;
+            }
+            self.occ_now[view.loc[a] as usize] = a as u32;
+            self.next[a] = NONE;
+        }
+        // A robot still turning towards the cell it chose keeps it (the Start-Kit's default
+        // planner does the same): choosing again would undo the turn.
+        for a in 0..n {
+            let b = self.bound[a];
+            if b != NONE && b != view.loc[a] {
+                self.next[a] = b;
+                self.occ_next[b as usize] = a as u32;
+            }
+        }
+        let (elapsed, tie, bonus) = (&self.elapsed, &self.tie, &self.bonus);
+        self.order.sort_unstable_by(|&x, &y| {
+            let kx = (elapsed[x as usize] + bonus[x as usize]) as f32 + tie[x as usize];
+            let ky = (elapsed[y as usize] + bonus[y as usize]) as f32 + tie[y as usize];
+            ky.total_cmp(&kx).then(x.cmp(&y))
+        });
+        for i in 0..n {
+            let a = self.order[i];
+            if self.next[a as usize] == NONE {
+                self.push_chain(view, a);
+            }
+        }
+        // Cells to actions: a turn keeps the robot in its cell, and so does a wait; then
+        // whoever meant to enter the cell of a robot that stays waits too.
+        self.queue.clear();
+        for a in 0..n {
+            let (p, q) = (view.loc[a], self.next[a]);
+            actions[a] = if q == p {
+                Action::W
+            } else {
+                let want = heading_to(view.map, p, q);
+                let h = view.heading[a];
+                if want == h {
+                    Action::F
+                } else if want == (h + 3) % 4 {
+                    Action::C
+                } else {
+                    Action::R
+                }
+            };
+            self.bound[a] = if q == p { NONE } else { q };
+            if actions[a] != Action::F {
+                self.queue.push(a as u32);
+            }
+        }
+        self.settle(view, actions);
+        for a in 0..n {
+            self.occ_now[view.loc[a] as usize] = NONE;
+            self.occ_next[self.next[a] as usize] = NONE;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(map: &str, loc: &[u32], heading: &[u8], goals: &[u32]) -> Vec<Action> {
+        let map = GridMap::parse(map).unwrap();
+        let mut p = Pibt::new(&map, loc.len(), 7);
+        let mut actions = vec![Action::W; loc.len()];
+        p.plan(&PlanView { map: &map, loc, heading, goals, t: 0 }, &mut actions);
+        actions
+    }
+
+    #[test]
+    fn a_robot_without_goal_is_pushed_ahead() {
+        let map = "type octile\nheight 1\nwidth 4\nmap\n....\n";
+        assert_eq!(plan(map, &[0, 1], &[0, 0], &[3, NO_GOAL]), vec![Action::F, Action::F]);
+    }
+
+    #[test]
+    fn a_pushed_robot_that_must_turn_holds_up_the_pusher() {
+        let map = "type octile\nheight 2\nwidth 3\nmap\n...\n@@.\n";
+        // Robot 1 leaves 2 southwards (to 5) but faces east: it turns, and robot 0, which
+        // would enter 2, waits.
+        let a = plan(map, &[1, 2], &[0, 0], &[2, 5]);
+        assert_eq!(a, vec![Action::W, Action::R]);
+    }
+}

@@ -1,0 +1,97 @@
+//! Schedulers (2024 rules): each step a scheduler proposes a task (or none) per robot from
+//! the pool. It plugs in as allocators and planners do: the [`Scheduler`] trait, and
+//! [`built_in`] maps the names the command line and Python use. The rules check the
+//! proposal (`pool.rs`); a refused one is recorded and the last valid one kept.
+//!
+//! The built-in ones only give tasks to free robots and never take one back, so every
+//! proposal they make is valid. Costs are grid (Manhattan) distances between cells: exact
+//! distances would need a search per task revealed, which at 10,000 robots costs more than
+//! the difference is worth in the warehouse maps, whose aisles make the two close.
+//!
+//! | name | what it does |
+//! | --- | --- |
+//! | `nearest` (default) | each free robot, in id order, takes the free task whose first errand is nearest (MultiBots' `nearest`) |
+//! | `greedy` | each free robot, in id order, takes the free task it would finish soonest (to its first errand, then errand to errand): the rule of the Start-Kit's 2024 default scheduler, without its time cut-off (`greedy.rs`) |
+//! | `hungarian` | the free robots and free tasks matched at least total cost (MultiBots' `hungarian`), in batches of 256 robots (`hungarian.rs`) |
+//!
+//! `nearest` is the default because it finishes the most: scoring whole tasks (`greedy`,
+//! `hungarian`) takes the short ones first, the pool fills with long ones and throughput
+//! falls over the run (5,000 robots on `warehouse_large`, 5,000 steps: `nearest` 38,889
+//! tasks, `greedy` 32,013; `docs/lorr.md`).
+
+mod greedy;
+mod hungarian;
+
+pub use greedy::{Greedy, Nearest};
+pub use hungarian::Hungarian;
+
+use super::pool::TaskPool;
+use crate::error::{Error, Result};
+use crate::input::lorr::GridMap;
+
+/// What a scheduler sees at a step.
+pub struct ScheduleView<'a> {
+    /// The grid.
+    pub map: &'a GridMap,
+    /// Each robot's cell.
+    pub loc: &'a [u32],
+    /// The pool and the schedule in force.
+    pub pool: &'a TaskPool,
+    /// The task file's lines (a task's errands are `lines[task.line]`).
+    pub lines: &'a [Vec<u32>],
+    /// The current step.
+    pub t: u32,
+}
+
+impl ScheduleView<'_> {
+    /// The robots without a task, in id order.
+    #[must_use]
+    pub fn free_robots(&self) -> Vec<usize> {
+        (0..self.loc.len()).filter(|&k| self.pool.current[k] == -1).collect()
+    }
+
+    /// The pool's tasks no robot holds, in id order.
+    #[must_use]
+    pub fn free_tasks(&self) -> Vec<u32> {
+        let mut v: Vec<u32> = self.pool.open().iter().copied().filter(|&id| self.pool.tasks[id as usize].agent == -1).collect();
+        v.sort_unstable();
+        v
+    }
+
+    /// The grid distance between two cells.
+    #[must_use]
+    pub fn manhattan(&self, a: u32, b: u32) -> u32 {
+        let (ra, ca) = self.map.row_col(a);
+        let (rb, cb) = self.map.row_col(b);
+        ra.abs_diff(rb) + ca.abs_diff(cb)
+    }
+
+    /// A task's first errand and the length of its errand-to-errand legs.
+    #[must_use]
+    pub fn task_shape(&self, id: u32) -> (u32, u32) {
+        let errands = &self.lines[self.pool.tasks[id as usize].line as usize];
+        let legs = errands.windows(2).map(|w| self.manhattan(w[0], w[1])).sum();
+        (errands[0], legs)
+    }
+}
+
+/// A scheduler: proposes one task id (or -1) per robot.
+pub trait Scheduler: Send + Sync {
+    /// The scheduler's name, as [`built_in`] knows it.
+    fn name(&self) -> &'static str;
+    /// Fills `proposal`, which holds the schedule in force when called.
+    fn schedule(&mut self, view: &ScheduleView<'_>, proposal: &mut [i64]);
+}
+
+/// The built-in schedulers, by name; the first is the default.
+pub const BUILT_INS: &[&str] = &["nearest", "greedy", "hungarian"];
+
+/// A built-in scheduler by name.
+pub fn built_in(name: &str) -> Result<Box<dyn Scheduler>> {
+    match name {
+        "greedy" => Ok(Box::new(Greedy)),
+        "nearest" => Ok(Box::new(Nearest)),
+        "hungarian" => Ok(Box::new(Hungarian)),
+        _ => Err(Error::scenario("scheduler", name, format!("is not a scheduler; the built-in ones are {}", BUILT_INS.join(", ")))),
+    }
+}

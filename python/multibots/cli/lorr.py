@@ -1,0 +1,69 @@
+"""``multibots lorr``: a League of Robot Runners problem under the competition's rules, its
+result file written, its score printed (``docs/lorr.md``)."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from multibots.cli._common import parse_number
+from multibots.exceptions import InputError
+
+__all__ = ["lorr"]
+
+
+def lorr(
+    problem: Path = typer.Argument(..., help="A LoRR problem file (JSON), 2023 or 2024.", show_default=False),
+    steps: str = typer.Option("5000", "--steps", help="Steps to run (the competition's budget is usually 5000)."),
+    out: Optional[Path] = typer.Option(
+        None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
+    ),
+    planner: str = typer.Option("pibt", "--planner", help="Planner: pibt."),
+    scheduler: str = typer.Option("nearest", "--scheduler", help="Scheduler (2024): nearest, greedy, hungarian."),
+    plan_time_limit: Optional[str] = typer.Option(
+        None, "--plan-time-limit", show_default=False,
+        help="The competition's planning time limit per step, in ms: past it every robot waits a step (T).",
+    ),
+    seed: str = typer.Option("0", "--seed", help="Seed of the planner's tie-breaks."),
+) -> None:
+    """Run a League of Robot Runners problem, scored as the competition scores it."""
+    from multibots import lorr as engine
+
+    n_steps = parse_number(steps, "--steps", int, 4_294_967_295)
+    if n_steps < 0:
+        raise InputError(f"--steps = {n_steps}: must be at least 0")
+    limit = parse_number(plan_time_limit, "--plan-time-limit", int, 3_600_000)
+    if limit is not None and limit < 1:
+        raise InputError(f"--plan-time-limit = {limit}: must be at least 1 ms")
+    n_seed = parse_number(seed, "--seed", int, 2**64 - 1)
+    began = time.monotonic()
+    if sys.stderr.isatty():
+        from rich.console import Console
+        from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+        with Progress(
+            TextColumn("{task.description}"), BarColumn(), TextColumn("step {task.completed:,.0f}/{task.total:,.0f}"),
+            TextColumn("finished {task.fields[finished]:,}"), TimeRemainingColumn(), transient=True,
+            console=Console(stderr=True),
+        ) as bar:
+            task = bar.add_task(problem.name, total=n_steps, finished=0)
+            result = engine.run(
+                problem, n_steps, out, planner, scheduler, n_seed, limit,
+                progress=lambda t, f: bar.update(task, completed=t, finished=f),
+            )
+    else:
+        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit)
+    fig = result.figures
+    wall = time.monotonic() - began
+    print(
+        f"{problem.name}: {result.finished:,} finished in {result.steps:,} steps "
+        f"({result.team_size:,} robots, {result.version} rules); "
+        f"planning {fig['plan_ms_mean']:.2f} ms/step mean, {fig['plan_ms_max']:.0f} ms max; "
+        f"errors {fig['action_errors'] + fig['schedule_errors']}, timeouts {fig['timeouts']}; wall {wall:.1f} s"
+    )
+    if out is not None:
+        print(f"result: {out} (figures: {engine.figures_path(out).name})")

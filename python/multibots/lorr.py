@@ -1,0 +1,108 @@
+"""League of Robot Runners problems, run under the competition's rules and scored as it scores
+them (``docs/lorr.md``). The engine owns the rules (``crates/multibots-core/src/rules/grid``);
+this module runs it, writes the competition's result file and MultiBots' figures.
+
+Example (``multibots lorr`` on the command line does the same)::
+
+    import multibots.lorr
+    r = multibots.lorr.run("warehouse_large_5000.json", steps=5000, out="result.json")
+    print(r.finished, r.figures["finished_per_1000"])
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Optional, Union
+
+from multibots import _core
+
+__all__ = ["PLANNERS", "SCHEDULERS", "LorrResult", "run"]
+
+#: The built-in planners; the first is the default.
+PLANNERS: tuple[str, ...] = ("pibt",)
+#: The built-in schedulers (2024 rules); the first is the default.
+SCHEDULERS: tuple[str, ...] = ("nearest", "greedy", "hungarian")
+
+#: Steps between two calls of ``progress``.
+PROGRESS_EVERY = 50
+
+
+@dataclass(frozen=True)
+class LorrResult:
+    """What a run gave: the competition's score and MultiBots' figures.
+
+    Attributes:
+        finished: ``numTaskFinished``, the competition's score.
+        steps: steps run.
+        team_size: robots.
+        version: the task rules, ``"2023"`` or ``"2024"``.
+        figures: MultiBots' figures (finished per 1,000 steps, planning time per round,
+            errors, timeouts).
+        out: the result file written, if any.
+    """
+
+    finished: int
+    steps: int
+    team_size: int
+    version: str
+    figures: dict[str, Any] = field(default_factory=dict)
+    out: Optional[Path] = None
+
+
+def run(
+    problem: Union[str, os.PathLike[str]],
+    steps: int = 5000,
+    out: Optional[Union[str, os.PathLike[str]]] = None,
+    planner: str = "pibt",
+    scheduler: str = "nearest",
+    seed: int = 0,
+    plan_time_limit_ms: Optional[int] = None,
+    progress: Optional[Callable[[int, int], None]] = None,
+) -> LorrResult:
+    """Runs a LoRR problem for ``steps`` steps.
+
+    Args:
+        problem: the problem JSON (its map, agents and tasks files are read relative to it).
+        steps: the step budget (the competition's is usually 5,000).
+        out: where to write the competition's result file (atomically); its figures go
+            beside it as ``<out>.multibots.json``.
+        planner: a planner of :data:`PLANNERS`.
+        scheduler: a scheduler of :data:`SCHEDULERS` (2024 problems).
+        seed: the planner's tie-breaks.
+        plan_time_limit_ms: the competition's time limit per planning round; past it the
+            robots wait a step per limit used (``T`` in the paths). None: no limit, and the
+            run is the same on every machine.
+        progress: called as ``progress(step, finished)`` every 50 steps.
+
+    Raises:
+        ScenarioError: a problem file that cannot be read (the message names the file and
+            the line), or an unknown planner or scheduler.
+    """
+    if steps < 0:
+        raise ValueError(f"steps = {steps}: must be at least 0")
+    engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms)
+    while engine.t < steps:
+        engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
+        if progress is not None:
+            progress(engine.t, engine.finished)
+    written = None
+    if out is not None:
+        written = Path(out)
+        engine.write_result(written)
+        engine.write_figures(figures_path(written))
+    return LorrResult(
+        finished=engine.finished,
+        steps=engine.t,
+        team_size=engine.team_size,
+        version=engine.version,
+        figures=json.loads(engine.figures_json()),
+        out=written,
+    )
+
+
+def figures_path(out: Path) -> Path:
+    """Where MultiBots' figures go beside a result file."""
+    return out.with_name(out.name + ".multibots.json")
