@@ -359,6 +359,9 @@ NUMERIC_FLAGS = [
     (["render", "no-such.mbr", "--out", "x.gif"], "--every", "int", []),
     (["render", "no-such.mbr", "--out", "x.gif"], "--scale", "float", []),
     (["sweep", "no-such.toml"], "--workers", "int", []),
+    (["lorr", "no-such.json", "--out", "r.json"], "--steps", "int", []),
+    (["lorr", "no-such.json", "--out", "r.json"], "--plan-time-limit", "int", []),
+    (["lorr", "no-such.json", "--out", "r.json"], "--seed", "int", []),
     (["capacity", "no-such.toml"], "--seeds", "int", []),
     (["capacity", "no-such.toml"], "--horizon", "int", []),
     (["capacity", "no-such.toml"], "--robots-for", "float", []),
@@ -424,3 +427,51 @@ def test_numeric_flags_exit_0_2_or_3_with_one_line(tmp_path_factory: pytest.Temp
     argv = flag_argv(entry, value, tmp)
     code, err = run_cli(argv, tmp)
     assert_clean_exit(argv, code, err)
+
+
+# ---------------------------------------------------------------- League of Robot Runners problems (issue 28)
+
+@st.composite
+def lorr_files(draw) -> dict[str, str]:
+    """A LoRR problem (JSON), its map, agents and tasks files: shaped like the real ones, with
+    hostile values, lines and nesting in any of them."""
+    h, w = draw(st.integers(0, 6)), draw(st.integers(0, 6))
+    cells = draw(st.lists(st.sampled_from(".@TES"), min_size=h * w, max_size=h * w))
+    rows = ["".join(cells[r * w:(r + 1) * w]) for r in range(h)]
+    header = draw(st.sampled_from([f"type octile\nheight {h}\nwidth {w}\nmap", f"height {h}\nwidth {w}",
+                                   f"type octile\nheight {draw(NUMBERS)}\nwidth {w}\nmap"]))
+    map_text = header + "\n" + "\n".join(rows) + draw(st.sampled_from(["", "\n", "\nextra\n"]))
+    ints = st.one_of(st.integers(-3, h * w + 3), st.sampled_from([2**31, 2**64, -(2**40)]))
+    agents = draw(st.lists(ints, max_size=8))
+    agents_text = "\n".join(map(str, [draw(st.one_of(st.just(len(agents)), ints)), *agents]))
+    if draw(st.booleans()):
+        tasks = draw(st.lists(st.lists(ints, min_size=0, max_size=3), max_size=6))
+        tasks_text = "#\n" + "\n".join([str(len(tasks)), *(",".join(map(str, t)) for t in tasks)])
+        version = {"version": "2024 LoRR"}
+    else:
+        tasks = draw(st.lists(ints, max_size=6))
+        tasks_text = "\n".join(map(str, [len(tasks), *tasks]))
+        version = {"taskAssignmentStrategy": draw(st.sampled_from(["roundrobin", "greedy", "x"]))}
+    problem: dict = {"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks",
+                     "teamSize": draw(st.one_of(st.just(len(agents)), NUMBERS, TEXT)),
+                     "numTasksReveal": draw(st.one_of(st.just(1), NUMBERS)), **version}
+    if draw(st.booleans()):
+        problem[draw(st.sampled_from(sorted(problem)))] = draw(VALUES)
+    text = json.dumps(problem, default=str)
+    depth = draw(st.sampled_from([0, 0, 40, 3000]))
+    if depth:
+        text = text[:-1] + ', "deep": ' + "[" * depth + "]" * depth + "}"
+    return {"p.json": text, "m.map": map_text, "a.agents": agents_text, "t.tasks": tasks_text}
+
+
+@given(lorr_files())
+def test_lorr_problems_are_run_or_refused_in_one_line(tmp_path_factory: pytest.TempPathFactory, files) -> None:
+    from multibots import lorr
+
+    tmp = tmp_path_factory.mktemp("lorr")
+    for name, text in files.items():
+        (tmp / name).write_text(text)
+    try:
+        lorr.run(tmp / "p.json", steps=3)
+    except Exception as e:  # noqa: BLE001 - the property: only a clean refusal
+        assert_clean(e)

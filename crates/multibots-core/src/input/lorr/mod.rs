@@ -70,6 +70,8 @@ impl Problem {
     /// Reads a problem JSON and the files it names.
     pub fn load(path: &Path) -> Result<Problem> {
         let text = read_text(path, MAX_INPUT_BYTES).map_err(|m| Error::input_file(path, None, m))?;
+        // Nesting and key length checked before the parser recurses or allocates (docs/limits.md).
+        crate::input::files::check_json_shape(&text).map_err(|m| Error::input_file(path, None, m))?;
         let json: ProblemJson = serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
         let line_of = |key: &str| text.lines().position(|l| l.contains(&format!("\"{key}\""))).map_or(1, |i| i + 1);
         let version = match (&json.version, &json.task_assignment_strategy) {
