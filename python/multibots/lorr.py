@@ -83,6 +83,10 @@ def run(
     """
     if steps < 0:
         raise ValueError(f"steps = {steps}: must be at least 0")
+    if not 0 <= seed < 2**64:
+        raise ValueError(f"seed = {seed}: must be from 0 to 2^64 - 1")
+    if plan_time_limit_ms is not None and not 1 <= plan_time_limit_ms < 2**64:
+        raise ValueError(f"plan_time_limit_ms = {plan_time_limit_ms}: must be at least 1")
     engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms)
     while engine.t < steps:
         engine.run_to(min(steps, engine.t + PROGRESS_EVERY))

@@ -40,6 +40,8 @@ def lorr(
     if limit is not None and limit < 1:
         raise InputError(f"--plan-time-limit = {limit}: must be at least 1 ms")
     n_seed = parse_number(seed, "--seed", int, 2**64 - 1)
+    if n_seed < 0:
+        raise InputError(f"--seed = {n_seed}: must be at least 0")
     began = time.monotonic()
     if sys.stderr.isatty():
         from rich.console import Console
