@@ -30,5 +30,14 @@ fn main() {
     let wall = began.elapsed().as_secs_f64();
     run.write_result(args[3].as_ref()).expect("result written");
     let f = run.figures();
-    println!("finished {} in {} steps; {:.2} ms/step wall, plan {:.2} ms mean, {:.1} ms max; errors {}; per 1000: {:?}", f.finished, f.steps, wall * 1e3 / f64::from(f.steps.max(1)), f.plan_ms_mean, f.plan_ms_max, f.action_errors + f.schedule_errors, f.finished_per_1000);
+    println!(
+        "finished {} in {} steps; {:.2} ms/step wall, plan {:.2} ms mean, {:.1} ms max; errors {}; per 1000: {:?}",
+        f.finished,
+        f.steps,
+        wall * 1e3 / f64::from(f.steps.max(1)),
+        f.plan_ms_mean,
+        f.plan_ms_max,
+        f.action_errors + f.schedule_errors,
+        f.finished_per_1000
+    );
 }

@@ -27,9 +27,8 @@ pub(crate) const SIGNAL_EVERY: u64 = 1 << 14;
 pub(crate) fn to_py(e: Error) -> PyErr {
     let msg = e.to_string();
     match e {
-        Error::Scenario { .. } | Error::Parse { .. } => ScenarioError::new_err(msg),
+        Error::Scenario { .. } | Error::Parse { .. } | Error::InputFile { .. } => ScenarioError::new_err(msg),
         Error::Layout { .. } | Error::LayoutFile { .. } => LayoutError::new_err(msg),
-        Error::InputFile { .. } => ScenarioError::new_err(msg),
         Error::Allocator { .. } => Python::with_gil(|py| crate::strategy::with_cause(py, AllocatorError::new_err(msg))),
         Error::Decision { .. } => DecisionError::new_err(msg),
         Error::Io { .. } => MultibotsError::new_err(msg),

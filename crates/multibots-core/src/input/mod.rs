@@ -8,7 +8,7 @@
 pub(crate) mod csv;
 pub mod files;
 pub mod layout_file;
-pub mod lorr;
 pub(crate) mod limits;
+pub mod lorr;
 pub mod scenario;
 pub mod schema;

@@ -149,7 +149,11 @@ impl LorrRun {
                 let events: Vec<serde_json::Value> = rr
                     .events
                     .iter()
-                    .map(|evs| serde_json::Value::from(evs.iter().map(|&(id, t, done)| serde_json::json!([id, t, if done { "finished" } else { "assigned" }])).collect::<Vec<_>>()))
+                    .map(|evs| {
+                        serde_json::Value::from(
+                            evs.iter().map(|&(id, t, done)| serde_json::json!([id, t, if done { "finished" } else { "assigned" }])).collect::<Vec<_>>(),
+                        )
+                    })
                     .collect();
                 field("events", &js(&serde_json::Value::from(events)));
                 let tasks: Vec<serde_json::Value> = rr.all.iter().map(|e| serde_json::json!([e.id, e.cell / p.map.cols, e.cell % p.map.cols])).collect();

@@ -202,7 +202,9 @@ fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_ne
             "more unloading zones: layout_generate.unloading_rows, with unload = \"nearest\"".into()
         }
         ResourceKind::Unloading => "more unloading zones: a larger layout_generate.unloading_rows".into(),
-        ResourceKind::Charger | ResourceKind::ChargerQueue if !shared_chargers => "charging.chargers = \"shared\", or more chargers: layout_generate.chargers".into(),
+        ResourceKind::Charger | ResourceKind::ChargerQueue if !shared_chargers => {
+            "charging.chargers = \"shared\", or more chargers: layout_generate.chargers".into()
+        }
         ResourceKind::Charger | ResourceKind::ChargerQueue => {
             "more chargers (layout_generate.chargers), or charging earlier in quiet times (charging.level)".into()
         }

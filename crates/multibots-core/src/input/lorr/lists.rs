@@ -13,7 +13,8 @@ fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
 }
 
 fn cell(path: &Path, line: usize, word: &str, map: &GridMap, what: &str) -> Result<u32> {
-    let v: i64 = word.trim().parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not a cell number", crate::input::limits::shown(word.trim()))))?;
+    let v: i64 =
+        word.trim().parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not a cell number", crate::input::limits::shown(word.trim()))))?;
     if v < 0 || v >= map.cells() as i64 {
         return Err(Error::input_file(path, Some(line), format!("cell {v} is off the {} x {} map", map.rows, map.cols)));
     }
@@ -28,7 +29,8 @@ fn cell(path: &Path, line: usize, word: &str, map: &GridMap, what: &str) -> Resu
 fn counted<'a>(path: &Path, text: &'a str, what: &str) -> Result<(usize, Vec<(usize, &'a str)>)> {
     let mut lines = data_lines(text);
     let (line, first) = lines.next().ok_or_else(|| Error::input_file(path, None, format!("the file is empty; it must start with the number of {what}")))?;
-    let count: usize = first.parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not the number of {what}", crate::input::limits::shown(first))))?;
+    let count: usize =
+        first.parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not the number of {what}", crate::input::limits::shown(first))))?;
     let rest: Vec<(usize, &str)> = lines.take(count).collect();
     if rest.len() < count {
         let last = rest.last().map_or(line, |(l, _)| *l);
@@ -61,12 +63,14 @@ pub(super) fn tasks_2023(path: &Path, text: &str, map: &GridMap) -> Result<Vec<V
     if rows.is_empty() {
         return Err(Error::input_file(path, Some(line), "the file holds no task"));
     }
-    rows.iter().map(|&(line, word)| {
-        if word.contains(',') {
-            return Err(Error::input_file(path, Some(line), "a 2023 task is one cell; this line has several (a 2024 task file?)"));
-        }
-        Ok(vec![cell(path, line, word, map, "errand")?])
-    }).collect()
+    rows.iter()
+        .map(|&(line, word)| {
+            if word.contains(',') {
+                return Err(Error::input_file(path, Some(line), "a 2023 task is one cell; this line has several (a 2024 task file?)"));
+            }
+            Ok(vec![cell(path, line, word, map, "errand")?])
+        })
+        .collect()
 }
 
 /// A 2024 task file: comma-separated errand cells per task.

@@ -60,7 +60,16 @@ impl GridMap {
                 free.push(match b {
                     b'.' | b'E' | b'S' | b'G' => true,
                     b'@' | b'T' | b'O' | b'W' => false,
-                    _ => return Err((4 + r + 1, format!("column {}: '{}' is not a map cell ('.', 'E', 'S', '@', 'T')", c + 1, crate::input::limits::shown(&(b as char).to_string())))),
+                    _ => {
+                        return Err((
+                            4 + r + 1,
+                            format!(
+                                "column {}: '{}' is not a map cell ('.', 'E', 'S', '@', 'T')",
+                                c + 1,
+                                crate::input::limits::shown(&(b as char).to_string())
+                            ),
+                        ))
+                    }
                 });
             }
         }

@@ -76,16 +76,28 @@ impl Problem {
         let line_of = |key: &str| text.lines().position(|l| l.contains(&format!("\"{key}\""))).map_or(1, |i| i + 1);
         let version = match (&json.version, &json.task_assignment_strategy) {
             (Some(v), _) if v.contains("2024") => Version::Y2024,
-            (Some(v), _) => return Err(Error::input_file(path, Some(line_of("version")), format!("version '{v}' is not one this reader knows (\"2024 LoRR\")"))),
+            (Some(v), _) => {
+                return Err(Error::input_file(path, Some(line_of("version")), format!("version '{v}' is not one this reader knows (\"2024 LoRR\")")))
+            }
             (None, Some(s)) if s == "roundrobin" => Version::Y2023,
-            (None, Some(s)) => return Err(Error::input_file(path, Some(line_of("taskAssignmentStrategy")), format!("taskAssignmentStrategy '{s}': only 'roundrobin' is a rule of the 2023 competition"))),
+            (None, Some(s)) => {
+                return Err(Error::input_file(
+                    path,
+                    Some(line_of("taskAssignmentStrategy")),
+                    format!("taskAssignmentStrategy '{s}': only 'roundrobin' is a rule of the 2023 competition"),
+                ))
+            }
             (None, None) => Version::Y2023,
         };
         if json.team_size < 1 || json.team_size > i64::from(u32::MAX) {
             return Err(Error::input_file(path, Some(line_of("teamSize")), format!("teamSize {} must be at least 1", json.team_size)));
         }
         if !(json.num_tasks_reveal.is_finite() && json.num_tasks_reveal > 0.0) {
-            return Err(Error::input_file(path, Some(line_of("numTasksReveal")), format!("numTasksReveal {} must be a positive number", json.num_tasks_reveal)));
+            return Err(Error::input_file(
+                path,
+                Some(line_of("numTasksReveal")),
+                format!("numTasksReveal {} must be a positive number", json.num_tasks_reveal),
+            ));
         }
         let n = json.team_size as usize;
         let base = path.parent().unwrap_or(Path::new("."));

@@ -19,7 +19,8 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-const P23: &str = r#"{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2, "numTasksReveal": 1, "taskAssignmentStrategy": "roundrobin"}"#;
+const P23: &str =
+    r#"{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2, "numTasksReveal": 1, "taskAssignmentStrategy": "roundrobin"}"#;
 const P24: &str = r#"{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2, "numTasksReveal": 1.5, "version": "2024 LoRR"}"#;
 
 #[test]

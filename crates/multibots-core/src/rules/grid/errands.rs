@@ -34,7 +34,15 @@ impl RoundRobin {
     /// Reveals every robot's first errands (step 0).
     #[must_use]
     pub fn new(n: usize, reveal: usize, lines: &[Vec<u32>]) -> RoundRobin {
-        let mut rr = RoundRobin { ahead: vec![std::collections::VecDeque::default(); n], counter: vec![0; n], reveal, next_id: 0, all: Vec::new(), events: vec![Vec::new(); n], finished: 0 };
+        let mut rr = RoundRobin {
+            ahead: vec![std::collections::VecDeque::default(); n],
+            counter: vec![0; n],
+            reveal,
+            next_id: 0,
+            all: Vec::new(),
+            events: vec![Vec::new(); n],
+            finished: 0,
+        };
         rr.refill(0, lines);
         rr
     }

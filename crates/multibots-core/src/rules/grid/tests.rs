@@ -144,8 +144,7 @@ fn schedules_that_break_the_rules_are_refused_and_the_last_valid_one_kept() {
 fn pibt_run(seed: u64) -> LorrRun {
     let map = "type octile\nheight 6\nwidth 8\nmap\n........\n.@@..@@.\n........\n.@@..@@.\n........\n........\n";
     let p = problem(map, &[0, 7, 16, 23, 32, 39, 41, 46], &[&[7, 40], &[0], &[47, 2], &[20], &[44, 3], &[5], &[33], &[8, 15]], Version::Y2024, 1.5);
-    let mut options = LorrOptions::default();
-    options.seed = seed;
+    let options = LorrOptions { seed, ..LorrOptions::default() };
     let mut run = LorrRun::new(p, options).unwrap();
     run.run_to(300);
     run

@@ -166,7 +166,10 @@ impl Paper {
             wants: vec![false; n],
             last_contacts: None,
             usage: crate::output::resources::Usage::new(world.layout.nodes.len()),
-            shared_and_nearest: (scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared, scenario.unload == crate::input::scenario::Unload::Nearest),
+            shared_and_nearest: (
+                scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
+                scenario.unload == crate::input::scenario::Unload::Nearest,
+            ),
             service_nodes: {
                 let mut v = vec![false; world.layout.nodes.len()];
                 for n in world.layout.unloading.iter().chain(&world.layout.chargers) {

@@ -49,7 +49,18 @@ impl Distances {
                 out
             })
             .collect();
-        Distances { index, neighbours, tables: Vec::new(), goal_of: Vec::new(), used: Vec::new(), by_goal: HashMap::new(), capacity: capacity.max(1), clock: 0, queue: Vec::new(), searches: 0 }
+        Distances {
+            index,
+            neighbours,
+            tables: Vec::new(),
+            goal_of: Vec::new(),
+            used: Vec::new(),
+            by_goal: HashMap::new(),
+            capacity: capacity.max(1),
+            clock: 0,
+            queue: Vec::new(),
+            searches: 0,
+        }
     }
 
     /// The number of free neighbours of `cell`.

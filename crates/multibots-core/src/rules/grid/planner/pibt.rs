@@ -188,7 +188,7 @@ impl Pibt {
                 continue;
             }
             let k = self.occ_now[u as usize];
-            if k != NONE && view.goals[k as usize] == u && self.degree(view, u) == 1 {
+            if k != NONE && view.goals[k as usize] == u && Self::degree(view, u) == 1 {
                 continue;
             }
             n += 1;
@@ -197,7 +197,7 @@ impl Pibt {
         (n, last)
     }
 
-    fn degree(&self, view: &PlanView<'_>, cell: u32) -> u32 {
+    fn degree(view: &PlanView<'_>, cell: u32) -> u32 {
         (0..4).filter(|&h| ahead(view.map, cell, h).is_some_and(|u| view.map.free[u as usize])).count() as u32
     }
 
@@ -239,7 +239,8 @@ impl Pibt {
             back = front;
             front = next;
         }
-        self.d(view, puller, back) < self.d(view, puller, front) && (self.d(view, pusher, back) == 0 || self.d(view, pusher, front) < self.d(view, pusher, back))
+        self.d(view, puller, back) < self.d(view, puller, front)
+            && (self.d(view, pusher, back) == 0 || self.d(view, pusher, front) < self.d(view, pusher, back))
     }
 
     /// Whether walking back from `puller_at` away from `pusher_at` finds a branch where
@@ -325,6 +326,7 @@ impl Pibt {
     /// one coming the other way, waits instead; then whoever goes into its cell waits too,
     /// down the chain. Cycles of three or more robots all going forward stay: the rules allow
     /// them. `self.queue` holds the robots that stay.
+    #[allow(clippy::needless_range_loop)] // robot `a` indexes several columns at once
     fn settle(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
         let n = view.loc.len();
         // `occ_next` now marks, per cell, the robot going forward into it.
@@ -386,6 +388,7 @@ impl Planner for Pibt {
         "pibt"
     }
 
+    #[allow(clippy::needless_range_loop)] // robot `a` indexes several columns at once
     fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
         let n = view.loc.len();
         self.dist.tick();
