@@ -473,5 +473,5 @@ def test_lorr_problems_are_run_or_refused_in_one_line(tmp_path_factory: pytest.T
         (tmp / name).write_text(text)
     try:
         lorr.run(tmp / "p.json", steps=3)
-    except Exception as e:  # noqa: BLE001 - the property: only a clean refusal
+    except Exception as e:  # the property: only a clean refusal
         assert_clean(e)
