@@ -2,6 +2,8 @@
 //! and queue, recomputed from outside (robot states, who waited, where each stands or
 //! heads), and the bottleneck on constructed warehouses.
 
+mod common;
+
 use multibots_core::fleet::robot::State;
 use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
 use multibots_core::output::resources::ResourceKind;
@@ -10,17 +12,7 @@ use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
 
 #[allow(clippy::too_many_arguments)]
 fn lifelong(rows: u32, cols: u32, unloading_rows: u32, chargers: u32, robots: u32, rate: f64, steps: u64, traffic: Traffic) -> Scenario {
-    let mut s = Scenario::paper(robots, &[]);
-    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles: Aisles::Alternate, ..LayoutParams::paper() });
-    s.placement = Placement::Spread;
-    s.charging.chargers = ChargerUse::Shared;
-    s.unload = Unload::Nearest;
-    s.allocator = "nearest".into();
-    s.traffic = traffic;
-    s.robot.consumption = 0.0002;
-    s.tasks = Tasks::Cells(vec![]);
-    s.orders = Some(Orders { rate, horizon: steps, restock: 50, seed: u64::from(robots), csv: None });
-    s
+    common::lifelong(rows, cols, unloading_rows, chargers, Aisles::Alternate, robots, rate, steps, traffic)
 }
 
 #[test]

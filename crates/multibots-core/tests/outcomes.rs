@@ -3,26 +3,13 @@
 //! where; a fleet that keeps delivering ends `horizon`. Judged from the windows the run
 //! reports and from the robots' states.
 
+mod common;
+
+use common::lifelong;
 use multibots_core::fleet::robot::State;
-use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
 use multibots_core::output::metrics::{Outcome, RunResult};
 use multibots_core::world::layout::Aisles;
-use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
-
-#[allow(clippy::too_many_arguments)]
-fn lifelong(rows: u32, cols: u32, unloading_rows: u32, chargers: u32, aisles: Aisles, robots: u32, rate: f64, steps: u64, traffic: Traffic) -> Scenario {
-    let mut s = Scenario::paper(robots, &[]);
-    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles, ..LayoutParams::paper() });
-    s.placement = Placement::Spread;
-    s.charging.chargers = ChargerUse::Shared;
-    s.unload = Unload::Nearest;
-    s.allocator = "nearest".into();
-    s.traffic = traffic;
-    s.robot.consumption = 0.0002;
-    s.tasks = Tasks::Cells(vec![]);
-    s.orders = Some(Orders { rate, horizon: steps, restock: 50, seed: u64::from(robots), csv: None });
-    s
-}
+use multibots_core::{Simulation, Traffic};
 
 /// Whether the last quarter of the windows (at least 2) each delivered under a tenth of the
 /// best, and the first of the run of such windows at the end.

@@ -5,24 +5,13 @@
 mod common;
 
 use common::PAPER_TASKS;
-use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
 use multibots_core::output::metrics::Outcome;
 use multibots_core::world::layout::Aisles;
-use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
+use multibots_core::{Scenario, Simulation, Traffic};
 
 #[allow(clippy::too_many_arguments)]
 fn lifelong(rows: u32, cols: u32, unloading_rows: u32, aisles: Aisles, robots: u32, rate: f64, steps: u64, traffic: Traffic) -> Scenario {
-    let mut s = Scenario::paper(robots, &[]);
-    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers: cols + 1, unloading_rows, aisles, ..LayoutParams::paper() });
-    s.placement = Placement::Spread;
-    s.charging.chargers = ChargerUse::Shared;
-    s.unload = Unload::Nearest;
-    s.allocator = "nearest".into();
-    s.traffic = traffic;
-    s.robot.consumption = 0.0002;
-    s.tasks = Tasks::Cells(vec![]);
-    s.orders = Some(Orders { rate, horizon: steps, restock: 50, seed: u64::from(robots), csv: None });
-    s
+    common::lifelong(rows, cols, unloading_rows, cols + 1, aisles, robots, rate, steps, traffic)
 }
 
 #[test]
