@@ -98,14 +98,20 @@ def test_plan_time_limit_makes_robots_wait(tmp_path):
     assert check(problem, out)["valid"]
 
 
-def test_bad_files_are_one_line_naming_file_and_line(cli, tmp_path):
-    (tmp_path / "m.map").write_text("type octile\nheight 2\nwidth 2\nmap\n..\n.@\n")
-    (tmp_path / "a.agents").write_text("2\n0\n3\n")
-    (tmp_path / "t.tasks").write_text("1\n1\n")
-    (tmp_path / "p.json").write_text(
-        '{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2,'
-        ' "numTasksReveal": 1, "taskAssignmentStrategy": "roundrobin"}'
+def tiny_problem(folder, map_text: str, agents: str, tasks: str, rules: str) -> None:
+    """A two-robot problem in ``folder``: its map, agents and tasks files, and ``p.json``
+    with the JSON members ``rules`` (version, reveal, assignment)."""
+    (folder / "m.map").write_text(map_text)
+    (folder / "a.agents").write_text(agents)
+    (folder / "t.tasks").write_text(tasks)
+    (folder / "p.json").write_text(
+        '{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2, ' + rules + "}"
     )
+
+
+def test_bad_files_are_one_line_naming_file_and_line(cli, tmp_path):
+    tiny_problem(tmp_path, "type octile\nheight 2\nwidth 2\nmap\n..\n.@\n", "2\n0\n3\n", "1\n1\n",
+                 '"numTasksReveal": 1, "taskAssignmentStrategy": "roundrobin"')
     p = cli("lorr", tmp_path / "p.json", "--steps", "5")
     cli.assert_one_line_error(p, "a.agents, line 3", "obstacle")
     with pytest.raises(ScenarioError, match="a.agents, line 3"):
@@ -117,13 +123,8 @@ def test_bad_files_are_one_line_naming_file_and_line(cli, tmp_path):
 
 
 def test_the_command_prints_the_score(cli, tmp_path):
-    (tmp_path / "m.map").write_text("type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n")
-    (tmp_path / "a.agents").write_text("2\n0\n11\n")
-    (tmp_path / "t.tasks").write_text("# version for LoRR 2024\n3\n3,8\n11\n0,3\n")
-    (tmp_path / "p.json").write_text(
-        '{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2,'
-        ' "numTasksReveal": 1.5, "version": "2024 LoRR"}'
-    )
+    tiny_problem(tmp_path, "type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n", "2\n0\n11\n",
+                 "# version for LoRR 2024\n3\n3,8\n11\n0,3\n", '"numTasksReveal": 1.5, "version": "2024 LoRR"')
     out = tmp_path / "r.json"
     p = cli("lorr", tmp_path / "p.json", "--steps", "200", "--out", out)
     assert p.returncode == 0, p.stderr
