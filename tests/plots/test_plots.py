@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import pathlib
 import re
-import time
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -319,13 +318,12 @@ def test_layout_overwrite_is_atomic(tmp_path, paper_layout):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["layout.png"]
 
 
-def test_big_layout_is_fast_and_drops_unreadable_ids(tmp_path):
+def test_big_layout_draws_and_drops_unreadable_ids(tmp_path):
+    # How long this takes is measured in benchmarks, not asserted here.
     big = grid_layout(10, 40, name="big")  # 3200 cells: ids still readable, as glyphs
     assert len(big["cells"]) == 3200
-    t0 = time.perf_counter()
     png = _png(plots.draw_layout(big, tmp_path / "big.png", cells_full=[1, 0] * 1600))
     svg = _svg(plots.draw_layout(big, tmp_path / "big.svg"))
-    assert time.perf_counter() - t0 < 30
     assert png.shape[1] > 2000
     assert _gids(svg, "cell-ids") and not _gids(svg, "cell-1")
     pixel = _pixel_of(big)
@@ -333,10 +331,8 @@ def test_big_layout_is_fast_and_drops_unreadable_ids(tmp_path):
     assert _is_black(png[pixel(1, 0.15, 0.15)])
 
     huge = grid_layout(20, 60, name="huge")  # 9600 cells: ids too small to read
-    t0 = time.perf_counter()
     svg = _svg(plots.draw_layout(huge, tmp_path / "huge.svg"))
     _png(plots.draw_layout(huge, tmp_path / "huge.png"))
-    assert time.perf_counter() - t0 < 60
     assert not _gids(svg, "cell-")
     assert "<text" in svg  # the legend is still there
 
