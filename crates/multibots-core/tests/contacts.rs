@@ -96,3 +96,77 @@ fn contacts_are_every_pair_closer_than_touching_after_every_step() {
     // The cases hold contacts under `wait`, so the comparison can fail.
     assert!(seen[0] > 100, "contacts seen: {seen:?}");
 }
+
+/// Pairs closer than r_i + r_j, found with buckets of the contact distance (a fleet of
+/// thousands makes the pass over every pair too slow); shares nothing with the engine.
+fn touching_pairs(sim: &Simulation) -> Vec<(usize, usize, f64)> {
+    let r = sim.robots();
+    let reach = 2.0 * r.radius.iter().copied().fold(0.0, f64::max);
+    let key = |i: usize| ((r.x[i] / reach).floor() as i64, (r.y[i] / reach).floor() as i64);
+    let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> = std::collections::HashMap::new();
+    for i in 0..r.len() {
+        buckets.entry(key(i)).or_default().push(i);
+    }
+    let mut pairs = Vec::new();
+    for i in 0..r.len() {
+        let (cx, cy) = key(i);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for &j in buckets.get(&(cx + dx, cy + dy)).map_or(&[][..], |v| &v[..]) {
+                    let d = (r.x[j] - r.x[i]).hypot(r.y[j] - r.y[i]);
+                    if j > i && d < r.radius[i] + r.radius[j] {
+                        pairs.push((i, j, d));
+                    }
+                }
+            }
+        }
+    }
+    pairs
+}
+
+#[test]
+fn reserve_lets_no_two_robots_touch_on_random_warehouses() {
+    // Issue 30's first target, from positions: warehouses of 100 to 2,000 robots with either
+    // aisle pattern, nearest or first unloading, few or many shared chargers, batteries that
+    // charge or not, some with people on the floor; every step.
+    let mut charged = 0;
+    for seed in 1..=6u64 {
+        let mut rng = seed.wrapping_mul(0xd134_2543_de82_ef95) | 1;
+        let mut pick = |k: u64| xorshift(&mut rng) % k;
+        let robots = [100, 250, 500, 900, 1400, 2000][seed as usize - 1];
+        let cols = f64::from(robots / 4).sqrt() as u32 + pick(5) as u32;
+        let rows = robots / (4 * cols) + 2 + pick(3) as u32;
+        let mut s = Scenario::paper(robots, &[]);
+        let aisles = if pick(2) == 0 { Aisles::Paper } else { Aisles::Alternate };
+        let unloading_rows = 1 + pick(u64::from(rows.min(4))) as u32;
+        let chargers = 1 + pick(u64::from(cols + 1)) as u32;
+        s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles, ..LayoutParams::paper() });
+        s.placement = Placement::Spread;
+        s.charging.chargers = ChargerUse::Shared;
+        s.unload = if pick(2) == 0 { Unload::Nearest } else { Unload::First };
+        s.allocator = "nearest".into();
+        s.traffic = Traffic::Reserve;
+        // Small fleets charge within the horizon (a battery cycle of 1,300 steps); a big
+        // warehouse's longest trip needs a battery that lasts longer.
+        s.robot.consumption = if robots <= 500 { [0.0002, 0.005][pick(2) as usize] } else { [0.0002, 0.0008][pick(2) as usize] };
+        s.collision.margin = [0.0, 3.0][pick(2) as usize];
+        if seed % 2 == 0 {
+            s.humans = Some(multibots_core::input::scenario::Humans { count: robots / 20, seed, ..Default::default() });
+        }
+        s.tasks = Tasks::Cells(vec![]);
+        s.orders = Some(Orders { rate: f64::from(robots) / 80.0, horizon: 1500, restock: 50, seed, csv: None });
+        let label = format!("seed {seed}: {robots} robots, {rows}x{cols} {aisles:?}, {unloading_rows} unloading rows, {chargers} chargers");
+        let mut sim = Simulation::new(&s).unwrap_or_else(|e| panic!("{label}: {e}"));
+        while !sim.done() {
+            sim.step().unwrap();
+            let pairs = touching_pairs(&sim);
+            assert!(pairs.is_empty(), "{label}, step {}: {:?}", sim.t(), &pairs[..pairs.len().min(5)]);
+        }
+        let r = sim.result();
+        assert_eq!(r.contacts, 0, "{label}");
+        assert!(r.delivered > 0, "{label}");
+        charged += u64::from(r.c > 0);
+    }
+    // Charger queues (robots waiting in their bays) are among the cases.
+    assert!(charged > 0);
+}

@@ -54,6 +54,11 @@ fn people_among_a_thousand_robots() {
         assert_eq!(p.contacts, 0, "{traffic}: {p:?}");
         assert!(p.protective_stops > 0 && p.picks > 0, "{traffic}: {p:?}");
         assert!(r.delivered > 0, "{traffic}");
+        if traffic == "reserve" {
+            // A robot stopped for a person is a standing robot its lane keeps its distance
+            // from: no robot touches another (issue 30, item 6).
+            assert_eq!(r.contacts, 0, "{:?}", r.closest);
+        }
     }
 }
 

@@ -55,11 +55,12 @@ impl State {
         }
     }
 
-    /// States in which a robot follows a route.
+    /// States in which a robot follows a route (when it has one: a robot waiting for a
+    /// charger drives to its bay, under spread placement).
     #[inline]
     #[must_use]
     pub fn travels(self) -> bool {
-        matches!(self, State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome)
+        matches!(self, State::ToPickup | State::ToDrop | State::ToCharger | State::ToHome | State::WaitCharger)
     }
 
     /// Loading, unloading or charging: a step of it is progress, though the robot stands.
@@ -124,6 +125,10 @@ pub struct Robots {
     /// route's next hop, or `NONE`. Empty until a policy gives the first detour (robots
     /// past its end have none): most runs never take one.
     pub via: Vec<u32>,
+    /// A robot standing aside in a bay (`fleet/bay.rs`): the point of its lane it stepped
+    /// aside from; NaN on the lane. Empty until the first robot steps aside.
+    pub lane_x: Vec<f64>,
+    pub lane_y: Vec<f64>,
 }
 
 impl Robots {

@@ -41,7 +41,9 @@ impl Place {
     /// The place of robot `i`.
     #[must_use]
     pub fn of(r: &Robots, i: usize) -> Place {
-        Place { x: r.x[i], y: r.y[i], at_node: r.at_node[i], edge_u: r.edge_u[i], edge_v: r.edge_v[i] }
+        // A robot in a bay leaves it where it stepped aside: routes start on the lane.
+        let (x, y) = r.on_lane(i);
+        Place { x, y, at_node: r.at_node[i], edge_u: r.edge_u[i], edge_v: r.edge_v[i] }
     }
 
     /// Standing on node `n`.

@@ -148,6 +148,15 @@ impl People {
     }
 
     /// After the robots moved: people walk, pick or rest, then the gaps are measured.
+    /// Whether a robot of `radius` may stand at `(x, y)`: no person within touching distance
+    /// (and the gap people keep). Reads the positions of this step's [`People::guard`].
+    pub(crate) fn clear_of(&self, x: f64, y: f64, radius: f64) -> bool {
+        let reach = radius + self.radius + walk::CLEAR;
+        let mut clear = true;
+        self.crowd.near(x, y, reach, |k| clear &= (self.x[k] - x).hypot(self.y[k] - y) >= reach);
+        clear
+    }
+
     pub(crate) fn step(&mut self, robots: &Robots) {
         let forces = self.forces;
         let blocked = self.walk_people(robots, &forces);

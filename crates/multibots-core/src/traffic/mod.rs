@@ -27,9 +27,11 @@
 mod lanes;
 
 use crate::collision::Collisions;
+use crate::fleet::bay;
 use crate::fleet::robot::Robots;
 use crate::ids::NONE;
 use crate::input::scenario::Traffic;
+use crate::people::People;
 use crate::world::graph::HighwayGraph;
 use lanes::{Ahead, Lanes};
 
@@ -64,7 +66,16 @@ pub(crate) fn decide(
     wants: &[bool],
     margin: f64,
     angle: f64,
+    bay_depth: f64,
+    people: Option<&People>,
 ) {
+    let reserve = traffic.as_ref().is_some_and(|ts| ts.policy == Traffic::Reserve);
+    let clear = |x: f64, y: f64, radius: f64| people.map_or(true, |p| p.clear_of(x, y, radius));
+    if !reserve {
+        // Under collision waiting a robot leaves its bay when it wants to: it steps back onto
+        // its lane whoever is passing (the cone then decides, and a contact is counted).
+        bay::settle(r, g, &mut collisions.bay, bay_depth, clear);
+    }
     let Some(ts) = traffic else {
         collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, margin, angle);
         return;
@@ -79,8 +90,8 @@ pub(crate) fn decide(
     for (o, k) in ts.out.iter_mut().zip(0..) {
         *o = bays.get(k).copied().unwrap_or(false);
     }
-    ts.decide(r, g, t, wants, cone);
-    if ts.policy == Traffic::Reserve {
+    ts.decide(r, g, t, wants, cone, bay_depth, clear, people);
+    if reserve {
         // Robots waiting to leave a bay are still in it; the grid serves to count contacts
         // after the moves.
         if !collisions.bay.is_empty() {
@@ -153,10 +164,23 @@ impl TrafficState {
     /// who waits. `self.out[i]` (set by the caller): robot `i` stands in a bay, out of the
     /// traffic. For `gate`, `cone_waits` are the collision-waiting rule's decisions, which it
     /// keeps.
-    fn decide(&mut self, r: &mut Robots, g: &HighwayGraph, t: u64, wants: &[bool], cone_waits: Option<&[bool]>) {
+    #[allow(clippy::too_many_arguments)]
+    fn decide(
+        &mut self,
+        r: &mut Robots,
+        g: &HighwayGraph,
+        t: u64,
+        wants: &[bool],
+        cone_waits: Option<&[bool]>,
+        bay_depth: f64,
+        clear: impl Fn(f64, f64, f64) -> bool,
+        people: Option<&People>,
+    ) {
         let n = r.len();
         if self.policy == Traffic::Reserve {
             self.rejoin(r, g);
+            // Robots step aside, or back onto a lane with room, before the lanes are read.
+            bay::settle(r, g, &mut self.out, bay_depth, clear);
         }
         let out = &self.out;
         self.lanes.build(r, g, self.zone, out);
@@ -169,13 +193,19 @@ impl TrafficState {
         for i in 0..n {
             self.waits[i] = false;
             self.ahead[i] = None;
-            let moving = wants[i] && cone_waits.map_or(true, |w| !w[i]) && self.lanes.edge_of[i] != NONE;
+            // A robot stopped for a person stands, and one slowed near a person moves less:
+            // the robots behind it must know before they move (under `reserve`).
+            let halted = people.is_some_and(|p| p.stop[i]);
+            let moving = wants[i] && !halted && cone_waits.map_or(true, |w| !w[i]) && self.lanes.edge_of[i] != NONE;
             if !moving {
                 self.budget[i] = 0.0;
                 continue;
             }
             let a = self.lanes.ahead_of(r, g, i);
-            let mut d = r.speed[i];
+            let mut d = match people {
+                Some(p) if p.slow[i] => r.speed[i] * p.slow_factor,
+                _ => r.speed[i],
+            };
             if a.v == NONE || a.e2 == NONE {
                 d = d.min(a.stop);
             } else {
@@ -220,7 +250,8 @@ impl TrafficState {
                 }
                 let e = g.edge_id(r.edge_u[i], r.edge_v[i]);
                 let (ux, uy) = g.pos(g.edge(e).0);
-                let s = crate::fleet::motion::axis_dist(r.x[i] - ux, r.y[i] - uy);
+                let (x, y) = r.on_lane(i);
+                let s = crate::fleet::motion::axis_dist(x - ux, y - uy);
                 let clear = self.lanes.lane(e).iter().all(|&j| (self.lanes.s[j as usize] - s).abs() >= r.radius[i] + r.radius[j as usize] + self.margin);
                 let (_, v, len) = g.edge(e);
                 let zones_free =
@@ -363,8 +394,8 @@ impl TrafficState {
     }
 
     /// Along each lane, front first: a robot keeps the contact distance to the robot ahead
-    /// after that robot's move; a robot crossing onto its exit lane keeps it to that lane's
-    /// last robot (as it stood at the start of the step, since it only moves away).
+    /// after that robot's move, and to the last robot of its exit lane, measured through the
+    /// node (as that robot stood at the start of the step, since it only moves away).
     fn follow(&mut self, r: &Robots) {
         for e in 0..self.lanes.edges() as u32 {
             let lane = self.lanes.lane(e);
@@ -382,7 +413,9 @@ impl TrafficState {
                         d = d.min(sj - gap - a.s);
                     }
                 }
-                if a.v != NONE && a.e2 != NONE && d > a.stop {
+                // Across the node too, even short of it: the robot ahead may have stopped
+                // just past the node (for a person) while this one is in the zone behind it.
+                if a.v != NONE && a.e2 != NONE {
                     let tail = self.lanes.tail(a.e2);
                     if tail != NONE && tail as usize != i {
                         let gap = r.radius[i] + r.radius[tail as usize] + self.margin;

@@ -102,7 +102,7 @@ impl Homes {
             Some(park) => {
                 robots.at_node[i] == NONE && {
                     let (_, _, x, y) = park.slot(i);
-                    robots.x[i] == x && robots.y[i] == y
+                    robots.on_lane(i) == (x, y)
                 }
             }
             None => robots.at_node[i] == robots.home[i].0,

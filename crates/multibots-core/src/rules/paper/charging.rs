@@ -132,6 +132,11 @@ impl Paper {
         } else {
             self.robots.state[i] = State::WaitCharger;
             self.robots.routing[i] = false;
+            if self.homes.spread() {
+                // It waits in its bay, out of the traffic, not where it stands (often an
+                // unloading zone, where the next robot would stand on it).
+                self.route(i, self.homes.target(&self.robots, i));
+            }
             self.chargers.queue.push_back(i as u32);
         }
     }

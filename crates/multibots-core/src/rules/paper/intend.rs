@@ -24,11 +24,12 @@ impl Paper {
             }
         }
         if self.homes.spread() {
-            // Spread placement: parked robots and robots waiting for a charger stand in a
-            // bay beside the aisle, out of the traffic (docs/model.md section 7).
+            // Spread placement: parked robots, and robots waiting for a charger once at their
+            // slot, stand in a bay beside the aisle, out of the traffic (docs/model.md
+            // section 7; `fleet/bay.rs`).
             self.collisions.bay.resize(n, false);
-            for (b, s) in self.collisions.bay.iter_mut().zip(state) {
-                *b = matches!(s, State::Parked | State::WaitCharger);
+            for ((b, s), &routing) in self.collisions.bay.iter_mut().zip(state).zip(routing) {
+                *b = *s == State::Parked || (*s == State::WaitCharger && !routing);
             }
         }
     }

@@ -17,8 +17,11 @@ impl Paper {
         let p = &self.p;
         // Who waits and how far each robot may travel: the paper's collision waiting, or a
         // traffic policy, which may also stop a robot short.
-        traffic::decide(self.traffic.as_mut(), &mut self.collisions, &mut self.robots, &self.world.graph, self.tally.t, &self.wants, p.margin, p.angle);
+        // A robot in a bay stands one contact distance beside the lane.
+        let bay_depth = 2.0 * self.contact_reach.0 + p.margin;
+        traffic::decide(self.traffic.as_mut(), &mut self.collisions, &mut self.robots, &self.world.graph, self.tally.t, &self.wants, p.margin, p.angle, bay_depth, self.people.as_deref());
         let (waits, budget) = traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        let bays = &self.collisions.bay;
         // People: robots that stop for a person (not a collision) or slow down near one.
         let (halt, slow, slow_factor) = match self.people.as_deref() {
             Some(pp) => (Some(&pp.stop[..n]), Some(&pp.slow[..n]), pp.slow_factor),
@@ -51,7 +54,8 @@ impl Paper {
             r.waited[i] = w;
             // Phase 4: robots that may move travel `speed` px along their routes (or what the
             // traffic policy allows).
-            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]);
+            // A robot that could not step out of its bay (a person stood in the way) waits.
+            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]) && !bays.get(i).is_some_and(|&b| b);
             if moves {
                 let mut step = budget.map_or(r.speed[i], |b| b[i]);
                 if slow.is_some_and(|s| s[i]) {
