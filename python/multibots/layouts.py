@@ -15,7 +15,7 @@ import json
 import math
 import os
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 from multibots import _core
 from multibots._io import read_input
@@ -52,14 +52,15 @@ def generate_layout(
     chargers: Optional[int] = None,
     spur: float = 40.0,
     name: str = "generated",
-    unloading_rows: int = 1,
-    aisles: str = "paper",
+    unloading_rows: Union[int, str] = "auto",
+    aisles: str = "auto",
 ) -> str:
     """The layout file text of a generated grid warehouse (checked by the engine): every
     field of a scenario's ``[layout_generate]`` (docs/layout-format.md).
 
     The defaults are the paper's warehouse; ``chargers`` defaults to one per top-aisle
-    crossing (``group_cols + 1``).
+    crossing (``group_cols + 1``); ``unloading_rows`` and ``aisles`` default to ``"auto"``,
+    which the generator chooses for the warehouse's size (the paper's for the paper's size).
     """
     w, h = parse_group_size(group_size)
     params = {
@@ -75,7 +76,7 @@ def generate_layout(
         "aisles": aisles,
     }
     for key in ("group_rows", "group_cols", "group_width", "group_height", "chargers", "unloading_rows"):
-        if params[key] < 0:
+        if params[key] != "auto" and params[key] < 0:
             raise ScenarioError(f"layout.{key} = {params[key]}: must be at least 1")
     for key in ("aisle", "cell", "spur"):
         if not math.isfinite(params[key]):

@@ -6,12 +6,12 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional, Union
 
 import typer
 
 from multibots._text import shown
-from multibots.cli._common import finite_flag, parse_cells, whole_flag
+from multibots.cli._common import FlagError, finite_flag, parse_cells, whole_flag
 from multibots.exceptions import InputError, ScenarioError
 from multibots.layouts import MAX_GROUPS
 
@@ -73,6 +73,16 @@ _FLAGS = {
 }
 
 
+def _rows_or_auto(value: Any) -> Union[int, str]:
+    """``--unloading-rows``: ``auto`` or a whole number."""
+    text = str(value).strip()
+    if text == "auto":
+        return "auto"
+    if not text.lstrip("-").isdigit():
+        raise FlagError(f'--unloading-rows = {shown(value)!r}: "auto" or a whole number')
+    return whole_flag("--unloading-rows", 0, MAX_GROUPS, _TOO_LARGE)(value)
+
+
 @app.command("generate")
 def generate(
     out: Path = typer.Option(Path("layout.toml"), "--out", help="Layout file to write (TOML)."),
@@ -89,12 +99,13 @@ def generate(
     ),
     spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur")),
     name: str = typer.Option("generated", "--name", help="The layout's name."),
-    unloading_rows: int = typer.Option(
-        1, "--unloading-rows", help="Rows of crossings that are unloading zones, spread from the bottom up.",
-        parser=whole_flag("--unloading-rows", 0, MAX_GROUPS, _TOO_LARGE),
+    unloading_rows: str = typer.Option(
+        "auto", "--unloading-rows", help="Rows of crossings that are unloading zones, spread from the bottom up; "
+        "auto: one per four rows of groups.", parser=_rows_or_auto,
     ),
-    aisles: str = typer.Option("paper", "--aisles", help="Horizontal aisle directions: paper (every row east but "
-                               "the bottom one) or alternate (rows alternate east and west)."),
+    aisles: str = typer.Option("auto", "--aisles", help="Horizontal aisle directions: paper (every row east but "
+                               "the bottom one), alternate (rows alternate east and west), or auto (paper up to "
+                               "two rows of groups, alternate beyond)."),
 ) -> None:
     """Generate a grid warehouse layout file (the defaults give the paper's layout); every
     field of a scenario's [layout_generate] has its flag."""

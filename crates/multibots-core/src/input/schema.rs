@@ -73,7 +73,14 @@ fn type_of(root: &Value, prop: &Value) -> String {
         .get("oneOf")
         .or_else(|| t.get("anyOf"))
         .and_then(Value::as_array)
-        .map(|alts| alts.iter().filter_map(|a| a.get("const").or_else(|| a.get("enum").and_then(|e| e.get(0)))).map(|c| format!("`{c}`")).collect())
+        .map(|alts| {
+            let value = |a: &Value| a.get("const").or_else(|| a.get("enum").and_then(|e| e.get(0))).map(|c| format!("`{c}`"));
+            if !alts.iter().any(|a| value(a).is_some()) {
+                return Vec::new();
+            }
+            // Values, and the plain types beside them (a count or "auto").
+            alts.iter().filter_map(|a| value(a).or_else(|| a.get("type").and_then(Value::as_str).filter(|t| *t != "null").map(String::from))).collect()
+        })
         .unwrap_or_default();
     if !consts.is_empty() {
         return consts.join(" or ");

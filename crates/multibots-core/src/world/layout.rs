@@ -82,17 +82,71 @@ pub struct LayoutParams {
     /// Length of a charger's spur, px.
     pub spur: f64,
     /// Rows of crossings whose crossings are unloading zones, spread evenly from the bottom
-    /// row up (1: the bottom row, as in the paper; at most `group_rows`). More rows let
-    /// unloading capacity grow with the warehouse. Default: 1.
-    #[serde(skip_serializing_if = "LayoutParams::one_row")]
+    /// row up (1: the bottom row, as in the paper; at most `group_rows`), or `"auto"`: one
+    /// row per four rows of groups (rounded, at least one), so that unloading capacity grows
+    /// with the warehouse. Default: `"auto"`.
+    #[serde(skip_serializing_if = "LayoutParams::auto_rows", with = "rows_or_auto")]
+    #[schemars(schema_with = "rows_or_auto::schema")]
     pub unloading_rows: u32,
     /// Directions of the horizontal aisles: `"paper"` (every row east but the bottom one,
-    /// which runs west) or `"alternate"` (rows alternate east and west, the top east and the
-    /// bottom west), which gives big warehouses as many westward aisles as eastward ones.
-    /// Vertical aisles alternate north and south either way, the rightmost south. Default:
-    /// `"paper"`.
-    #[serde(skip_serializing_if = "Aisles::is_paper")]
+    /// which runs west), `"alternate"` (rows alternate east and west, the top east and the
+    /// bottom west), which gives big warehouses as many westward aisles as eastward ones, or
+    /// `"auto"`: the paper's up to two rows of groups, alternate beyond. Vertical aisles
+    /// alternate north and south either way, the rightmost south. Default: `"auto"`.
+    #[serde(skip_serializing_if = "Aisles::is_auto")]
     pub aisles: Aisles,
+}
+
+/// `unloading_rows = "auto"`, as the parameters hold it.
+pub const AUTO_ROWS: u32 = 0;
+
+/// `unloading_rows`: a count, or `"auto"` ([`AUTO_ROWS`]).
+mod rows_or_auto {
+    use serde::{de, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(rows: &u32, s: S) -> Result<S::Ok, S::Error> {
+        if *rows == super::AUTO_ROWS {
+            s.serialize_str("auto")
+        } else {
+            s.serialize_u32(*rows)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+        struct Rows;
+        impl de::Visitor<'_> for Rows {
+            type Value = u32;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"auto\" or a count of rows of at least 1")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<u32, E> {
+                if v == "auto" {
+                    Ok(super::AUTO_ROWS)
+                } else {
+                    Err(E::invalid_value(de::Unexpected::Str(v), &self))
+                }
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<u32, E> {
+                match u32::try_from(v) {
+                    Ok(n) if n >= 1 => Ok(n),
+                    _ => Err(E::invalid_value(de::Unexpected::Signed(v), &self)),
+                }
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<u32, E> {
+                match u32::try_from(v) {
+                    Ok(n) if n >= 1 => Ok(n),
+                    _ => Err(E::invalid_value(de::Unexpected::Unsigned(v), &self)),
+                }
+            }
+        }
+        d.deserialize_any(Rows)
+    }
+
+    pub fn schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "anyOf": [{ "type": "integer", "format": "uint32", "minimum": 1 }, { "type": "string", "enum": ["auto"] }]
+        })
+    }
 }
 
 /// Directions of a generated layout's horizontal aisles.
@@ -100,22 +154,28 @@ pub struct LayoutParams {
 #[serde(rename_all = "kebab-case")]
 pub enum Aisles {
     /// Every row east but the bottom one, which runs west (the paper's).
-    #[default]
     Paper,
     /// Rows alternate east and west, the top east and the bottom west.
     Alternate,
+    /// The paper's up to two rows of groups, alternate beyond (with the paper's directions
+    /// all westward traffic of a big warehouse shares its one bottom aisle).
+    #[default]
+    Auto,
 }
 
 impl Aisles {
     #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
-    fn is_paper(&self) -> bool {
-        *self == Aisles::Paper
+    fn is_auto(&self) -> bool {
+        *self == Aisles::Auto
     }
 }
 
+/// What a scenario's `[layout_generate]` table starts from: the paper's warehouse, with the
+/// choices that must suit the warehouse's size (aisle directions, unloading rows) made by
+/// the generator (`"auto"`). The paper's own layout is [`LayoutParams::paper`], explicit.
 impl Default for LayoutParams {
     fn default() -> Self {
-        LayoutParams::paper()
+        LayoutParams { unloading_rows: AUTO_ROWS, aisles: Aisles::Auto, ..LayoutParams::paper() }
     }
 }
 
@@ -138,8 +198,21 @@ impl LayoutParams {
     }
 
     #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
-    fn one_row(n: &u32) -> bool {
-        *n == 1
+    fn auto_rows(n: &u32) -> bool {
+        *n == AUTO_ROWS
+    }
+
+    /// The parameters with every `"auto"` choice made for this warehouse's size.
+    #[must_use]
+    pub fn resolved(&self) -> LayoutParams {
+        let mut p = self.clone();
+        if p.aisles == Aisles::Auto {
+            p.aisles = if p.group_rows <= 2 { Aisles::Paper } else { Aisles::Alternate };
+        }
+        if p.unloading_rows == AUTO_ROWS {
+            p.unloading_rows = ((p.group_rows + 2) / 4).clamp(1, p.group_rows.max(1));
+        }
+        p
     }
 
     /// Parses the parameters from JSON (what the Python API sends); errors name the field as
@@ -187,7 +260,7 @@ impl LayoutParams {
                 return bad(field, number(v), "must be greater than 0");
             }
         }
-        if self.unloading_rows == 0 || self.unloading_rows > self.group_rows {
+        if self.unloading_rows != AUTO_ROWS && self.unloading_rows > self.group_rows {
             return bad("unloading_rows", self.unloading_rows.to_string(), &format!("must be between 1 and group_rows ({})", self.group_rows));
         }
         if self.chargers == 0 || u64::from(self.chargers) > u64::from(self.group_cols) + 1 {
@@ -340,6 +413,7 @@ impl Layout {
     /// always runs south, so every crossing can reach every other one.
     pub fn generate(p: &LayoutParams, name: &str) -> Result<Layout> {
         p.check()?;
+        let p = &p.resolved();
         let (rows, cols) = (p.group_rows as usize, p.group_cols as usize);
         let (w, h) = (f64::from(p.group_width), f64::from(p.group_height));
         let pitch_x = w * p.cell + p.aisle;
@@ -349,7 +423,7 @@ impl Layout {
         let node_of = |m: usize, k: usize| NodeId((m * kn + k) as u32);
         let north = |k: usize| k % 2 == 0 && !(k == cols && cols % 2 == 0);
         let east = |m: usize| match p.aisles {
-            Aisles::Paper => m < rows,
+            Aisles::Paper | Aisles::Auto => m < rows,
             Aisles::Alternate => m % 2 == 0 && m < rows,
         };
 
