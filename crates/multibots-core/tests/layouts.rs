@@ -199,3 +199,30 @@ fn generated_grids_are_valid_and_route_like_the_literal_search() {
         }
     }
 }
+
+#[test]
+fn auto_choices_suit_the_warehouse_size() {
+    // A scenario's [layout_generate] leaves aisles and unloading rows to the generator.
+    let table = |extra: &str| format!("robots = 1\ntasks = [0]\n[layout_generate]\n{extra}");
+    let auto = Scenario::from_toml(&table(""), "s.toml").unwrap().layout_generate.unwrap();
+    assert_eq!(Layout::generate(&auto, "paper").unwrap(), Layout::paper(), "the paper's size gives the paper's layout");
+    let unloading_rows = |rows: u32| {
+        let p = Scenario::from_toml(&table(&format!("group_rows = {rows}\ngroup_cols = 6\nchargers = 7")), "s.toml").unwrap().layout_generate.unwrap();
+        let layout = Layout::generate(&p, "g").unwrap();
+        // Each unloading row holds one zone per crossing of a row (group_cols + 1).
+        (layout.unloading.len() / 7, p.resolved().aisles)
+    };
+    use multibots_core::world::layout::Aisles;
+    assert_eq!(unloading_rows(2), (1, Aisles::Paper));
+    assert_eq!(unloading_rows(3), (1, Aisles::Alternate));
+    assert_eq!(unloading_rows(6), (2, Aisles::Alternate));
+    assert_eq!(unloading_rows(12), (3, Aisles::Alternate));
+    // What a scenario says is kept, and written back; "auto" is the default, not written.
+    let s = Scenario::from_toml(&table("group_rows = 12\naisles = \"paper\"\nunloading_rows = 1"), "s.toml").unwrap();
+    let text = s.to_toml();
+    assert!(text.contains("aisles = \"paper\"") && text.contains("unloading_rows = 1"), "{text}");
+    assert_eq!(Scenario::from_toml(&text, "s.toml").unwrap(), s);
+    assert!(!Scenario::from_toml(&table("group_rows = 12"), "s.toml").unwrap().to_toml().contains("auto"));
+    let e = Scenario::from_toml(&table("unloading_rows = 0"), "s.toml").unwrap_err().to_string();
+    assert!(e.contains("unloading_rows") && e.contains("\"auto\" or a count"), "{e}");
+}
