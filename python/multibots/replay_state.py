@@ -56,7 +56,8 @@ class ReplayState:
             elif kind == EV_CHARGE and r_ok:
                 snap["robot_C"][robot] += 1
             elif kind == EV_ASSIGN and r_ok:
-                snap["task"][robot] = cell if c_ok else -1
+                # A grid replay's goals are grid cells (goal_cells of them).
+                snap["task"][robot] = cell if cell < self.goal_cells else -1
             elif kind == EV_PUT_BACK and r_ok:
                 snap["task"][robot] = -1
             elif kind == EV_PICKUP:
