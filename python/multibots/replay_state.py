@@ -121,6 +121,11 @@ class ReplayState:
         """Cells before chunk ``i``'s events (what the viewer starts a chunk from)."""
         return self._snapshot(self._check_chunk(i))["cells"].copy()
 
+    def base_goals(self, i: int) -> np.ndarray:
+        """Each robot's task (in a grid replay, its goal cell; -1 if none) before chunk
+        ``i``'s events (what the viewer starts a chunk from)."""
+        return self._snapshot(self._check_chunk(i))["task"].copy()
+
     def trajectory(self, robot: int, f: int, limit: int = 3000) -> np.ndarray:
         """Where robot ``robot`` drives next from frame ``f``: its positions until the end of
         its current movement (or of the next one, if it is standing), at most ``limit`` frames.
