@@ -400,6 +400,13 @@ async function main() {
   $("mode").classList.toggle("live", meta.mode === "live");
   setText("name", `${meta.name || ""} \u00b7 layout ${meta.layout.name} \u00b7 ${meta.robots} robots`);
   if (meta.scenario) { $("scenario-box").hidden = false; setText("scenario", meta.scenario); }
+  if (meta.layout.grid) {  // a League of Robot Runners replay (docs/lorr.md): what its counters count
+    for (const [id, label, hint] of [["c-S", "errors", "refused joint actions"], ["c-C", "–", ""],
+      ["c-delivered", "finished", "tasks finished: the score"]]) {
+      const dt = $(id).previousElementSibling;
+      dt.textContent = label; dt.title = hint;
+    }
+  }
   const scale = Math.min(8, Math.max(0.1, Number(params.get("scale")) || 1));
   app.renderer = new Renderer($("view"), meta, RENDER ? { fixedScale: scale, title } : { title });
   if (meta.mode === "replay") {
