@@ -89,7 +89,8 @@ def test_bad_lorr_sweeps_are_one_line_before_any_run(cli, tmp_path: Path) -> Non
 def test_kill_9_then_resume_loses_and_repeats_nothing(tmp_path: Path) -> None:
     problem(tmp_path)
     seeds = list(range(40))
-    (tmp_path / "s.toml").write_text(f'base = {{ lorr = "p.json", steps = 20000 }}\n[axes]\nseed = {json.dumps(seeds)}\n')
+    spec = f'base = {{ lorr = "p.json", steps = 20000 }}\n[axes]\nseed = {json.dumps(seeds)}\n'
+    (tmp_path / "s.toml").write_text(spec)
     env = {**os.environ, "MULTIBOTS_SWEEP_FLUSH": "0.02"}
     p = subprocess.Popen([sys.executable, "-m", "multibots", "sweep", "s.toml", "--out", "k", "--workers", "1",
                           "--quiet"], cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
