@@ -177,13 +177,15 @@ def test_a_recorded_run_replays_the_result_file(tmp_path, name):
     with multibots.Replay(mbr) as rp:
         assert rp.frames == 401 and rp.robots == r.team_size
         assert rp.summary["delivered"] == r.finished and rp.summary["windows"] == r.figures["finished_per_1000"]
-        grid = rp.layout["grid"]
+        grid, cell = rp.layout["grid"], rp.layout["cell_size"]
         assert len(grid["cells"]) == grid["rows"] and all(len(row) == grid["cols"] for row in grid["cells"])
+        assert rp.layout["bounds"] == [0, 0, grid["cols"] * cell, grid["rows"] * cell]
         for f in range(0, 401, 40):
             fr = rp.frame(f)
             rows = [s[f][0] for s in states]
             cols = [s[f][1] for s in states]
-            assert fr["y"].tolist() == [r_ + 0.5 for r_ in rows] and fr["x"].tolist() == [c + 0.5 for c in cols]
+            assert fr["y"].tolist() == [(r_ + 0.5) * cell for r_ in rows]
+            assert fr["x"].tolist() == [(c + 0.5) * cell for c in cols]
             headings = [round(h / (math.pi / 2)) % 4 for h in fr["heading"].tolist()]
             assert headings == [s[f][2] for s in states]
             assert fr["delivered"] <= r.finished

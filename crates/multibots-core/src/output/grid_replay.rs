@@ -1,9 +1,10 @@
 //! Replays of League of Robot Runners runs (`multibots lorr --record`), in the replay format
 //! of `docs/replay-format.md`, version 1, unchanged: a grid world is a layout with no
 //! highway graph and a `grid` key (its rows, `@` for an obstacle and `.` for a free cell),
-//! and positions are in cell units (cell `(row, col)` has its centre at `(col + 0.5,
-//! row + 0.5)`, y down). What differs from a replay of the paper rules is only what the
-//! values mean:
+//! and a cell is [`CELL_PX`] px square (cell `(row, col)` has its centre at `((col + 0.5) ·
+//! 16, (row + 0.5) · 16)` px, y down), so that the viewer and `multibots render` draw a grid
+//! at the sizes they draw a warehouse. What differs from a replay of the paper rules is only
+//! what the values mean:
 //!
 //! | column | meaning in a grid replay |
 //! | --- | --- |
@@ -27,8 +28,11 @@ use crate::rules::grid::{LorrRun, Tasks};
 use serde_json::{json, Value};
 use std::path::Path;
 
-/// A robot's radius, in cells.
-const RADIUS: f64 = 0.4;
+/// A grid cell's side, in px: robots of 0.4 cells (6.4 px) are legible at the viewer's and
+/// the exporter's scales, and the largest LoRR map (500 cells) is 8,000 px wide.
+pub const CELL_PX: f64 = 16.0;
+/// A robot's radius, in px.
+const RADIUS: f64 = 0.4 * CELL_PX;
 /// "No robot" or "no cell" in an event.
 const NONE: u32 = u32::MAX;
 
@@ -78,9 +82,9 @@ pub fn header(run: &LorrRun) -> Value {
         "goods_total": p.tasks.len(),
         "layout": {
             "name": name,
-            "bounds": [0.0, 0.0, f64::from(cols), f64::from(rows)],
-            "aisle_width": 1.0,
-            "cell_size": 1.0,
+            "bounds": [0.0, 0.0, f64::from(cols) * CELL_PX, f64::from(rows) * CELL_PX],
+            "aisle_width": CELL_PX,
+            "cell_size": CELL_PX,
             "nodes": [], "edges": [], "spurs": [], "cells": [],
             "departure": [], "unloading": [], "chargers": [],
             "grid": {"rows": rows, "cols": cols, "cells": grid},
@@ -196,8 +200,8 @@ impl GridReplay {
                     }
                 }
             };
-            self.x.push((cell % self.cols) as f32 + 0.5);
-            self.y.push((cell / self.cols) as f32 + 0.5);
+            self.x.push((((cell % self.cols) as f64 + 0.5) * CELL_PX) as f32);
+            self.y.push((((cell / self.cols) as f64 + 0.5) * CELL_PX) as f32);
             self.heading.push(h.wrapping_mul(64));
             let was = self.goals[k];
             if self.delivered[k] {
@@ -292,7 +296,7 @@ mod tests {
             let last = chunks.last().unwrap();
             let k = (last.frames - 1) as usize;
             for (i, &cell) in r.locations().iter().enumerate() {
-                assert_eq!((last.x[3 * k + i], last.y[3 * k + i]), ((cell % 6) as f32 + 0.5, (cell / 6) as f32 + 0.5));
+                assert_eq!((last.x[3 * k + i], last.y[3 * k + i]), (((cell % 6) as f32 + 0.5) * 16.0, ((cell / 6) as f32 + 0.5) * 16.0));
                 assert_eq!(last.heading[3 * k + i], r.headings()[i] * 64);
             }
             assert_eq!(u64::from(last.counters[3 * k + 2]), r.finished());
@@ -355,9 +359,9 @@ mod tests {
         // Robot 0 starts at (0, 2) facing east: at least frames 1 and 2 are waits, then it
         // moves one cell east.
         let xs: Vec<f32> = c0.x.iter().step_by(3).copied().collect();
-        let moved = xs.iter().position(|&x| x != 2.5).unwrap();
+        let moved = xs.iter().position(|&x| x != 40.0).unwrap();
         assert!(moved >= 3, "{xs:?}");
-        assert_eq!(xs[moved], 3.5);
+        assert_eq!(xs[moved], 56.0);
         for p in [a, b, c] {
             std::fs::remove_file(p).unwrap();
         }

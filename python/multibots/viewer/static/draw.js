@@ -453,12 +453,12 @@ export class Renderer {
     this.bgValid = true;
   }
 
-  /** A grid's obstacles (world transform set, one world unit per cell), a run of `@` per
+  /** A grid's obstacles (world transform set; a cell is `cell_size` px), a run of `@` per
    * rectangle, only the rows in view; thin cell lines once a cell is 12 px or more. */
   _drawGrid(ctx, view) {
-    const G = this.grid, px = 1 / this.scale;
-    const r0 = Math.max(0, Math.floor(view[1])), r1 = Math.min(G.rows, Math.ceil(view[3]));
-    const c0 = Math.max(0, Math.floor(view[0])), c1 = Math.min(G.cols, Math.ceil(view[2]));
+    const G = this.grid, px = 1 / this.scale, k = this.cell;
+    const r0 = Math.max(0, Math.floor(view[1] / k)), r1 = Math.min(G.rows, Math.ceil(view[3] / k));
+    const c0 = Math.max(0, Math.floor(view[0] / k)), c1 = Math.min(G.cols, Math.ceil(view[2] / k));
     ctx.fillStyle = COLOURS.wall;
     ctx.beginPath();
     for (let r = r0; r < r1; r++) {
@@ -468,24 +468,24 @@ export class Renderer {
         if (row[c] !== "@") { c++; continue; }
         let e = c;
         while (e < c1 && row[e] === "@") e++;
-        ctx.rect(c, r, e - c, 1);
+        ctx.rect(c * k, r * k, (e - c) * k, k);
         c = e;
       }
     }
     ctx.fill();
-    if (this.scale < 12) return;
+    if (this.scale * k < 12) return;
     ctx.strokeStyle = "#d8dadc";
     ctx.lineWidth = px;
     ctx.beginPath();
-    for (let r = r0; r <= r1; r++) { ctx.moveTo(c0, r); ctx.lineTo(c1, r); }
-    for (let c = c0; c <= c1; c++) { ctx.moveTo(c, r0); ctx.lineTo(c, r1); }
+    for (let r = r0; r <= r1; r++) { ctx.moveTo(c0 * k, r * k); ctx.lineTo(c1 * k, r * k); }
+    for (let c = c0; c <= c1; c++) { ctx.moveTo(c * k, r0 * k); ctx.lineTo(c * k, r1 * k); }
     ctx.stroke();
   }
 
   /** Each robot's goal in a grid replay: a small square on the goal cell in the robot's
    * colour, and a line to it from the selected robot. */
   _drawGoals(ctx, frame, info) {
-    const goals = info.goals, cols = this.grid.cols, px = 1 / this.scale, q = 0.3;
+    const goals = info.goals, cols = this.grid.cols, px = 1 / this.scale, k = this.cell, q = 0.3 * k;
     const mask = CODEC.stateMask;
     for (let g = 0; g < GROUP_COLOURS.length; g++) {
       let any = false;
@@ -493,13 +493,13 @@ export class Renderer {
       for (let i = 0; i < goals.length; i++) {
         const c = goals[i];
         if (c < 0 || STATE_GROUP[frame.state[i] & mask] !== g) continue;
-        ctx.rect((c % cols) + 0.5 - q, Math.floor(c / cols) + 0.5 - q, 2 * q, 2 * q);
+        ctx.rect(((c % cols) + 0.5) * k - q, (Math.floor(c / cols) + 0.5) * k - q, 2 * q, 2 * q);
         any = true;
       }
       if (!any) continue;
       ctx.fillStyle = GROUP_COLOURS[g];
       ctx.fill();
-      ctx.lineWidth = Math.min(px, 0.06);
+      ctx.lineWidth = Math.min(px, 0.06 * k);
       ctx.strokeStyle = COLOURS.wall;
       ctx.stroke();
     }
@@ -507,10 +507,10 @@ export class Renderer {
     if (sel >= 0 && sel < goals.length && goals[sel] >= 0) {
       const c = goals[sel];
       ctx.strokeStyle = COLOURS.select;
-      ctx.lineWidth = Math.max(2 * px, 0.08);
+      ctx.lineWidth = Math.max(2 * px, 0.08 * k);
       ctx.beginPath();
       ctx.moveTo(frame.x[sel], frame.y[sel]);
-      ctx.lineTo((c % cols) + 0.5, Math.floor(c / cols) + 0.5);
+      ctx.lineTo(((c % cols) + 0.5) * k, (Math.floor(c / cols) + 0.5) * k);
       ctx.stroke();
     }
   }
