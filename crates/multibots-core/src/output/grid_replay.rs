@@ -200,8 +200,8 @@ impl GridReplay {
                     }
                 }
             };
-            self.x.push((((cell % self.cols) as f64 + 0.5) * CELL_PX) as f32);
-            self.y.push((((cell / self.cols) as f64 + 0.5) * CELL_PX) as f32);
+            self.x.push(((f64::from(cell % self.cols) + 0.5) * CELL_PX) as f32);
+            self.y.push(((f64::from(cell / self.cols) + 0.5) * CELL_PX) as f32);
             self.heading.push(h.wrapping_mul(64));
             let was = self.goals[k];
             if self.delivered[k] {
