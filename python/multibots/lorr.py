@@ -61,6 +61,8 @@ def run(
     seed: int = 0,
     plan_time_limit_ms: Optional[int] = None,
     progress: Optional[Callable[[int, int], None]] = None,
+    record: Optional[Union[str, os.PathLike[str]]] = None,
+    robots: Optional[int] = None,
 ) -> LorrResult:
     """Runs a LoRR problem for ``steps`` steps.
 
@@ -76,6 +78,12 @@ def run(
             robots wait a step per limit used (``T`` in the paths). None: no limit, and the
             run is the same on every machine.
         progress: called as ``progress(step, finished)`` every 50 steps.
+        record: write a replay of every step here (``.mbr``, docs/replay-format.md), which
+            ``multibots view`` plays: the grid, the robots with their headings and each
+            robot's goal. Written under a temporary name and renamed at the end.
+        robots: run with the first ``robots`` agents of the agents file instead of the
+            problem's ``teamSize`` (2024: the task pool is sized for them,
+            ``int(numTasksReveal * robots)``).
 
     Raises:
         ScenarioError: a problem file that cannot be read (the message names the file and
@@ -87,7 +95,10 @@ def run(
         raise ValueError(f"seed = {seed}: must be from 0 to 2^64 - 1")
     if plan_time_limit_ms is not None and not 1 <= plan_time_limit_ms < 2**64:
         raise ValueError(f"plan_time_limit_ms = {plan_time_limit_ms}: must be at least 1")
-    engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms)
+    if robots is not None and not 1 <= robots < 2**32:
+        raise ValueError(f"robots = {robots}: must be at least 1")
+    recorded = None if record is None else os.fspath(record)
+    engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded)
     while engine.t < steps:
         engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
         if progress is not None:
@@ -97,6 +108,8 @@ def run(
         written = Path(out)
         engine.write_result(written)
         engine.write_figures(figures_path(written))
+    # The replay last: if a result file cannot be written, no replay is left either.
+    engine.finish_record()
     return LorrResult(
         finished=engine.finished,
         steps=engine.t,

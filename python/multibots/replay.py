@@ -137,6 +137,16 @@ class Replay(ReplayState):
         self.radius = self._array(header, "radius", np.float64, 0, math.inf, self.robots)
         self.home = self._array(header, "home", np.int64, 0, _MAX_FRAMES, self.robots)
         self.cells_full = self._array(header, "cells_full", np.uint8, 0, 1)
+        # A League of Robot Runners grid (docs/lorr.md): goals are grid cells, not storage cells.
+        grid = self.layout.get("grid")
+        if grid is not None and not isinstance(grid, dict):
+            raise self._fail("header layout 'grid' is not a JSON object")
+        self.grid = grid
+        self.goal_cells = len(self.cells_full)
+        if grid is not None:
+            size = self._int(grid, "rows", "header layout grid", 1, 1 << 20) * self._int(
+                grid, "cols", "header layout grid", 1, 1 << 20)
+            self.goal_cells = size
         # People on the floor (docs/people.md): absent in replays without them.
         humans = header.get("humans")
         if humans is not None and not isinstance(humans, dict):

@@ -56,7 +56,8 @@ class ReplayState:
             elif kind == EV_CHARGE and r_ok:
                 snap["robot_C"][robot] += 1
             elif kind == EV_ASSIGN and r_ok:
-                snap["task"][robot] = cell if c_ok else -1
+                # A grid replay's goals are grid cells (goal_cells of them).
+                snap["task"][robot] = cell if cell < self.goal_cells else -1
             elif kind == EV_PUT_BACK and r_ok:
                 snap["task"][robot] = -1
             elif kind == EV_PICKUP:
@@ -119,6 +120,11 @@ class ReplayState:
     def base_cells(self, i: int) -> np.ndarray:
         """Cells before chunk ``i``'s events (what the viewer starts a chunk from)."""
         return self._snapshot(self._check_chunk(i))["cells"].copy()
+
+    def base_goals(self, i: int) -> np.ndarray:
+        """Each robot's task (in a grid replay, its goal cell; -1 if none) before chunk
+        ``i``'s events (what the viewer starts a chunk from)."""
+        return self._snapshot(self._check_chunk(i))["task"].copy()
 
     def trajectory(self, robot: int, f: int, limit: int = 3000) -> np.ndarray:
         """Where robot ``robot`` drives next from frame ``f``: its positions until the end of

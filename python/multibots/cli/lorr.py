@@ -10,8 +10,9 @@ from typing import Optional
 
 import typer
 
+from multibots._io import check_target
 from multibots.cli._common import parse_number
-from multibots.exceptions import InputError
+from multibots.exceptions import InputError, OutputError
 
 __all__ = ["lorr"]
 
@@ -29,9 +30,17 @@ def lorr(
         help="The competition's planning time limit per step, in ms: past it every robot waits a step (T).",
     ),
     seed: str = typer.Option("0", "--seed", help="Seed of the planner's tie-breaks."),
+    record: Optional[Path] = typer.Option(
+        None, "--record", show_default=False,
+        help="Write a replay of every step to this file (.mbr); multibots view plays it.",
+    ),
 ) -> None:
     """Run a League of Robot Runners problem, scored as the competition scores it."""
     from multibots import lorr as engine
+
+    for option, path in (("--out", out), ("--record", record)):
+        if path is not None:
+            _check_output(option, path)
 
     n_steps = parse_number(steps, "--steps", int, 4_294_967_295)
     if n_steps < 0:
@@ -43,7 +52,8 @@ def lorr(
     if n_seed < 0:
         raise InputError(f"--seed = {n_seed}: must be at least 0")
     began = time.monotonic()
-    if sys.stderr.isatty():
+    # The bar only when a person watches: stdout on a terminal (not piped or redirected).
+    if sys.stdout.isatty() and sys.stderr.isatty():
         from rich.console import Console
         from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
@@ -55,10 +65,10 @@ def lorr(
             task = bar.add_task(problem.name, total=n_steps, finished=0)
             result = engine.run(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
-                progress=lambda t, f: bar.update(task, completed=t, finished=f),
+                progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
             )
     else:
-        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit)
+        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record)
     fig = result.figures
     wall = time.monotonic() - began
     print(
@@ -69,3 +79,17 @@ def lorr(
     )
     if out is not None:
         print(f"result: {out} (figures: {engine.figures_path(out).name})")
+    if record is not None:
+        print(f"replay: {record} (multibots view {record})")
+
+
+def _check_output(option: str, path: Path) -> None:
+    """Refuses, before the run, an output file whose folder is missing or that names a
+    folder: one line naming the option and the value."""
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputError(f"{option} = {str(path)!r}: the folder {str(folder)!r} does not exist")
+    try:
+        check_target(path)
+    except OutputError as e:
+        raise OutputError(f"{option} = {str(path)!r}: {str(e).removeprefix(f'{path}: ')}") from None

@@ -16,6 +16,7 @@ from multibots.exceptions import InputError, MissingExtraError
 from multibots.runs import engine_id, process_pool, run_key, strategy_id
 from multibots.scenario import Scenario
 from multibots.strategies import is_python_allocator
+from multibots.sweeps import lorr as lorr_sweep
 from multibots.sweeps.spec import Point
 from multibots.sweeps.store import Store
 
@@ -89,6 +90,8 @@ def run_points(points: Sequence[Point], store: Store, workers: int = 0, backend:
     if len(todo) < len(points):
         tick(len(points) - len(todo))
     if backend == "ray":
+        if any(isinstance(p, lorr_sweep.LorrPoint) for p in points):
+            raise InputError("--backend = 'ray': a League of Robot Runners sweep runs on the local backend")
         _run_ray(points, keys, todo, store, workers, ray_address, tick)
     elif backend == "local":
         _run_local(points, keys, todo, store, workers, tick)
@@ -100,6 +103,8 @@ def run_points(points: Sequence[Point], store: Store, workers: int = 0, backend:
 def keys_of(points: Sequence[Point]) -> list[str]:
     """Each point's run key: its scenario, its strategy's code and the engine build."""
     engine = engine_id()
+    if points and isinstance(points[0], lorr_sweep.LorrPoint):
+        return lorr_sweep.keys_of(points, engine)  # type: ignore[arg-type]
     code = {name: strategy_id(name) for name in {p.allocator for p in points}}
     return [run_key(p.scenario, code[p.allocator], engine) for p in points]
 
@@ -167,9 +172,20 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
     # kill in between). The journal of `compare` writes each call's runs at once (its flush is 0).
     flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", getattr(store, "flush_seconds", FLUSH_SECONDS)))
     writer = _Writer(store, points, keys, flush)
+    lorr_jobs = [k for k in todo if isinstance(points[k], lorr_sweep.LorrPoint)]
+    todo = [k for k in todo if not isinstance(points[k], lorr_sweep.LorrPoint)]
     engine_jobs = [k for k in todo if not is_python_allocator(points[k].allocator)]
     python_jobs = [k for k in todo if is_python_allocator(points[k].allocator)]
     try:
+        if lorr_jobs:
+            # A run each in worker processes, as Python strategies: Ctrl-C stops them at once,
+            # and a kill of the study leaves none behind.
+            with process_pool(min(workers, len(lorr_jobs))) as pool:
+                lorr_futures = {pool.submit(lorr_sweep.run_one, points[k].run): k  # type: ignore[attr-defined]
+                                for k in lorr_jobs}
+                for f in as_completed(lorr_futures):
+                    writer.put([lorr_futures[f]], [f.result()], raw=False)
+                    tick(1)
         _run_engine(points, engine_jobs, workers, writer, tick)
         if python_jobs:
             with process_pool(min(workers, len(python_jobs))) as pool:

@@ -17,6 +17,9 @@ An axis is any scenario field, named by its dotted path (``charging.policy``,
 ``orders.rate``, ``humans.count``). ``seed`` is special: it sets every seed the scenario
 draws with (``tasks.seed`` of random task lists, ``orders.seed``, ``humans.seed``).
 ``repeats = R`` without a ``seed`` axis runs each point with seeds 1..R.
+
+A League of Robot Runners problem (a ``.json`` path, or a ``[base]`` table with ``lorr``) is a
+base too: its axes are the run's options (``sweeps/lorr.py``, docs/lorr.md).
 """
 
 from __future__ import annotations
@@ -27,13 +30,14 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Optional, Union
 
 from multibots import _core
 from multibots._io import load_toml, read_input
 from multibots._text import shown
 from multibots.exceptions import InputError, ScenarioError
 from multibots.scenario import Scenario
+from multibots.sweeps import lorr as lorr_sweep
 
 __all__ = ["MAX_POINTS", "Point", "Spec", "load_spec", "parse_spec"]
 
@@ -56,14 +60,15 @@ class Point:
 class Spec:
     """A parsed sweep spec."""
 
-    base: Scenario
+    #: A scenario, or a League of Robot Runners problem and its run's options.
+    base: Union[Scenario, lorr_sweep.LorrBase]
     axes: dict[str, list[Any]]
     product: str = "grid"
     repeats: int = 1
     source: str = "<spec>"
     names: list[str] = field(default_factory=list)
 
-    def points(self, workers: int = 0) -> list[Point]:
+    def points(self, workers: int = 0) -> list[Any]:
         """Every run, in plan order (deterministic): the grid (or zip) of the axes, each
         point repeated with seeds 1..repeats when there is no seed axis. Every scenario is
         validated before this returns, on ``workers`` engine threads (0: one per core)."""
@@ -76,6 +81,8 @@ class Spec:
         total = len(combos) * len(reps)
         if total > MAX_POINTS:
             raise InputError(f"{self.source}: the sweep plans {total:,} runs: at most {MAX_POINTS:,}")
+        if isinstance(self.base, lorr_sweep.LorrBase):
+            return lorr_sweep.plan(self.base, self.axes, combos, reps, self.source)
         base = self.base.to_dict()
         out = []
         for combo in combos:
@@ -150,7 +157,10 @@ def parse_spec(data: Mapping[str, Any], source: str = "<spec>", folder: Optional
         if key not in known:
             raise InputError(f"{source}: unknown key {shown(key)!r} (known: {', '.join(sorted(known))})")
     base_v = data.get("base")
-    if isinstance(base_v, str):
+    base: Union[Scenario, lorr_sweep.LorrBase]
+    if lorr_sweep.is_lorr_base(base_v):
+        base = lorr_sweep.parse_base(base_v, source, folder)
+    elif isinstance(base_v, str):
         bp = Path(base_v)
         if not bp.is_absolute() and folder is not None and not bp.exists():
             bp = folder / bp
@@ -186,6 +196,6 @@ def parse_spec(data: Mapping[str, Any], source: str = "<spec>", folder: Optional
     if isinstance(repeats, bool) or not isinstance(repeats, int) or not 1 <= repeats <= 100_000:
         raise InputError(f"{source}: repeats = {shown(repeats)}: expected an integer from 1 to 100000")
     spec = Spec(base=base, axes=axes, product=product, repeats=repeats, source=source)
-    if repeats > 1 and "seed" not in axes:
+    if repeats > 1 and "seed" not in axes and isinstance(base, Scenario):
         _set_seed(base.to_dict(), 1, f"{source}: repeats = {repeats}")
     return spec

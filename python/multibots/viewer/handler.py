@@ -13,7 +13,8 @@ Routes
                               names of the codes and the codec's numbers (``codec``)
 ``GET /api/chunk/<i>``        replay: chunk i, decompressed (sent deflate-encoded when the
                               client accepts it: the stored zlib stream, untouched)
-``GET /api/base/<i>``         replay: which cells hold goods before chunk i's events
+``GET /api/base/<i>``         replay: which cells hold goods before chunk i's events (a
+                              grid replay: also ``goals``, each robot's goal cell or -1)
 ``GET /api/robot?id=I&frame=F``  one robot's panel: state, energy, task cell, S, C, route
 ``GET /replay/<file name>``   replay: the named replay file itself
 ``GET /api/stream``           live: server-sent events, one JSON frame message at a time
@@ -340,11 +341,13 @@ class ViewerHandler(BaseHTTPRequestHandler):
                     self._chunk(i, head_only)
                 else:
                     try:
-                        cells = src.replay.base_cells(i)
+                        body = {"chunk": i, "cells": src.replay.base_cells(i).tolist()}
+                        if src.replay.grid is not None:  # a LoRR replay: goals before the chunk
+                            body["goals"] = src.replay.base_goals(i).tolist()
                     except ReplayError as exc:
                         self._error(500, str(exc))
                         return
-                    self._json({"chunk": i, "cells": cells.tolist()}, head_only=head_only)
+                    self._json(body, head_only=head_only)
                 return
             if path == "/replay/" + src.file_name:
                 self._file(head_only)

@@ -167,6 +167,25 @@ impl Frames {
         self.count += 1;
     }
 
+    /// Adds a frame of a run under other rules than [`Simulation`]'s (the League of Robot
+    /// Runners' grid, `crate::output::grid_replay`): its counters (S, C, delivered), and
+    /// `fill` pushes one value per robot to each column of [`Columns`] (and events, if any,
+    /// as frame, kind, robot, cell).
+    pub fn push_with(&mut self, counters: [u32; 3], fill: impl FnOnce(Columns<'_>)) {
+        self.counters.extend_from_slice(&counters);
+        fill(Columns {
+            x: &mut self.x,
+            y: &mut self.y,
+            energy: &mut self.energy,
+            heading: &mut self.heading,
+            state: &mut self.state,
+            events: &mut self.events,
+        });
+        self.count += 1;
+        let cells = self.count * self.robots;
+        debug_assert!([self.x.len(), self.y.len(), self.energy.len(), self.heading.len(), self.state.len()].iter().all(|&l| l == cells));
+    }
+
     /// Appends the decompressed chunk of the gathered frames, numbered from `first_frame`.
     pub fn encode(&self, first_frame: u64, out: &mut Vec<u8>) {
         let words = |out: &mut Vec<u8>, v: &[u32]| v.iter().for_each(|w| out.extend_from_slice(&w.to_le_bytes()));
@@ -195,6 +214,17 @@ impl Frames {
         self.people_x.clear();
         self.people_y.clear();
     }
+}
+
+/// The columns of the frame being added by [`Frames::push_with`]: each takes one value per
+/// robot; `events` takes four words per event (frame, kind, robot, cell).
+pub struct Columns<'a> {
+    pub x: &'a mut Vec<f32>,
+    pub y: &'a mut Vec<f32>,
+    pub energy: &'a mut Vec<u16>,
+    pub heading: &'a mut Vec<u8>,
+    pub state: &'a mut Vec<u8>,
+    pub events: &'a mut Vec<u32>,
 }
 
 /// A decoded chunk.

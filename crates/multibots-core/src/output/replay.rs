@@ -82,21 +82,30 @@ pub struct ReplayWriter {
 impl ReplayWriter {
     /// Opens the replay and records frame 0 (the state before step 1).
     pub fn create(path: &Path, sim: &Simulation, scenario_toml: &str) -> Result<ReplayWriter> {
+        let mut rw = ReplayWriter::open(path, header(sim, scenario_toml), sim.robots().len())?;
+        rw.frame(sim)?;
+        Ok(rw)
+    }
+
+    /// Opens a replay of `robots` robots with the header `h` (to which `chunk_steps` is
+    /// added), and records no frame yet: for runs under other rules than [`Simulation`]'s,
+    /// which add their frames with [`ReplayWriter::push_with`].
+    pub fn open(path: &Path, mut h: Value, robots: usize) -> Result<ReplayWriter> {
         let display = path.display().to_string();
         let tmp = crate::input::files::output_temp(path).map_err(|message| Error::Io { path: display.clone(), message })?;
         let file = File::create(&tmp).map_err(|e| Error::io(&display, &e))?;
-        let n = sim.robots().len();
-        let chunk_frames = ((1usize << 20) / (BYTES_PER_ROBOT_STEP * n.max(1))).clamp(16, 1024);
-        let mut h = header(sim, scenario_toml);
+        let chunk_frames = ((1usize << 20) / (BYTES_PER_ROBOT_STEP * robots.max(1))).clamp(16, 1024);
         h["chunk_steps"] = json!(chunk_frames);
         let header = serde_json::to_vec(&h).expect("JSON serialises");
         let mut out = BufWriter::with_capacity(1 << 16, file);
         let mut w = |b: &[u8]| out.write_all(b).map_err(|e| Error::io(&display, &e));
-        w(MAGIC)?;
-        w(&VERSION.to_le_bytes())?;
-        w(&(header.len() as u32).to_le_bytes())?;
-        w(&header)?;
-        let mut rw = ReplayWriter {
+        let written = (|| {
+            w(MAGIC)?;
+            w(&VERSION.to_le_bytes())?;
+            w(&(header.len() as u32).to_le_bytes())?;
+            w(&header)
+        })();
+        let rw = ReplayWriter {
             out: Some(out),
             tmp,
             path: path.to_path_buf(),
@@ -105,11 +114,11 @@ impl ReplayWriter {
             first_frame: 0,
             frames: 0,
             chunks: Vec::new(),
-            buf: Frames::with_capacity(n, chunk_frames),
+            buf: Frames::with_capacity(robots, chunk_frames),
             raw: Vec::new(),
         };
-        rw.frame(sim)?;
-        Ok(rw)
+        // On an error the writer is dropped here, and its temporary file with it.
+        written.map(|()| rw)
     }
 
     /// Records the state after the step just run, with its events.
@@ -120,6 +129,22 @@ impl ReplayWriter {
             self.flush_chunk()?;
         }
         Ok(())
+    }
+
+    /// Records the next frame from columns filled by the caller ([`Frames::push_with`]).
+    pub fn push_with(&mut self, counters: [u32; 3], fill: impl FnOnce(crate::output::codec::Columns<'_>)) -> Result<()> {
+        self.buf.push_with(counters, fill);
+        self.frames += 1;
+        if self.buf.len() == self.chunk_frames {
+            self.flush_chunk()?;
+        }
+        Ok(())
+    }
+
+    /// Frames recorded so far; the next frame's number.
+    #[must_use]
+    pub fn frames(&self) -> u64 {
+        self.frames
     }
 
     fn flush_chunk(&mut self) -> Result<()> {
@@ -149,10 +174,8 @@ impl ReplayWriter {
     }
 
     /// Writes the last chunk and the footer, and moves the file into place.
-    pub fn finish(mut self, result: &RunResult) -> Result<()> {
-        self.flush_chunk()?;
-        let footer = json!({
-            "frames": self.frames,
+    pub fn finish(self, result: &RunResult) -> Result<()> {
+        let fields = json!({
             "T": result.t,
             "S": result.s,
             "C": result.c,
@@ -160,8 +183,21 @@ impl ReplayWriter {
             "delivered": result.delivered,
             "window": result.window,
             "windows": result.windows,
-            "chunks": self.chunks.iter().map(|c| json!({"offset": c.offset, "length": c.length, "raw_length": c.raw_length, "first_frame": c.first_frame, "frames": c.frames})).collect::<Vec<_>>(),
         });
+        self.finish_with(fields)
+    }
+
+    /// Writes the last chunk and a footer of `fields` (an object: the indicators) with the
+    /// frame count and the chunk table, and moves the file into place.
+    pub fn finish_with(mut self, fields: Value) -> Result<()> {
+        self.flush_chunk()?;
+        let mut footer = fields;
+        footer["frames"] = json!(self.frames);
+        footer["chunks"] = self
+            .chunks
+            .iter()
+            .map(|c| json!({"offset": c.offset, "length": c.length, "raw_length": c.raw_length, "first_frame": c.first_frame, "frames": c.frames}))
+            .collect();
         let footer = serde_json::to_vec(&footer).expect("JSON serialises");
         let display = self.path.display().to_string();
         let mut out = self.out.take().expect("open until finished");

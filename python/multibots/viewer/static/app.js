@@ -42,7 +42,7 @@ function currentView() {
     return {
       frame,
       info: {
-        cells: app.source.cells(f), last: app.last, T: s.T, done: f === app.last,
+        cells: app.source.cells(f), goals: app.source.goals(f), last: app.last, T: s.T, done: f === app.last,
         outcome: s.outcome, goodsTotal: app.meta.goods_total, selected: app.selected,
         route: app.route, blinkOn: app.blink, next, alpha, zones: app.zones,
       },
@@ -112,7 +112,8 @@ function updateDom(v) {
   setText("c-step", info.last !== null && info.last !== undefined ? `${frame.step} / ${info.last}` : String(frame.step));
   setText("c-S", String(frame.S));
   setText("c-C", String(frame.C));
-  setText("c-delivered", `${frame.delivered} / ${info.goodsTotal}`);
+  // A grid replay (docs/lorr.md) counts tasks finished; its pool has no total.
+  setText("c-delivered", app.meta.layout.grid ? String(frame.delivered) : `${frame.delivered} / ${info.goodsTotal}`);
   setText("c-T", formatT(info));
   const tl = $("timeline");
   if (app.mode === "replay") {
@@ -319,8 +320,8 @@ async function renderFrame(f, blinkOn) {
   const frame = await app.source.frameAsync(f);
   const s = app.meta.summary || {};
   const info = {
-    cells: app.source.cells(f), last: app.last, T: s.T, done: f === app.last, outcome: s.outcome,
-    goodsTotal: app.meta.goods_total, selected: -1, route: null, blinkOn: blinkOn !== false,
+    cells: app.source.cells(f), goals: app.source.goals(f), last: app.last, T: s.T, done: f === app.last,
+    outcome: s.outcome, goodsTotal: app.meta.goods_total, selected: -1, route: null, blinkOn: blinkOn !== false,
   };
   app.renderer.draw(frame, info);
   app.shown = { frame, info };
@@ -399,6 +400,13 @@ async function main() {
   $("mode").classList.toggle("live", meta.mode === "live");
   setText("name", `${meta.name || ""} \u00b7 layout ${meta.layout.name} \u00b7 ${meta.robots} robots`);
   if (meta.scenario) { $("scenario-box").hidden = false; setText("scenario", meta.scenario); }
+  if (meta.layout.grid) {  // a League of Robot Runners replay (docs/lorr.md): what its counters count
+    for (const [id, label, hint] of [["c-S", "errors", "refused joint actions"], ["c-C", "–", ""],
+      ["c-delivered", "finished", "tasks finished: the score"]]) {
+      const dt = $(id).previousElementSibling;
+      dt.textContent = label; dt.title = hint;
+    }
+  }
   const scale = Math.min(8, Math.max(0.1, Number(params.get("scale")) || 1));
   app.renderer = new Renderer($("view"), meta, RENDER ? { fixedScale: scale, title } : { title });
   if (meta.mode === "replay") {

@@ -2,13 +2,16 @@
 // server a few at a time, and the live stream's one-frame chunks.
 
 // Event codes by name, from the engine's names in the server's meta (`event_names`).
-let EV_PICKUP = -1, EV_RESTOCK = -1;
+let EV_PICKUP = -1, EV_RESTOCK = -1, EV_ASSIGN = -1, EV_DELIVER = -1, EV_PUT_BACK = -1;
 
 /** Takes the engine's event names (`meta.event_names`: code -> name). */
 export function setEventNames(eventNames) {
   for (const [code, name] of Object.entries(eventNames || {})) {
     if (name === "PICKUP") EV_PICKUP = Number(code);
     else if (name === "RESTOCK") EV_RESTOCK = Number(code);
+    else if (name === "ASSIGN") EV_ASSIGN = Number(code);
+    else if (name === "DELIVER") EV_DELIVER = Number(code);
+    else if (name === "PUT_BACK") EV_PUT_BACK = Number(code);
   }
 }
 
@@ -122,6 +125,8 @@ export class ReplaySource {
     ]).then(([buf, base]) => {
       const ch = decodeChunk(buf);
       ch.baseCells = Uint8Array.from(base.cells);
+      // A grid replay (docs/lorr.md): each robot's goal cell before the chunk's events, or -1.
+      ch.baseGoals = base.goals ? Int32Array.from(base.goals) : null;
       this.cache.set(i, ch);
       let total = 0;
       for (const c of this.cache.values()) total += c.bytes;
@@ -151,6 +156,9 @@ export class ReplaySource {
     return frameOf(ch, f - ch.first);
   }
 
+  /** Each robot's goal cell after step f in a grid replay (needs f's chunk loaded). */
+  goals(f) { return goalsAt(this.cache.get(this.chunkIndex(f)), f); }
+
   /** Which cells hold goods after step f (needs f's chunk loaded). */
   cells(f) {
     const i = this.chunkIndex(f);
@@ -171,6 +179,26 @@ export class ReplaySource {
     this.cellsKey = key; this.cellsCh = ch; this.cellsVal = cells;
     return cells;
   }
+}
+
+/** Each robot's goal cell after step f in a grid replay (-1: none), from the chunk's
+ * starting goals and its ASSIGN, DELIVER and PUT_BACK events; null if f's chunk is not
+ * loaded or the replay has no goals. */
+export function goalsAt(ch, f) {
+  if (!ch || !ch.baseGoals) return null;
+  const ev = ch.events;
+  let m = 0;
+  while (m < ch.nEvents && ev[4 * m] <= f) m++;
+  if (ch.goalsKey === m) return ch.goalsVal;
+  const goals = Int32Array.from(ch.baseGoals);
+  for (let j = 0; j < m; j++) {
+    const kind = ev[4 * j + 1], robot = ev[4 * j + 2];
+    if (robot >= goals.length) continue;
+    if (kind === EV_ASSIGN) goals[robot] = ev[4 * j + 3];
+    else if (kind === EV_DELIVER || kind === EV_PUT_BACK) goals[robot] = -1;
+  }
+  ch.goalsKey = m; ch.goalsVal = goals;
+  return goals;
 }
 
 function b64bytes(s) {

@@ -66,6 +66,8 @@ export class Renderer {
     this.ctx = canvas.getContext("2d", { alpha: false });
     this.meta = meta;
     this.layout = meta.layout;
+    // A League of Robot Runners grid (docs/lorr.md): {rows, cols, cells: ["..@.", ...]}.
+    this.grid = meta.layout.grid || null;
     this.n = meta.robots;
     // People on the floor (docs/people.md): {count, radius, zones: [protective, warning]}.
     this.humans = meta.humans || null;
@@ -222,6 +224,15 @@ export class Renderer {
 
   // --------------------------------------------------------------- background
   _legendItems() {
+    if (this.grid) {
+      return [
+        ["robot", COLOURS.blue, "to an errand"],
+        ["robot", COLOURS.red, "to its task's last errand"],
+        ["robot", COLOURS.green, "no goal"],
+        ["cell", COLOURS.blue, "goal (robot's colour)"],
+        ["cell", COLOURS.wall, "obstacle"],
+      ];
+    }
     return [
       ["robot", COLOURS.blue, "to pick up, loading"],
       ["robot", COLOURS.red, "carrying, unloading"],
@@ -352,6 +363,7 @@ export class Renderer {
     const b = L.bounds;
     ctx.fillStyle = COLOURS.floor;
     ctx.fillRect(b[0], b[1], b[2] - b[0], b[3] - b[1]);
+    if (this.grid) this._drawGrid(ctx, view);
 
     const nodes = L.nodes;
     // spurs (two-way, dashed)
@@ -421,10 +433,10 @@ export class Renderer {
         ctx.fillText(nd.name, nd.x + this.aisle * 0.3, nd.y);
       }
     }
-    // delivered goods label
+    // delivered goods label (a grid replay counts finished tasks in the banner only)
     ctx.font = `${this.goodsLabel}px ${FONT}`;
     ctx.fillStyle = "#3a4048"; ctx.textAlign = "left"; ctx.textBaseline = "top";
-    ctx.fillText("delivered", this.goodsX0, this.goodsTop - this.goodsLabel * 0.1);
+    if (!this.grid) ctx.fillText("delivered", this.goodsX0, this.goodsTop - this.goodsLabel * 0.1);
     ctx.restore();
     this._drawLegend(ctx);
     // the cells, on their own layer
@@ -439,6 +451,68 @@ export class Renderer {
     this._drawCells(cl, cells, L.cells.filter((c) => this._cellInView(c, view)));
     cl.restore();
     this.bgValid = true;
+  }
+
+  /** A grid's obstacles (world transform set; a cell is `cell_size` px), a run of `@` per
+   * rectangle, only the rows in view; thin cell lines once a cell is 12 px or more. */
+  _drawGrid(ctx, view) {
+    const G = this.grid, px = 1 / this.scale, k = this.cell;
+    const r0 = Math.max(0, Math.floor(view[1] / k)), r1 = Math.min(G.rows, Math.ceil(view[3] / k));
+    const c0 = Math.max(0, Math.floor(view[0] / k)), c1 = Math.min(G.cols, Math.ceil(view[2] / k));
+    ctx.fillStyle = COLOURS.wall;
+    ctx.beginPath();
+    for (let r = r0; r < r1; r++) {
+      const row = G.cells[r];
+      let c = c0;
+      while (c < c1) {
+        if (row[c] !== "@") { c++; continue; }
+        let e = c;
+        while (e < c1 && row[e] === "@") e++;
+        ctx.rect(c * k, r * k, (e - c) * k, k);
+        c = e;
+      }
+    }
+    ctx.fill();
+    if (this.scale * k < 12) return;
+    ctx.strokeStyle = "#d8dadc";
+    ctx.lineWidth = px;
+    ctx.beginPath();
+    for (let r = r0; r <= r1; r++) { ctx.moveTo(c0 * k, r * k); ctx.lineTo(c1 * k, r * k); }
+    for (let c = c0; c <= c1; c++) { ctx.moveTo(c * k, r0 * k); ctx.lineTo(c * k, r1 * k); }
+    ctx.stroke();
+  }
+
+  /** Each robot's goal in a grid replay: a small square on the goal cell in the robot's
+   * colour, and a line to it from the selected robot. */
+  _drawGoals(ctx, frame, info) {
+    const goals = info.goals, cols = this.grid.cols, px = 1 / this.scale, k = this.cell, q = 0.3 * k;
+    const mask = CODEC.stateMask;
+    for (let g = 0; g < GROUP_COLOURS.length; g++) {
+      let any = false;
+      ctx.beginPath();
+      for (let i = 0; i < goals.length; i++) {
+        const c = goals[i];
+        if (c < 0 || STATE_GROUP[frame.state[i] & mask] !== g) continue;
+        ctx.rect(((c % cols) + 0.5) * k - q, (Math.floor(c / cols) + 0.5) * k - q, 2 * q, 2 * q);
+        any = true;
+      }
+      if (!any) continue;
+      ctx.fillStyle = GROUP_COLOURS[g];
+      ctx.fill();
+      ctx.lineWidth = Math.min(px, 0.06 * k);
+      ctx.strokeStyle = COLOURS.wall;
+      ctx.stroke();
+    }
+    const sel = info.selected;
+    if (sel >= 0 && sel < goals.length && goals[sel] >= 0) {
+      const c = goals[sel];
+      ctx.strokeStyle = COLOURS.select;
+      ctx.lineWidth = Math.max(2 * px, 0.08 * k);
+      ctx.beginPath();
+      ctx.moveTo(frame.x[sel], frame.y[sel]);
+      ctx.lineTo(((c % cols) + 0.5) * k, (Math.floor(c / cols) + 0.5) * k);
+      ctx.stroke();
+    }
   }
 
   /** Paint storage cells (world transform set): fill, white borders, ids when legible. */
@@ -530,7 +604,11 @@ export class Renderer {
     ctx.rect(0, this.areaTop * d, this.canvas.width, this.areaH * d);
     ctx.clip();
     this._worldTransform(ctx);
-    this._drawDelivered(ctx, frame.delivered);
+    if (this.grid) {
+      if (info.goals) this._drawGoals(ctx, frame, info);
+    } else {
+      this._drawDelivered(ctx, frame.delivered);
+    }
     if (info.selected >= 0 && info.route && info.route.length > 1) this._drawRoute(ctx, frame, info);
     this._drawRobots(ctx, frame, info);
     if (this.humans && frame.hx && frame.hx.length) this._drawPeople(ctx, frame, info);
@@ -682,8 +760,8 @@ export class Renderer {
     ctx.lineCap = "round";
     ctx.stroke();
     ctx.lineCap = "butt";
-    // battery bars above each robot
-    if (this.maxRadius * s < 4) return;
+    // battery bars above each robot (none on a grid: the competition has no batteries)
+    if (this.maxRadius * s < 4 || this.grid) return;
     const back = new Path2D(), levels = [new Path2D(), new Path2D(), new Path2D()];
     const blinkOn = info.blinkOn !== false;
     for (let j = 0; j < nv; j++) {
@@ -717,7 +795,7 @@ export class Renderer {
     ctx.fillText(title, x, y);
     x += ctx.measureText(title).width + 18 * ui;
     if (!frame) return;
-    const parts = bannerParts(frame, info);
+    const parts = bannerParts(frame, { ...info, grid: !!this.grid });
     for (const [k, v] of parts) {
       ctx.font = `${12 * ui}px ${FONT}`;
       ctx.fillStyle = "#b9c0c8";
@@ -738,6 +816,8 @@ export function formatT(info) {
 
 export function bannerParts(frame, info) {
   const step = info.last !== null && info.last !== undefined ? `${frame.step} / ${info.last}` : String(frame.step);
+  // A grid replay: S counts refused joint actions, delivered the tasks finished (docs/lorr.md).
+  if (info.grid) return [["step", step], ["errors", String(frame.S)], ["finished", String(frame.delivered)]];
   return [["step", step], ["S", String(frame.S)], ["C", String(frame.C)],
     ["delivered", `${frame.delivered} / ${info.goodsTotal}`], ["T", formatT(info)]];
 }

@@ -69,6 +69,13 @@ fn one() -> f64 {
 impl Problem {
     /// Reads a problem JSON and the files it names.
     pub fn load(path: &Path) -> Result<Problem> {
+        Problem::load_team(path, None)
+    }
+
+    /// Reads a problem with a team of `team` robots instead of its `teamSize`: the first
+    /// `team` agents of its agents file, and (2024) a task pool of `int(numTasksReveal ·
+    /// team)`, as the competition sizes it for a team. Sweeps over the team size use it.
+    pub fn load_team(path: &Path, team: Option<usize>) -> Result<Problem> {
         let text = read_text(path, MAX_INPUT_BYTES).map_err(|m| Error::input_file(path, None, m))?;
         // Nesting and key length checked before the parser recurses or allocates (docs/limits.md).
         crate::input::files::check_json_shape(&text).map_err(|m| Error::input_file(path, None, m))?;
@@ -99,7 +106,10 @@ impl Problem {
                 format!("numTasksReveal {} must be a positive number", json.num_tasks_reveal),
             ));
         }
-        let n = json.team_size as usize;
+        if team == Some(0) {
+            return Err(crate::Error::scenario("robots", 0, "must be at least 1"));
+        }
+        let n = team.unwrap_or(json.team_size as usize);
         let base = path.parent().unwrap_or(Path::new("."));
         let map = GridMap::load(&base.join(&json.map_file))?;
         let agent_path = base.join(&json.agent_file);
