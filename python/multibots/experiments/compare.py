@@ -272,6 +272,13 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
         "protective_stops": raw.get("people_protective_stops"),
         "min_gap": raw.get("people_min_gap"),
         "windows": raw.get("windows", ""),
+        "window": raw.get("window"),
+        "sustained_throughput": raw.get("sustained_throughput"),
+        "latency_p50": raw.get("latency_p50"),
+        "latency_p95": raw.get("latency_p95"),
+        "utilisation": raw.get("utilisation"),
+        "ordered": raw.get("ordered"),
+        "backlog_growth": raw.get("backlog_growth"),
     }
 
 

@@ -19,11 +19,11 @@ from multibots.strategies import is_python_allocator
 from multibots.sweeps.spec import Point
 from multibots.sweeps.store import Store
 
-__all__ = ["FIGURES", "estimate_cost", "figures_of", "keys_of", "run_points"]
+__all__ = ["FIGURES", "backlog_growth", "estimate_cost", "figures_of", "keys_of", "run_points"]
 
 #: The figures stored for each run (docs/sweeps.md).
 FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost", "distance", "throughput",
-           "sustained_throughput", "wait_share", "utilisation", "contacts", "closest")
+           "sustained_throughput", "wait_share", "utilisation", "contacts", "closest", "window")
 #: A finished run waits at most about this many seconds to be written to a Parquet store (at
 #: most that much work is repeated after a kill; fewer, larger part files), and Ray tasks hold
 #: at least this many robot-steps.
@@ -34,7 +34,7 @@ CALL_SECONDS = 0.25
 
 
 _SCALARS = tuple(k for k in FIGURES if k != "distance")
-_LIFELONG = ("latency_p50", "latency_p95", "energy_per_delivery")
+_LIFELONG = ("latency_p50", "latency_p95", "energy_per_delivery", "ordered")
 _PEOPLE = ("protective_stops", "min_gap", "warning_steps", "person_wait_steps")
 
 
@@ -47,12 +47,22 @@ def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
     lifelong = get("lifelong") or {}
     for k in _LIFELONG:
         out[k] = lifelong.get(k)
+    out["backlog_growth"] = backlog_growth(out["ordered"], get("steps"), get("sustained_throughput"))
     # Deliveries per window (docs/metrics.md), as text: a CSV cell, and a flat Parquet column.
     out["windows"] = ";".join(map(str, get("windows") or ()))
     people = get("people") or {}
     for k in _PEOPLE:
         out[f"people_{k}"] = people.get(k)
     return out
+
+
+def backlog_growth(ordered: Optional[int], steps: Optional[int], sustained: Optional[float]) -> Optional[float]:
+    """Orders per 1,000 steps a lifelong run leaves unserved once settled: the demand it saw
+    (orders over its steps) less its sustained throughput. About 0 when the fleet keeps up
+    (either sign, by chance); the unserved demand when it does not. None for finite runs."""
+    if ordered is None or not steps or sustained is None:
+        return None
+    return 1000.0 * ordered / steps - sustained
 
 
 def estimate_cost(s: Scenario) -> float:
