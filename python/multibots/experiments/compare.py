@@ -48,6 +48,7 @@ from multibots.paper import PAPER_TASKS
 from multibots.runs import Journal
 from multibots.scenario import Scenario
 from multibots.strategies import BUILT_INS, is_python_allocator
+from multibots.sweeps.runner import PEOPLE_COSTS
 
 __all__ = [
     "METRICS",
@@ -279,6 +280,7 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
         "utilisation": raw.get("utilisation"),
         "ordered": raw.get("ordered"),
         "backlog_growth": raw.get("backlog_growth"),
+        **{f"people_{k}": raw.get(f"people_{k}") for k in PEOPLE_COSTS},
     }
 
 

@@ -43,9 +43,8 @@ __all__ = [
 #: utilisation and backlog growth (orders per 1,000 steps left unserved) (docs/metrics.md).
 #: A figure no run has (T of lifelong runs, latency of finite ones) is left out of the tables.
 METRICS: tuple[str, ...] = ("T", "S", "C", "cost", "throughput", "contacts", "sustained_throughput",
-                            "latency_p50", "latency_p95", "utilisation", "backlog_growth")
-#: Indicators for which more is better (the others: less is better).
-HIGHER_IS_BETTER = frozenset({"throughput", "sustained_throughput", "utilisation"})
+                            "latency_p50", "latency_p95", "utilisation", "backlog_growth", "people_picks_per_hour",
+                            "people_walk_share", "people_blocked_share")
 #: The strategy every other one is tested against, when it is in the study (else the first
 #: one compared: an arm such as ``in-turn/wait`` when traffic policies are compared too).
 BASELINE = "in-turn"
@@ -56,6 +55,9 @@ RESULT_FIELDS = [
     "strategy", "N", "tasks", "list", "T", "S", "C", "distance", "cost", "outcome", "delivered", "goods_total",
     "throughput", "contacts", "wait_share", "traffic", "rules", "humans", "protective_stops", "min_gap", "windows",
     "window", "sustained_throughput", "latency_p50", "latency_p95", "utilisation", "ordered", "backlog_growth",
+    "people_picks_per_hour", "people_tours_per_hour", "people_walk_share", "people_blocked_share",
+    "people_alone_picks_per_hour", "people_alone_tours_per_hour", "people_alone_walk_share",
+    "people_alone_blocked_share",
 ]
 SUMMARY_FIELDS = [
     "strategy", "N", "metric", "n", "mean", "sd", "ci_low", "ci_high",
@@ -68,10 +70,14 @@ _NAMES = {
     "latency_p50": "order latency p50 (steps)", "latency_p95": "order latency p95 (steps)",
     "utilisation": "utilisation (share of robot-steps working)",
     "backlog_growth": "backlog growth (orders per 1,000 steps left unserved)",
+    "people_picks_per_hour": "people's picks per worker-hour",
+    "people_walk_share": "share of people's time walking",
+    "people_blocked_share": "share of people's time held up",
 }
 #: Decimals each indicator is printed with.
 _DIGITS = {"T": 0, "cost": 0, "contacts": 0, "latency_p50": 0, "latency_p95": 0, "throughput": 1,
-           "sustained_throughput": 1, "backlog_growth": 1}
+           "sustained_throughput": 1, "backlog_growth": 1,
+           "people_picks_per_hour": 1, "people_walk_share": 3, "people_blocked_share": 3}
 
 
 def baseline_of(strategies: Sequence[str]) -> str:
@@ -258,7 +264,7 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
         lines += _grid(f"{_NAMES[metric]}: mean [95% CI]", strategies, [f"N={n}" for n in ns], cells)
     if any(r["pairs"] for r in summary):
         lines += ["", f"against {base_name}, pooled over N (paired; diff = strategy - {base_name};",
-                  "negative is better, but for throughput, sustained throughput and utilisation):"]
+                  "negative is better, but for throughput, sustained throughput, utilisation, picks):"]
         w = _label_width(strategies)
         head = f"{'strategy':<{w}} |     metric | pairs |      diff |  diff % | p (t-test) | p (Wilcoxon)"
         lines += [head, "-" * len(head)]

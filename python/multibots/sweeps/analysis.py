@@ -18,17 +18,23 @@ __all__ = ["METRICS", "RANGE", "interval", "paired_tests", "plot", "summarize", 
 METRICS = ("T", "S", "C", "cost", "distance", "steps", "delivered", "goods_total", "throughput",
            "sustained_throughput", "wait_share", "utilisation", "contacts", "closest", "latency_p50", "latency_p95",
            "energy_per_delivery", "ordered", "backlog_growth", "window", "people_protective_stops", "people_min_gap",
-           "people_warning_steps", "people_person_wait_steps")
+           "people_warning_steps", "people_person_wait_steps", "people_tours", "people_picks", "people_walk_steps",
+           "people_blocked_steps", "people_picks_per_hour", "people_tours_per_hour", "people_walk_share",
+           "people_blocked_share", "people_alone_picks_per_hour", "people_alone_tours_per_hour",
+           "people_alone_walk_share", "people_alone_blocked_share")
 
 
 #: The range of each figure, which its interval is clipped to (a count or a rate is never
 #: below 0, a share never above 1); a figure not named takes any value. The backlog's growth
 #: takes either sign: a fleet that keeps up catches up on its backlog by chance as often as it
 #: falls behind.
-_SHARES = ("wait_share", "utilisation")
+_SHARES = ("wait_share", "utilisation", "people_walk_share", "people_blocked_share", "people_alone_walk_share",
+           "people_alone_blocked_share")
 _NON_NEGATIVE = ("T", "S", "C", "cost", "distance", "steps", "delivered", "goods_total", "throughput",
                  "sustained_throughput", "contacts", "latency_p50", "latency_p95", "energy_per_delivery", "ordered",
-                 "window", "people_protective_stops", "people_warning_steps", "people_person_wait_steps")
+                 "window", "people_protective_stops", "people_warning_steps", "people_person_wait_steps",
+                 "people_tours", "people_picks", "people_walk_steps", "people_blocked_steps", "people_picks_per_hour",
+                 "people_tours_per_hour", "people_alone_picks_per_hour", "people_alone_tours_per_hour")
 RANGE: dict[str, tuple[Optional[float], Optional[float]]] = {
     **{m: (0.0, None) for m in _NON_NEGATIVE}, **{m: (0.0, 1.0) for m in _SHARES}}
 

@@ -13,13 +13,14 @@ from typing import Any, Optional
 
 from multibots import _core
 from multibots.exceptions import InputError, MissingExtraError
+from multibots.result import people_costs
 from multibots.runs import engine_id, process_pool, run_key, strategy_id
 from multibots.scenario import Scenario
 from multibots.strategies import is_python_allocator
 from multibots.sweeps.spec import Point
 from multibots.sweeps.store import Store
 
-__all__ = ["FIGURES", "backlog_growth", "estimate_cost", "figures_of", "keys_of", "run_points"]
+__all__ = ["FIGURES", "PEOPLE_COSTS", "backlog_growth", "estimate_cost", "figures_of", "keys_of", "run_points"]
 
 #: The figures stored for each run (docs/sweeps.md).
 FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost", "distance", "throughput",
@@ -35,7 +36,11 @@ CALL_SECONDS = 0.25
 
 _SCALARS = tuple(k for k in FIGURES if k != "distance")
 _LIFELONG = ("latency_p50", "latency_p95", "energy_per_delivery", "ordered")
-_PEOPLE = ("protective_stops", "min_gap", "warning_steps", "person_wait_steps")
+_PEOPLE = ("protective_stops", "min_gap", "warning_steps", "person_wait_steps", "tours", "picks", "walk_steps",
+           "blocked_steps")
+#: What robots cost people (``result.people_costs``), stored as ``people_<name>``.
+PEOPLE_COSTS = ("picks_per_hour", "tours_per_hour", "walk_share", "blocked_share", "alone_picks_per_hour",
+                "alone_tours_per_hour", "alone_walk_share", "alone_blocked_share")
 
 
 def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
@@ -53,6 +58,9 @@ def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
     people = get("people") or {}
     for k in _PEOPLE:
         out[f"people_{k}"] = people.get(k)
+    costs = people_costs(people) if people else {}
+    for k in PEOPLE_COSTS:
+        out[f"people_{k}"] = costs.get(k)
     return out
 
 
