@@ -91,6 +91,8 @@ def test_the_command_prints_one_json_object_with_the_rate_and_the_curve(tmp_path
     (["--served", "1.5"], "--served = 1.5: must be above 0 and at most 1"),
     (["--robots-for", "nan"], "--robots-for = nan: must be a finite number"),
     (["--horizon", "500"], "--horizon = 500: at least 2000 steps"),
+    (["--robots", "0"], "--robots = 0: must be at least 1"),
+    (["--robots", "x"], "--robots = 'x': not an integer"),
 ])
 def test_bad_flags_get_one_line_naming_the_flag(tmp_path, args, why):
     path = tmp_path / "w.toml"
@@ -171,3 +173,12 @@ def test_a_bad_combination_name_lists_the_known_ones(tmp_path, args, why):
     path.write_text(Scenario.from_dict(SMALL).to_toml())
     p = _cli(str(path), *args, "--out", str(tmp_path / "out"), cwd=tmp_path)
     assert p.returncode == 2 and why in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+
+
+def test_robots_sets_the_fleet_of_the_question(tmp_path):
+    path = tmp_path / "w.toml"
+    path.write_text(Scenario.from_dict(SMALL).to_toml())
+    p = _cli(str(path), "--robots", "20", "--seeds", "1", "--json", "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["robots"] == 20 and {lv["robots"] for lv in d["curve"]} == {20}

@@ -21,6 +21,8 @@ def capacity(
     scenario: Path = typer.Argument(..., help="A scenario with lifelong orders ([orders]): warehouse, fleet, "
                                     "strategy, traffic policy."),
     seeds: str = typer.Option("3", "--seeds", help="Runs per level, with seeds 1..N."),
+    robots: Optional[str] = typer.Option(None, "--robots", help="The fleet size (default: the scenario's robots).",
+                                         show_default=False, metavar="N"),
     horizon: Optional[str] = typer.Option(None, "--horizon", help="Steps per run (default: the scenario's "
                                           "orders.horizon, else 10000).", show_default=False),
     robots_for: Optional[str] = typer.Option(
@@ -86,6 +88,11 @@ def capacity(
     check_folder(out)
     check_code(scenario, allow_code, overridden=allocs is not None)
     base = Scenario.from_toml(scenario)
+    fleet = parse_number(robots, "--robots", int, 1_000_000)
+    if fleet is not None:
+        if fleet < 1:
+            raise InputError(f"--robots = {fleet}: must be at least 1")
+        base = base.replace(robots=fleet)
     cap.check(base, steps, n_seeds, share)  # before the progress bar: a bad scenario is one line
     if allocs is not None or policies is not None:
         _combinations(base, allocs, policies, scenario, rate, first, as_json, quiet, out,
