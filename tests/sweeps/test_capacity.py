@@ -167,6 +167,7 @@ def test_the_command_compares_combinations_in_a_table_a_figure_and_json(tmp_path
     (["--allocators", "nearest,closest"], "--allocators = 'closest': unknown; expected one of in-turn"),
     (["--traffic", "wait,honk"], "--traffic = 'honk': unknown; expected one of wait, gate, reserve"),
     (["--traffic", "wait,wait"], "--traffic = 'wait': named twice"),
+    (["--allocators", "hungarain"], "(did you mean hungarian?)"),
 ])
 def test_a_bad_combination_name_lists_the_known_ones(tmp_path, args, why):
     path = tmp_path / "w.toml"

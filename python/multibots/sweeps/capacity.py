@@ -17,6 +17,7 @@ and traffic policy, so that one command says which combination carries the most.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 from collections.abc import Callable, Sequence
@@ -231,7 +232,9 @@ def parse_names(text: str, flag: str, known: Sequence[str], python_ok: bool = Fa
         raise InputError(f"{flag} = {shown(text)!r}: expected comma-separated names, such as {','.join(known[:2])}")
     for n in names:
         if n not in known and not (python_ok and is_python_allocator(n)):
-            raise InputError(f"{flag} = {shown(n)!r}: unknown; expected one of {', '.join(known)}")
+            near = difflib.get_close_matches(n, known, n=1, cutoff=0.75)
+            hint = f" (did you mean {near[0]}?)" if near else ""
+            raise InputError(f"{flag} = {shown(n)!r}: unknown; expected one of {', '.join(known)}{hint}")
     dup = [n for n in names if names.count(n) > 1]
     if dup:
         raise InputError(f"{flag} = {shown(dup[0])!r}: named twice")
