@@ -194,7 +194,8 @@ def _print(answer: object, scenario: Path, seconds: float) -> None:
               f"{b['mean_queue']:.1f} on average ({b['longest_queue']} at most); relieve it with {b['relieve']}")
     if by_rate:
         if answer.sustainable_rate is None:
-            print("no rate tried was sustained: the fleet does not keep up even with the lowest demand tried")
+            print("no rate tried was sustained: the fleet does not keep up even with the lowest demand tried; "
+                  "try a lower --start, or ask how many robots a rate needs with --robots-for RATE")
         else:
             print(f"sustainable rate: {answer.sustainable_rate:.4g} orders per step "
                   f"({1000 * answer.sustainable_rate:.1f} per 1,000 steps, {answer.robots} robots); "

@@ -81,6 +81,8 @@ def run(
         print(json.dumps(result.to_dict(rounded=True), separators=(",", ":")))
     else:
         print("\n".join(lifelong_lines(result) if lifelong else result_lines(result)))
+        if lifelong:
+            print("\n".join(overload_lines(result, scenario)))
         if result.people is not None:
             # The cost of people: the same run with nobody on the floor.
             print("\n".join(people_lines(result, simulate(s.replace(humans={"count": 0})))))
@@ -93,6 +95,21 @@ def run(
             file=sys.stderr,
         )
         raise typer.Exit(EXIT_INCOMPLETE)
+
+
+def overload_lines(result: Any, scenario: Optional[Path]) -> list[str]:
+    """For a lifelong run whose backlog grows by more than a tenth of the demand: that the
+    demand is more than the fleet carries, and the command that finds the rate it does."""
+    from multibots.sweeps.runner import backlog_growth
+
+    ll = result.lifelong
+    growth = backlog_growth(ll["ordered"], result.steps, result.sustained_throughput)
+    demand = 1000.0 * ll["ordered"] / result.steps if result.steps else 0.0
+    if growth is None or growth <= 0.1 * demand:
+        return []
+    file = str(scenario) if scenario is not None else "SCENARIO.toml"
+    return [f"backlog      grows by {growth:.1f} orders per 1,000 steps of {demand:.1f} ordered: more demand than "
+            f"this fleet carries; `multibots capacity {file}` finds the rate it sustains"]
 
 
 def flow_lines(result: Any) -> list[str]:
