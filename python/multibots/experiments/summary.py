@@ -334,12 +334,12 @@ def write_outputs(
         ]
         if plots:
             from multibots.plots import draw_strategy_comparison
-            from multibots.plots.lifelong import draw_throughput_over_time, series_of
+            from multibots.plots.lifelong import Series, draw_throughput_over_time, series_of
 
             per_n = [r for r in summary if r["N"] != "all"]
             written += draw_strategy_comparison(per_n, stage)
             # Lifelong runs: each arm's throughput over time, a band across its runs.
-            groups: dict[str, list[list[float]]] = {}
+            groups: dict[str, list[Series]] = {}
             for r in rows:
                 series = series_of(r)
                 if series is not None:

@@ -174,12 +174,12 @@ def throughput_over_time(rows: Sequence[dict[str, Any]], axes: Sequence[str], ou
     band across runs, one figure per axis that varies (a line per value; the runs of the
     other axes and the seeds pooled), or one line when none varies. No runs with at least two
     windows, no figure."""
-    from multibots.plots.lifelong import draw_throughput_over_time, series_of
+    from multibots.plots.lifelong import Series, draw_throughput_over_time, series_of
 
     varying = [a for a in axes if a != "seed" and len({repr(r.get(a)) for r in rows}) > 1]
     written = []
     for axis in varying or [None]:
-        groups: dict[str, list[list[float]]] = {}
+        groups: dict[str, list[Series]] = {}
         for r in rows:
             label = f"{axis} = {r.get(axis)}" if axis else "all runs"
             series = series_of(r)
