@@ -146,8 +146,10 @@ class Result:
         people: for runs with people (``[humans]``, docs/people.md), the safety figures, the
             keys of :data:`PEOPLE_KEYS`: min_gap and gap_p1 (person-robot gap, px, smallest
             and 1st percentile), contacts, protective_stops, stopped_steps, warning_steps,
-            person_wait_steps, person_steps, tours, picks, the zones' radii and px_per_m;
-            None otherwise.
+            person_wait_steps, person_steps, tours, picks, walk_steps, blocked_steps, the
+            zones' radii, px_per_m and step_seconds, and alone: the same figures of the same
+            people over the same steps with the fleet removed (:func:`people_costs` reads
+            them per worker-hour); None otherwise.
         distance, wait_steps, collisions, energy_used, robot_delivered, charges: one value
             per robot (NumPy arrays); state_steps: (N, 11) steps ending in each state.
     """
