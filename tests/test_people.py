@@ -90,3 +90,66 @@ def test_strategies_see_the_people() -> None:
     seen.clear()
     plain.step()
     assert seen[-1].shape == (0, 2)
+
+
+# A lifelong floor with people, so that runs with different fleets last the same steps.
+LIFELONG = {
+    "robots": 12, "tasks": [], "placement": "spread", "unload": "nearest", "allocator": "in-turn",
+    "layout_generate": {"group_rows": 3, "group_cols": 4, "group_width": 2, "group_height": 6, "chargers": 4,
+                        "unloading_rows": 2},
+    "charging": {"chargers": "shared"}, "humans": {"count": 8, "seed": 3},
+    "orders": {"rate": 0.03, "horizon": 3000, "restock": 100, "seed": 1},
+}
+
+
+def test_what_robots_cost_people_against_the_same_people_without_robots(cli) -> None:
+    sim = multibots.Simulation(multibots.Scenario.from_toml(PEOPLE))
+    moved = 0
+    last = sim.human_positions.copy()
+    while not sim.done:
+        sim.step()
+        now = sim.human_positions.copy()
+        moved += int(np.count_nonzero(np.any(now != last, axis=1)))
+        last = now
+    p = sim.result().people
+    a = p["alone"]
+    # Judged from positions: a person that moved was walking.
+    assert moved <= p["walk_steps"] <= p["person_steps"]
+    assert p["person_wait_steps"] <= p["blocked_steps"] <= p["walk_steps"]
+    # The run without robots: the same people over the same steps, and no robot near them.
+    assert a["count"] == 10 and a["person_steps"] == p["person_steps"] and a["alone"] is None
+    assert a["protective_stops"] == 0 and a["person_wait_steps"] == 0 and a["min_gap"] is None
+    # On the paper's small floor six robots cost ten pickers picks, and hold them up.
+    assert p["picks"] < a["picks"] and p["blocked_steps"] > 5 * a["blocked_steps"]
+    costs = multibots.result.people_costs(p)
+    hours = p["person_steps"] * 0.05 / 3600
+    assert costs["picks_per_hour"] == p["picks"] / hours and costs["alone_picks_per_hour"] == a["picks"] / hours
+    out = cli("run", PEOPLE)
+    assert out.returncode == 0, out.stderr
+    line = next(s for s in out.stdout.splitlines() if s.startswith("per worker"))
+    assert f"{costs['picks_per_hour']:.1f} ({costs['alone_picks_per_hour']:.1f}) picks" in line
+    assert "held up" in out.stdout
+
+
+def test_people_without_robots_do_not_depend_on_what_the_fleet_does() -> None:
+    # (A fleet of another size starts elsewhere, and stations keep clear of where robots start:
+    # its people are placed otherwise.)
+    base = multibots.Scenario.from_dict(LIFELONG)
+    runs = [multibots.simulate(base.replace(**change)).people for change in
+            ({}, {"allocator": "nearest"}, {"traffic": "reserve"}, {"orders": {"rate": 0.06}})]
+    assert all(r["alone"] == runs[0]["alone"] for r in runs)
+    assert len({(r["walk_steps"], r["blocked_steps"], r["picks"]) for r in runs}) > 1, "robots change people's time"
+
+
+def test_people_costs_are_figures_of_sweeps_and_compare(tmp_path) -> None:
+    from multibots.experiments import compare as study
+    from multibots.sweeps.analysis import METRICS
+
+    df = multibots.sweep({"base": LIFELONG, "axes": {"humans.count": [4, 8], "seed": [1, 2]}}, tmp_path / "s")
+    for m in ("people_picks_per_hour", "people_alone_picks_per_hour", "people_walk_share", "people_blocked_share"):
+        assert m in METRICS and df[m].null_count() == 0 and df[m].min() >= 0
+    rows = study.run_study(["in-turn", "nearest"], [12], study.TaskSpec("scenario"), seeds=2,
+                           base=multibots.Scenario.from_dict(LIFELONG))
+    assert all(r["people_picks_per_hour"] > 0 and r["people_alone_picks_per_hour"] > 0 for r in rows)
+    text = study.format_summary(study.summarize(rows))
+    assert "people's picks per worker-hour: mean [95% CI]" in text

@@ -88,11 +88,16 @@ SUBMODULES: tuple[str, ...] = (
 )
 
 
-def capacity(scenario: Any, **kwargs: Any) -> Any:
+def capacity(scenario: Any, *, allocators: Any = None, traffic: Any = None, **kwargs: Any) -> Any:
     """The highest order rate a scenario's warehouse and fleet sustain, with the throughput
-    against demand (:func:`multibots.sweeps.capacity.capacity`, docs/capacity.md)."""
+    against demand (:func:`multibots.sweeps.capacity.capacity`, docs/capacity.md). Given
+    ``allocators`` or ``traffic`` (lists of names), one answer per strategy and policy: a
+    list of :class:`multibots.sweeps.capacity.Combination`."""
+    from multibots.sweeps.capacity import capacities
     from multibots.sweeps.capacity import capacity as search
 
+    if allocators is not None or traffic is not None:
+        return capacities(scenario, allocators, traffic, **kwargs)
     return search(scenario, **kwargs)
 
 

@@ -71,7 +71,7 @@ def ffmpeg_path() -> str:
 FIXED_COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#8c8c8c", "#c51b8a", "#111111", "#ff8c00",
                  "#2b2b2b", "#ffffff", "#f1f1ec", "#1b1b1b", "#8a939c", "#1f4e9c", "#6a2c91",
                  "#ffd23f", "#6b5200", "#20242a", "#ffbf00", "#3a4048", "#b9c0c8", "#1d2228",
-                 "#c9c9c2", "#000000"]
+                 "#c9c9c2", "#000000", "#2b6cb0", "#f2c9a0", "#10243e", "#c81e1e", "#e6a000"]
 
 
 def _hex(c: str) -> tuple:

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 
 from multibots._core import STATE_NAMES as _STATE_NAMES
 
-__all__ = ["FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "PEOPLE_KEYS", "Result", "STATE_NAMES"]
+__all__ = ["FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "PEOPLE_KEYS", "Result", "STATE_NAMES", "people_costs"]
 
 #: Robot state names, indexed by the state codes of ``Simulation.states`` and replays (the
 #: engine's own names).
@@ -49,8 +49,31 @@ _ARRAYS = ("distance", "wait_steps", "collisions", "energy_used", "robot_deliver
 #: The safety figures of a run with people (``Result.people``, docs/people.md).
 PEOPLE_KEYS = (
     "count", "min_gap", "gap_p1", "contacts", "protective_stops", "stopped_steps", "warning_steps",
-    "person_wait_steps", "person_steps", "tours", "picks", "protective_radius", "warning_radius", "px_per_m",
+    "person_wait_steps", "person_steps", "tours", "picks", "walk_steps", "blocked_steps", "protective_radius",
+    "warning_radius", "px_per_m", "step_seconds", "alone",
 )
+
+
+def people_costs(people: dict[str, Any]) -> dict[str, Optional[float]]:
+    """What robots cost people (docs/people.md): per worker-hour (steps read as seconds by the
+    run's ``step_seconds``, docs/model.md "Units"), the picks and tours, and the shares of
+    their time spent walking and held up (``blocked_steps``); then the same, ``alone_``, for the same
+    people over the same steps with the fleet removed (``people["alone"]``)."""
+
+    def rates(p: dict[str, Any]) -> dict[str, Optional[float]]:
+        steps = p["person_steps"]
+        hours = steps * p["step_seconds"] / 3600.0
+        return {
+            "picks_per_hour": p["picks"] / hours if hours else None,
+            "tours_per_hour": p["tours"] / hours if hours else None,
+            "walk_share": p["walk_steps"] / steps if steps else None,
+            "blocked_share": p["blocked_steps"] / steps if steps else None,
+        }
+
+    alone = people.get("alone")
+    mine = rates(people)
+    other = rates(alone) if alone else dict.fromkeys(mine)
+    return {**mine, **{f"alone_{k}": v for k, v in other.items()}}
 
 #: The figures of a lifelong run (``Result.lifelong``), in the order the engine gives them.
 LIFELONG_KEYS: tuple[str, ...] = (
@@ -123,8 +146,10 @@ class Result:
         people: for runs with people (``[humans]``, docs/people.md), the safety figures, the
             keys of :data:`PEOPLE_KEYS`: min_gap and gap_p1 (person-robot gap, px, smallest
             and 1st percentile), contacts, protective_stops, stopped_steps, warning_steps,
-            person_wait_steps, person_steps, tours, picks, the zones' radii and px_per_m;
-            None otherwise.
+            person_wait_steps, person_steps, tours, picks, walk_steps, blocked_steps, the
+            zones' radii, px_per_m and step_seconds, and alone: the same figures of the same
+            people over the same steps with the fleet removed (:func:`people_costs` reads
+            them per worker-hour); None otherwise.
         distance, wait_steps, collisions, energy_used, robot_delivered, charges: one value
             per robot (NumPy arrays); state_steps: (N, 11) steps ending in each state.
     """
@@ -209,6 +234,8 @@ class Result:
             robots = {k: _rounded(k, v) for k, v in robots.items()}
             lifelong = {k: _rounded(k, v) for k, v in lifelong.items()}
             people = {k: round(v, 2) if isinstance(v, float) else v for k, v in people.items()}
+            if isinstance(people.get("alone"), dict):
+                people["alone"] = {k: round(v, 2) if isinstance(v, float) else v for k, v in people["alone"].items()}
             top = {k: _rounded(k, v) if k != "windows" else v for k, v in top.items()}
         return {
             "T": self.T,

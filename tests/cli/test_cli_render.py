@@ -63,3 +63,28 @@ def test_without_the_render_extra_the_error_names_it(small_run, tmp_path):
     assert p.returncode == 2, (p.stdout, p.stderr)
     assert p.stderr == "multibots render needs the 'render' extra: pip install 'multibots[render]'\n"
     assert not list(tmp_path.iterdir())
+
+
+def _legend_has(gif, colour: str) -> bool:
+    """Whether the legend (the strip below the floor) of the first frame draws with ``colour``:
+    more than a few pixels of it (the edge of another icon may fall on it in the palette)."""
+    want = tuple(int(colour[i:i + 2], 16) for i in (1, 3, 5))
+    with Image.open(gif) as im:
+        im.seek(0)
+        rgb = im.convert("RGB")
+        w, h = rgb.size
+        strip = rgb.crop((0, h - 40, w, h))
+        return sum(n for n, c in strip.getcolors(w * 40) if c == want) > 8
+
+
+def test_people_are_in_the_legend_of_a_run_with_people_only(cli, small_run, tmp_path):
+    import multibots
+
+    replay = tmp_path / "people.mbr"
+    multibots.simulate(multibots.Scenario.from_toml("scenarios/people.toml"), record=str(replay))
+    for source, people in ((replay, True), (small_run[0], False)):
+        out = tmp_path / f"{people}.gif"
+        proc = cli("render", source, "--out", out, "--from", "5", "--to", "6", "--quiet")
+        assert proc.returncode == 0, proc.stderr
+        # The person's shoulders and the warning zone's amber (draw.js COLOURS).
+        assert _legend_has(out, "#2b6cb0") is people and _legend_has(out, "#e6a000") is people

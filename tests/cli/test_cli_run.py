@@ -85,12 +85,18 @@ BAD_FILES = {
     "repeated cell": ("tasks = [5, 7, 5]\n", ["tasks[2] = 5", "twice"]),
     "empty task list": ("tasks = []\n", ["tasks", "empty"]),
     "missing tasks": ("robots = 2\n", ["missing field `tasks`"]),
-    "unknown start": ('tasks = [1]\nrobots = 2\nstarts = ["A", "Z"]\n', ['starts[1] = "Z"', "unknown node"]),
-    "unknown unload": ('tasks = [1]\nunload = "Q2"\n', ['unload = "Q2"', "unknown node"]),
+    "unknown start": ('tasks = [1]\nrobots = 2\nstarts = ["A", "Z"]\n',
+                      ['starts[1] = "Z"', "unknown node (the departure nodes are A, B, C, D, E, F)"]),
+    "misspelt start": ('tasks = [1]\nrobots = 2\nstarts = ["A", "b"]\n', ['starts[1] = "b"', 'did you mean "B"?']),
+    "unknown unload": ('tasks = [1]\nunload = "Q2"\n',
+                       ['unload = "Q2"', 'unknown node: the unloading zones are M, N, O, P, Q, R; or "nearest"']),
+    "misspelt strategy": ('tasks = [1]\nallocator = "hungarain"\n',
+                          ['allocator = "hungarain"', 'did you mean "hungarian"?']),
     "too many robots": ("tasks = [1]\nrobots = 7\n", ["robots = 7", "more robots than start nodes"]),
     "start not departure": ('tasks = [1]\nrobots = 2\nstarts = ["A", "M"]\n', ['starts[1] = "M"', "departure zone"]),
     "repeated start": ('tasks = [1]\nrobots = 2\nstarts = ["B", "B"]\n', ['starts[1] = "B"', "distinct"]),
-    "unload not unloading": ('tasks = [1]\nunload = "A"\n', ['unload = "A"', "unloading zone"]),
+    "unload not unloading": ('tasks = [1]\nunload = "A"\n',
+                             ['unload = "A"', "is not an unloading zone: the unloading zones are M, N"]),
     "malformed toml": ("tasks = [1, 2\n", ["s.toml", "line"]),
     "unknown layout": ('tasks = [1]\nlayout = "moon"\n', ['layout = "moon"']),
 }
@@ -189,3 +195,40 @@ def test_the_help_documents_the_exit_codes(cli):
     for args in (["--help"], ["run", "--help"]):
         text = " ".join(cli(*args).stdout.split())
         assert "3 the run did not complete" in text and "2 bad input" in text and "130 interrupted" in text
+
+
+OVERLOADED = """\
+robots = 30
+tasks = []
+placement = "spread"
+unload = "nearest"
+[layout_generate]
+group_rows = 3
+group_cols = 5
+group_width = 2
+group_height = 6
+chargers = 4
+unloading_rows = 2
+[charging]
+chargers = "shared"
+[robot]
+consumption = 0.00002
+[orders]
+rate = 0.5
+horizon = 4000
+restock = 100
+seed = 1
+"""
+
+
+def test_a_lifelong_run_past_its_fleet_says_how_to_find_the_rate_it_carries(cli, tmp_path):
+    f = tmp_path / "w.toml"
+    f.write_text(OVERLOADED)
+    out = cli("run", f)
+    assert out.returncode == 0, out.stderr
+    line = next(s for s in out.stdout.splitlines() if s.startswith("backlog"))
+    assert "more demand than this fleet carries" in line and f"multibots capacity {f}" in line
+    # Within what the fleet carries: no such line.
+    f.write_text(OVERLOADED.replace("rate = 0.5", "rate = 0.01"))
+    out = cli("run", f)
+    assert out.returncode == 0 and "backlog" not in out.stdout, out.stdout

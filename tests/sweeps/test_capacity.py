@@ -91,6 +91,8 @@ def test_the_command_prints_one_json_object_with_the_rate_and_the_curve(tmp_path
     (["--served", "1.5"], "--served = 1.5: must be above 0 and at most 1"),
     (["--robots-for", "nan"], "--robots-for = nan: must be a finite number"),
     (["--horizon", "500"], "--horizon = 500: at least 2000 steps"),
+    (["--robots", "0"], "--robots = 0: must be at least 1"),
+    (["--robots", "x"], "--robots = 'x': not an integer"),
 ])
 def test_bad_flags_get_one_line_naming_the_flag(tmp_path, args, why):
     path = tmp_path / "w.toml"
@@ -115,3 +117,69 @@ def test_past_the_knee_the_single_unloading_zone_is_named_with_its_relief(tmp_pa
     assert answer.sustainable_rate is not None and b is not None, answer.to_dict()
     assert b["kind"] == "unloading" and "unloading_rows" in b["relieve"]
     assert json.loads(json.dumps(answer.to_dict()))["bottleneck"]["node"] == b["node"]
+
+
+# A small warehouse, so that four searches stay cheap.
+SMALL = {**BASE, "robots": 30, "allocator": "in-turn",
+         "layout_generate": {**BASE["layout_generate"], "group_rows": 3, "group_cols": 5, "chargers": 4},
+         "orders": {**BASE["orders"], "horizon": 2000}}
+
+
+def test_one_search_per_strategy_and_policy_each_as_its_own_search_answers(tmp_path):
+    base = Scenario.from_dict(SMALL)
+    combos = mb.capacity(base, allocators=["nearest", "hungarian"], traffic=["wait", "reserve"], out=tmp_path,
+                         seeds=2)
+    assert [(c.allocator, c.traffic) for c in combos] == [
+        ("nearest", "wait"), ("nearest", "reserve"), ("hungarian", "wait"), ("hungarian", "reserve")]
+    for c in combos:
+        # The same answer as the single search of that combination (whose runs the store holds).
+        alone = mb.capacity(base.replace(allocator=c.allocator, traffic=c.traffic), out=tmp_path, seeds=2)
+        assert alone.runs == c.answer.runs and c.answer.sustainable_rate == alone.sustainable_rate
+        assert [lv.to_dict() for lv in alone.curve] == [lv.to_dict() for lv in c.answer.curve]
+        assert c.to_dict()["allocator"] == c.allocator and c.to_dict()["sustainable_rate"] == alone.sustainable_rate
+    # A list left out keeps the scenario's own choice.
+    only = mb.capacity(base, traffic=["reserve"], out=tmp_path, seeds=2)
+    assert [(c.allocator, c.traffic) for c in only] == [("in-turn", "reserve")]
+
+
+def test_the_command_compares_combinations_in_a_table_a_figure_and_json(tmp_path):
+    path = tmp_path / "w.toml"
+    path.write_text(Scenario.from_dict(SMALL).to_toml())
+    args = [str(path), "--allocators", "nearest,hungarian", "--traffic", "reserve", "--seeds", "2",
+            "--out", str(tmp_path / "out")]
+    p = _cli(*args, "--json", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    entries = json.loads(p.stdout)["combinations"]
+    assert [(e["allocator"], e["traffic"]) for e in entries] == [("nearest", "reserve"), ("hungarian", "reserve")]
+    for e in entries:
+        assert e["question"] == "rate" and e["curve"]
+        assert e["sustainable_rate"] is None or e["sustainable_rate"] in [lv["rate"] for lv in e["curve"]]
+    p = _cli(*args, "--quiet", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    for e in entries:
+        row = next(line for line in lines if line.startswith(f"{e['allocator']}/{e['traffic']} "))
+        assert f"{e['sustainable_rate']:.4g}" in row.split()[1]
+    assert "best: " in p.stdout and (tmp_path / "out" / "capacity.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("args,why", [
+    (["--allocators", "nearest,closest"], "--allocators = 'closest': unknown; expected one of in-turn"),
+    (["--traffic", "wait,honk"], "--traffic = 'honk': unknown; expected one of wait, gate, reserve"),
+    (["--traffic", "wait,wait"], "--traffic = 'wait': named twice"),
+    (["--allocators", "hungarain"], "(did you mean hungarian?)"),
+])
+def test_a_bad_combination_name_lists_the_known_ones(tmp_path, args, why):
+    path = tmp_path / "w.toml"
+    path.write_text(Scenario.from_dict(SMALL).to_toml())
+    p = _cli(str(path), *args, "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert p.returncode == 2 and why in p.stderr and len(p.stderr.strip().splitlines()) == 1, p.stderr
+
+
+def test_robots_sets_the_fleet_of_the_question(tmp_path):
+    path = tmp_path / "w.toml"
+    path.write_text(Scenario.from_dict(SMALL).to_toml())
+    p = _cli(str(path), "--robots", "20", "--seeds", "1", "--json", "--out", str(tmp_path / "out"), cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    d = json.loads(p.stdout)
+    assert d["robots"] == 20 and {lv["robots"] for lv in d["curve"]} == {20}

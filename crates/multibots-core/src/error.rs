@@ -150,12 +150,15 @@ pub(crate) fn plain_parts(message: &str, written: Option<&str>) -> (Option<Strin
     }
     if let Some(rest) = message.strip_prefix("unknown variant ") {
         let (name, expected) = rest.split_once(", expected ").unwrap_or((rest, "no value"));
-        return (Some(format!("\"{}\"", strip(name))), format!("expected {}", strip(expected)));
+        let (name, expected) = (strip(name), strip(expected));
+        let hint = did_you_mean(&name, names_in(&expected)).map_or(String::new(), |n| format!(" (did you mean \"{n}\"?)"));
+        return (Some(format!("\"{name}\"")), format!("expected {expected}{hint}"));
     }
     if let Some(rest) = message.strip_prefix("unknown field ") {
         let (name, known) = rest.split_once(", expected ").unwrap_or((rest, ""));
         let known = strip(known.strip_prefix("one of ").unwrap_or(known)).replace(" or ", ", ");
-        let known = if known.is_empty() { String::new() } else { format!(" (known: {known})") };
+        let hint = did_you_mean(&strip(name), names_in(&known)).map_or(String::new(), |n| format!("did you mean `{n}`? "));
+        let known = if known.is_empty() { String::new() } else { format!(" ({hint}known: {known})") };
         return (None, format!("unknown field {name}{known}"));
     }
     let value = written.map(|w| crate::input::limits::shown(w.trim()));
@@ -167,6 +170,58 @@ pub(crate) fn plain_parts(message: &str, written: Option<&str>) -> (Option<Strin
         _ => return (None, message),
     };
     (value, reason)
+}
+
+/// The names of a list such as "a, b, c" or "one of a, b or c".
+fn names_in(list: &str) -> Vec<String> {
+    let list = list.strip_prefix("one of ").unwrap_or(list).replace(" or ", ", ");
+    list.split(", ").map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect()
+}
+
+/// The known name closest to `name`, when it is near enough to be a slip of the keyboard: at
+/// most a third of its letters (and at least one) to insert, delete or change. A name that
+/// differs only in case is always near. `None` when nothing is, or two are equally near.
+#[must_use]
+pub fn did_you_mean(name: &str, known: impl IntoIterator<Item = impl AsRef<str>>) -> Option<String> {
+    let lower = name.to_lowercase();
+    let most = (name.chars().count() / 3).max(1);
+    let mut best: Option<(usize, String)> = None;
+    let mut tie = false;
+    for k in known {
+        let k = k.as_ref();
+        if k == name {
+            return None;
+        }
+        let d = if k.to_lowercase() == lower { 0 } else { edit_distance(&lower, &k.to_lowercase()) };
+        if d > most {
+            continue;
+        }
+        match &best {
+            Some((b, _)) if d > *b => {}
+            Some((b, _)) if d == *b => tie = true,
+            _ => {
+                best = Some((d, k.to_string()));
+                tie = false;
+            }
+        }
+    }
+    best.filter(|_| !tie).map(|(_, k)| k)
+}
+
+/// Levenshtein distance, in characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
 }
 
 /// The value serde found, as the user would write it (`Ok`), or what kind of thing it is

@@ -341,7 +341,7 @@ fn unknown_and_python_strategy_names_are_clear_errors() {
     let mut s = Scenario::paper(1, &[42]);
     s.allocator = "greedy".into();
     let e = Simulation::new(&s).err().unwrap().to_string();
-    assert!(e.starts_with("allocator = \"greedy\": unknown strategy (built-ins: in-turn, nearest, hungarian, auction, energy-aware, min-cost)"), "{e}");
+    assert!(e.starts_with("allocator = \"greedy\": unknown strategy (built-ins: in-turn, nearest, hungarian, auction, energy-aware, min-cost; or module:Class for a Python strategy)"), "{e}");
     s.allocator = "my_pkg.mod:Cls".into();
     let e = Simulation::new(&s).err().unwrap().to_string();
     assert!(e.contains("Python allocator"), "{e}");

@@ -99,25 +99,35 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
         None => d.set_item("lifelong", py.None())?,
     }
     match &r.people {
-        Some(p) => {
-            let pd = PyDict::new(py);
-            pd.set_item("count", p.count)?;
-            pd.set_item("min_gap", p.min_gap)?;
-            pd.set_item("gap_p1", p.gap_p1)?;
-            pd.set_item("contacts", p.contacts)?;
-            pd.set_item("protective_stops", p.protective_stops)?;
-            pd.set_item("stopped_steps", p.stopped_steps)?;
-            pd.set_item("warning_steps", p.warning_steps)?;
-            pd.set_item("person_wait_steps", p.person_wait_steps)?;
-            pd.set_item("person_steps", p.person_steps)?;
-            pd.set_item("tours", p.tours)?;
-            pd.set_item("picks", p.picks)?;
-            pd.set_item("protective_radius", p.protective_radius)?;
-            pd.set_item("warning_radius", p.warning_radius)?;
-            pd.set_item("px_per_m", p.px_per_m)?;
-            d.set_item("people", pd)?;
-        }
+        Some(p) => d.set_item("people", people_dict(py, p)?)?,
         None => d.set_item("people", py.None())?,
     }
     Ok(d)
+}
+
+/// A run's people figures; `alone`: the same people's with the fleet removed (or None).
+fn people_dict<'py>(py: Python<'py>, p: &multibots_core::people::PeopleFigures) -> PyResult<Bound<'py, PyDict>> {
+    let pd = PyDict::new(py);
+    pd.set_item("count", p.count)?;
+    pd.set_item("min_gap", p.min_gap)?;
+    pd.set_item("gap_p1", p.gap_p1)?;
+    pd.set_item("contacts", p.contacts)?;
+    pd.set_item("protective_stops", p.protective_stops)?;
+    pd.set_item("stopped_steps", p.stopped_steps)?;
+    pd.set_item("warning_steps", p.warning_steps)?;
+    pd.set_item("person_wait_steps", p.person_wait_steps)?;
+    pd.set_item("person_steps", p.person_steps)?;
+    pd.set_item("tours", p.tours)?;
+    pd.set_item("picks", p.picks)?;
+    pd.set_item("walk_steps", p.walk_steps)?;
+    pd.set_item("blocked_steps", p.blocked_steps)?;
+    pd.set_item("protective_radius", p.protective_radius)?;
+    pd.set_item("warning_radius", p.warning_radius)?;
+    pd.set_item("px_per_m", p.px_per_m)?;
+    pd.set_item("step_seconds", p.step_seconds)?;
+    match &p.alone {
+        Some(a) => pd.set_item("alone", people_dict(py, a)?)?,
+        None => pd.set_item("alone", py.None())?,
+    }
+    Ok(pd)
 }

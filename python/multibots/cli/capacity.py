@@ -21,6 +21,8 @@ def capacity(
     scenario: Path = typer.Argument(..., help="A scenario with lifelong orders ([orders]): warehouse, fleet, "
                                     "strategy, traffic policy."),
     seeds: str = typer.Option("3", "--seeds", help="Runs per level, with seeds 1..N."),
+    robots: Optional[str] = typer.Option(None, "--robots", help="The fleet size (default: the scenario's robots).",
+                                         show_default=False, metavar="N"),
     horizon: Optional[str] = typer.Option(None, "--horizon", help="Steps per run (default: the scenario's "
                                           "orders.horizon, else 10000).", show_default=False),
     robots_for: Optional[str] = typer.Option(
@@ -40,6 +42,14 @@ def capacity(
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (sustainable_rate, robots, curve) "
                                  "instead of the table."),
     quiet: bool = typer.Option(False, "--quiet", help="No progress bar."),
+    allocators: Optional[str] = typer.Option(
+        None, "--allocators", help="Strategies to compare, such as nearest,hungarian: one search per strategy and "
+        "traffic policy (default: the scenario's).", show_default=False,
+    ),
+    traffic: Optional[str] = typer.Option(
+        None, "--traffic", help="Traffic policies to compare, such as wait,reserve (default: the scenario's).",
+        show_default=False,
+    ),
     allow_code: bool = ALLOW_CODE,
 ) -> None:
     """How much demand can this warehouse and fleet carry? Searches the order rate (seeds per
@@ -71,10 +81,24 @@ def capacity(
         raise InputError(f"--backend = {backend!r}: expected local or ray")
     if steps is not None and steps < 2000:
         raise InputError(f"--horizon = {steps}: at least 2000 steps, so that a settled fleet can be measured")
+    from multibots.strategies import BUILT_INS
+
+    allocs = None if allocators is None else cap.parse_names(allocators, "--allocators", BUILT_INS, allow_code)
+    policies = None if traffic is None else cap.parse_names(traffic, "--traffic", cap.TRAFFIC)
     check_folder(out)
-    check_code(scenario, allow_code)
+    check_code(scenario, allow_code, overridden=allocs is not None)
     base = Scenario.from_toml(scenario)
+    fleet = parse_number(robots, "--robots", int, 1_000_000)
+    if fleet is not None:
+        if fleet < 1:
+            raise InputError(f"--robots = {fleet}: must be at least 1")
+        base = base.replace(robots=fleet)
     cap.check(base, steps, n_seeds, share)  # before the progress bar: a bad scenario is one line
+    if allocs is not None or policies is not None:
+        _combinations(base, allocs, policies, scenario, rate, first, as_json, quiet, out,
+                      dict(seeds=n_seeds, horizon=steps, served=share, out=out, workers=threads, backend=backend,
+                           ray_address=ray_address))
+        return
     begin = time.perf_counter()
     # The number of runs is not known ahead (the search decides): the bar counts them.
     with progress_bar(None, enabled=not quiet and not as_json) as bar:
@@ -92,6 +116,57 @@ def capacity(
     from multibots.plots.capacity import draw_capacity
 
     png = draw_capacity(answer, out / "capacity.png")
+    print(f"wrote {png}")
+
+
+def _combinations(base: object, allocs: Optional[list[str]], policies: Optional[list[str]], scenario: Path,
+                  rate: Optional[float], first: Optional[float], as_json: bool, quiet: bool, out: Path,
+                  common: dict[str, object]) -> None:
+    """One search per strategy and traffic policy: a line each, one figure, or one JSON object
+    with an entry each."""
+    from multibots.experiments.summary import progress_bar
+    from multibots.plots.capacity import draw_capacities
+    from multibots.sweeps import capacity as cap
+
+    begin = time.perf_counter()
+    with progress_bar(None, enabled=not quiet and not as_json) as bar:
+        extra = {"start": first} if rate is None else {}
+        combos = cap.capacities(base, allocs, policies, robots_for=rate, progress=bar.advance,  # type: ignore[arg-type]
+                                **extra, **common)
+    seconds = time.perf_counter() - begin
+    if as_json:
+        print(json.dumps({"combinations": [c.to_dict() for c in combos]}))
+        return
+    runs = sum(c.answer.runs for c in combos)
+    horizon = combos[0].answer.horizon
+    print(f"{scenario}: {len(combos)} combinations, {runs} runs of {horizon} steps in {seconds:.1f} s; "
+          "per 1,000 steps after the warm-up, at the knee")
+    w = max(11, *(len(c.label) for c in combos))
+    what = "sustainable" if rate is None else "robots"
+    print(f"{'strategy/traffic':<{w}} {what:>11} {'delivered':>9} {'latency p50':>11} {'p95':>6} {'waiting':>7}"
+          f" {'runs':>5}  bottleneck past the knee")
+    for c in combos:
+        a = c.answer
+        knee = a.knee.to_dict() if a.knee is not None else None
+        if rate is None:
+            value = f"{a.sustainable_rate:.4g}" if a.sustainable_rate is not None else "none"
+        else:
+            value = str(a.robots) if a.robots is not None else "none"
+        p50 = f"{knee['latency_p50']:.0f}" if knee and knee["latency_p50"] is not None else "-"
+        p95 = f"{knee['latency_p95']:.0f}" if knee and knee["latency_p95"] is not None else "-"
+        delivered = f"{knee['throughput_per_1000']:.1f}" if knee else "-"
+        waiting = f"{knee['wait_share']:.0%}" if knee else "-"
+        b = a.bottleneck
+        neck = f"{b['kind']} {b['node']} (busy {b['busy']:.0%})" if b else "-"
+        print(f"{c.label:<{w}} {value:>11} {delivered:>9} {p50:>11} {p95:>6} {waiting:>7} {a.runs:>5}  {neck}")
+    ok = [c for c in combos if (c.answer.sustainable_rate if rate is None else c.answer.robots) is not None]
+    if ok:
+        best = (max(ok, key=lambda c: c.answer.sustainable_rate or 0.0) if rate is None
+                else min(ok, key=lambda c: c.answer.robots or 0))
+        said = (f"{best.answer.sustainable_rate:.4g} orders per step" if rate is None
+                else f"{best.answer.robots} robots for {rate:.4g} orders per step")
+        print(f"best: {best.label} with {said}")
+    png = draw_capacities(combos, out / "capacity.png")
     print(f"wrote {png}")
 
 
@@ -119,7 +194,8 @@ def _print(answer: object, scenario: Path, seconds: float) -> None:
               f"{b['mean_queue']:.1f} on average ({b['longest_queue']} at most); relieve it with {b['relieve']}")
     if by_rate:
         if answer.sustainable_rate is None:
-            print("no rate tried was sustained: the fleet does not keep up even with the lowest demand tried")
+            print("no rate tried was sustained: the fleet does not keep up even with the lowest demand tried; "
+                  "try a lower --start, or ask how many robots a rate needs with --robots-for RATE")
         else:
             print(f"sustainable rate: {answer.sustainable_rate:.4g} orders per step "
                   f"({1000 * answer.sustainable_rate:.1f} per 1,000 steps, {answer.robots} robots); "

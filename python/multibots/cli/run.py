@@ -29,7 +29,7 @@ from multibots.cli._common import (
 )
 from multibots.exceptions import ScenarioError
 
-__all__ = ["flow_lines", "lifelong_lines", "people_lines", "result_lines", "run", "sparkline"]
+__all__ = ["flow_lines", "lifelong_lines", "people_cost_lines", "people_lines", "result_lines", "run", "sparkline"]
 
 
 def run(
@@ -81,6 +81,8 @@ def run(
         print(json.dumps(result.to_dict(rounded=True), separators=(",", ":")))
     else:
         print("\n".join(lifelong_lines(result) if lifelong else result_lines(result)))
+        if lifelong:
+            print("\n".join(overload_lines(result, scenario)))
         if result.people is not None:
             # The cost of people: the same run with nobody on the floor.
             print("\n".join(people_lines(result, simulate(s.replace(humans={"count": 0})))))
@@ -93,6 +95,21 @@ def run(
             file=sys.stderr,
         )
         raise typer.Exit(EXIT_INCOMPLETE)
+
+
+def overload_lines(result: Any, scenario: Optional[Path]) -> list[str]:
+    """For a lifelong run whose backlog grows by more than a tenth of the demand: that the
+    demand is more than the fleet carries, and the command that finds the rate it does."""
+    from multibots.sweeps.runner import backlog_growth
+
+    ll = result.lifelong
+    growth = backlog_growth(ll["ordered"], result.steps, result.sustained_throughput)
+    demand = 1000.0 * ll["ordered"] / result.steps if result.steps else 0.0
+    if growth is None or growth <= 0.1 * demand:
+        return []
+    file = str(scenario) if scenario is not None else "SCENARIO.toml"
+    return [f"backlog      grows by {growth:.1f} orders per 1,000 steps of {demand:.1f} ordered: more demand than "
+            f"this fleet carries; `multibots capacity {file}` finds the rate it sustains"]
 
 
 def flow_lines(result: Any) -> list[str]:
@@ -179,11 +196,32 @@ def people_lines(result: Any, without: Any) -> list[str]:
         cost = f"T {result.T} against {without.T} steps without people ({(result.T - without.T) / without.T:+.1%})"
     return [
         f"people       {p['count']} on the floor: {p['tours']} tours, {p['picks']} picks; "
-        f"blocked by robots {share:.1%} of person-steps",
+        f"stopped hard by robots {share:.1%} of person-steps",
+        *people_cost_lines(p),
         f"gap          smallest {gap(p['min_gap'])}, 1st percentile {gap(p['gap_p1'])}; contacts {p['contacts']}",
         f"robots       {p['protective_stops']} protective stops ({p['stopped_steps']} robot-steps stopped), "
         f"{p['warning_steps']} robot-steps with a person in the warning zone",
         f"cost         {cost}",
+    ]
+
+
+def people_cost_lines(p: dict[str, Any]) -> list[str]:
+    """What robots cost people: picks and tours per worker-hour, and the shares of their time
+    walking and blocked, against the same people with the fleet removed (same seed)."""
+    from multibots.result import people_costs
+
+    c = people_costs(p)
+
+    def pair(key: str, fmt: str) -> str:
+        a, b = c[key], c[f"alone_{key}"]
+        return f"{'-' if a is None else format(a, fmt)} ({'-' if b is None else format(b, fmt)})"
+
+    hours = p["person_steps"] * p["step_seconds"] / 3600.0
+    return [
+        f"per worker   {pair('picks_per_hour', '.1f')} picks and {pair('tours_per_hour', '.2f')} tours an hour; "
+        f"in brackets the same people without robots",
+        f"their time   walking {pair('walk_share', '.1%')}, held up {pair('blocked_share', '.1%')} "
+        f"({hours:.2f} worker-hours at {p['step_seconds']} s a step)",
     ]
 
 

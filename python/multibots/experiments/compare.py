@@ -48,6 +48,7 @@ from multibots.paper import PAPER_TASKS
 from multibots.runs import Journal
 from multibots.scenario import Scenario
 from multibots.strategies import BUILT_INS, is_python_allocator
+from multibots.sweeps.runner import PEOPLE_COSTS
 
 __all__ = [
     "METRICS",
@@ -272,6 +273,14 @@ def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
         "protective_stops": raw.get("people_protective_stops"),
         "min_gap": raw.get("people_min_gap"),
         "windows": raw.get("windows", ""),
+        "window": raw.get("window"),
+        "sustained_throughput": raw.get("sustained_throughput"),
+        "latency_p50": raw.get("latency_p50"),
+        "latency_p95": raw.get("latency_p95"),
+        "utilisation": raw.get("utilisation"),
+        "ordered": raw.get("ordered"),
+        "backlog_growth": raw.get("backlog_growth"),
+        **{f"people_{k}": raw.get(f"people_{k}") for k in PEOPLE_COSTS},
     }
 
 

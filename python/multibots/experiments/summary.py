@@ -4,7 +4,8 @@ the files it writes.
 
 Every indicator (T, S, C, Cost_total) is 0 or more, so its confidence interval is clipped at
 0: with few task lists and many zero counts, mean - t·sd/√n can fall below 0, and a count
-cannot. A clipped interval is no longer symmetric about the mean.
+cannot. A clipped interval is no longer symmetric about the mean. The interval is the sweep's
+(:func:`multibots.sweeps.analysis.interval`): one implementation, one range per figure.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from typing import Any, Optional
 
 from multibots import stats
 from multibots._io import atomic_write_text, staged_folder
+from multibots.sweeps.analysis import interval
 
 __all__ = [
     "BASELINE",
@@ -36,10 +38,13 @@ __all__ = [
 ]
 
 #: The indicators summarised, in order; "cost" is Cost_total, "throughput" deliveries per
-#: 1,000 steps, "contacts" pairs of robots closer than r_i + r_j after a move (docs/metrics.md).
-METRICS: tuple[str, ...] = ("T", "S", "C", "cost", "throughput", "contacts")
-#: The range of each indicator, which its confidence interval is clipped to.
-METRIC_RANGE: dict[str, tuple[float, Optional[float]]] = {m: (0.0, None) for m in METRICS}
+#: 1,000 steps, "contacts" pairs of robots closer than r_i + r_j after a move; then the
+#: figures of lifelong runs: sustained throughput, order latency p50 and p95 (steps),
+#: utilisation and backlog growth (orders per 1,000 steps left unserved) (docs/metrics.md).
+#: A figure no run has (T of lifelong runs, latency of finite ones) is left out of the tables.
+METRICS: tuple[str, ...] = ("T", "S", "C", "cost", "throughput", "contacts", "sustained_throughput",
+                            "latency_p50", "latency_p95", "utilisation", "backlog_growth", "people_picks_per_hour",
+                            "people_walk_share", "people_blocked_share")
 #: The strategy every other one is tested against, when it is in the study (else the first
 #: one compared: an arm such as ``in-turn/wait`` when traffic policies are compared too).
 BASELINE = "in-turn"
@@ -49,6 +54,10 @@ WIDTH = 100
 RESULT_FIELDS = [
     "strategy", "N", "tasks", "list", "T", "S", "C", "distance", "cost", "outcome", "delivered", "goods_total",
     "throughput", "contacts", "wait_share", "traffic", "rules", "humans", "protective_stops", "min_gap", "windows",
+    "window", "sustained_throughput", "latency_p50", "latency_p95", "utilisation", "ordered", "backlog_growth",
+    "people_picks_per_hour", "people_tours_per_hour", "people_walk_share", "people_blocked_share",
+    "people_alone_picks_per_hour", "people_alone_tours_per_hour", "people_alone_walk_share",
+    "people_alone_blocked_share",
 ]
 SUMMARY_FIELDS = [
     "strategy", "N", "metric", "n", "mean", "sd", "ci_low", "ci_high",
@@ -57,7 +66,18 @@ SUMMARY_FIELDS = [
 _NAMES = {
     "T": "T (steps)", "S": "S (collisions)", "C": "C (charges)", "cost": "Cost_total",
     "throughput": "throughput (deliveries per 1,000 steps)", "contacts": "contacts",
+    "sustained_throughput": "sustained throughput (deliveries per 1,000 steps, settled)",
+    "latency_p50": "order latency p50 (steps)", "latency_p95": "order latency p95 (steps)",
+    "utilisation": "utilisation (share of robot-steps working)",
+    "backlog_growth": "backlog growth (orders per 1,000 steps left unserved)",
+    "people_picks_per_hour": "people's picks per worker-hour",
+    "people_walk_share": "share of people's time walking",
+    "people_blocked_share": "share of people's time held up",
 }
+#: Decimals each indicator is printed with.
+_DIGITS = {"T": 0, "cost": 0, "contacts": 0, "latency_p50": 0, "latency_p95": 0, "throughput": 1,
+           "sustained_throughput": 1, "backlog_growth": 1,
+           "people_picks_per_hour": 1, "people_walk_share": 3, "people_blocked_share": 3}
 
 
 def baseline_of(strategies: Sequence[str]) -> str:
@@ -108,8 +128,7 @@ def summarize(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
             keys = [(s, m, li) for m in (ns if n == "all" else [n]) for li in lists]
             for metric in METRICS:
                 vals = [v for k in keys if k in by_key and (v := _value(by_key[k], metric)) is not None]
-                low, high = METRIC_RANGE[metric]
-                mean, sd, lo, hi = stats.mean_ci(vals, 0.95, low=low, high=high)
+                mean, sd, lo, hi = interval(vals, metric)
                 row: dict[str, Any] = {
                     "strategy": s, "N": n, "metric": metric, "n": len(vals),
                     "mean": mean, "sd": sd, "ci_low": lo, "ci_high": hi,
@@ -234,7 +253,7 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
     for metric in METRICS:
         if all(idx[(s, n, metric)]["n"] == 0 for s in strategies for n in ns):
             continue  # T and Cost_total of lifelong runs, which never complete
-        digits = 0 if metric in ("T", "cost", "contacts") else 1 if metric == "throughput" else 2
+        digits = _DIGITS.get(metric, 2)
         cells = {}
         for s in strategies:
             for n in ns:
@@ -245,7 +264,7 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
         lines += _grid(f"{_NAMES[metric]}: mean [95% CI]", strategies, [f"N={n}" for n in ns], cells)
     if any(r["pairs"] for r in summary):
         lines += ["", f"against {base_name}, pooled over N (paired; diff = strategy - {base_name};",
-                  "negative is better, but for throughput):"]
+                  "negative is better, but for throughput, sustained throughput, utilisation, picks):"]
         w = _label_width(strategies)
         head = f"{'strategy':<{w}} |     metric | pairs |      diff |  diff % | p (t-test) | p (Wilcoxon)"
         lines += [head, "-" * len(head)]
@@ -304,7 +323,8 @@ def write_outputs(
     rows: Sequence[dict[str, Any]], summary: Sequence[dict[str, Any]], out: str | os.PathLike[str],
     spec_label: str = "", plots: bool = True,
 ) -> list[Path]:
-    """Writes results.csv, summary.csv, summary.txt and the figures, all or none (staged)."""
+    """Writes results.csv, summary.csv, summary.txt and the figures (for lifelong runs also
+    ``throughput_over_time.png``), all or none (staged)."""
     out = Path(out)
     with staged_folder(out) as stage:
         written = [
@@ -314,9 +334,20 @@ def write_outputs(
         ]
         if plots:
             from multibots.plots import draw_strategy_comparison
+            from multibots.plots.lifelong import Series, draw_throughput_over_time, series_of
 
             per_n = [r for r in summary if r["N"] != "all"]
             written += draw_strategy_comparison(per_n, stage)
+            # Lifelong runs: each arm's throughput over time, a band across its runs.
+            groups: dict[str, list[Series]] = {}
+            for r in rows:
+                series = series_of(r)
+                if series is not None:
+                    groups.setdefault(str(r["strategy"]), []).append(series)
+            drawn = draw_throughput_over_time(groups, stage / "throughput_over_time.png", "per strategy, every N "
+                                              "and seed")
+            if drawn is not None:
+                written.append(drawn)
     return [out / Path(p).relative_to(stage) for p in written]
 
 

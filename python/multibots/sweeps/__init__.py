@@ -60,10 +60,11 @@ def run_planned(points: list[Point], out: Union[str, os.PathLike[str]], workers:
 
 def write_outputs(df: Any, spec: Spec, out: Union[str, os.PathLike[str]], baseline: Optional[str] = None,
                   plots: tuple[str, ...] = ()) -> list[Path]:
-    """results.csv, summary.csv (mean and 95% interval per cell), tests.csv (with a baseline)
-    and the plots, staged so they land together."""
+    """results.csv, summary.csv (mean and 95% interval per cell), tests.csv (with a baseline),
+    the plots, and for lifelong runs the throughput over time (``throughput-time-AXIS.png``),
+    staged so they land together."""
     from multibots._io import atomic_write_text, staged_folder
-    from multibots.sweeps.analysis import paired_tests, parse_baseline, plot, summarize
+    from multibots.sweeps.analysis import paired_tests, parse_baseline, plot, summarize, throughput_over_time
 
     rows = df.to_dicts()
     axes = spec.axis_names
@@ -78,6 +79,7 @@ def write_outputs(df: Any, spec: Spec, out: Union[str, os.PathLike[str]], baseli
             written.append(atomic_write_text(stage / "tests.csv", _csv(paired_tests(rows, axes, axis, value))))
         for p in plots:
             written.append(plot(rows, axes, p, stage))
+        written += throughput_over_time(rows, axes, stage)
     return [out / Path(w).relative_to(stage) for w in written]
 
 

@@ -11,11 +11,13 @@ then narrows the bracket by bisection on a log scale until its ends are within
 ``precision`` of each other. Every run goes through the sweep runner: stored run by run in
 ``out/runs``, so a killed search loses no finished run and a new one reuses them, on this
 machine's cores or a Ray cluster. The same search over the fleet size answers "how many
-robots for this demand".
+robots for this demand". :func:`capacities` runs either search once per allocation strategy
+and traffic policy, so that one command says which combination carries the most.
 """
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 from collections.abc import Callable, Sequence
@@ -26,7 +28,7 @@ from typing import Any, Optional, Union
 from multibots.exceptions import InputError, ScenarioError
 from multibots.scenario import Scenario
 
-__all__ = ["Capacity", "Level", "capacity", "check", "fleet_for"]
+__all__ = ["Capacity", "Combination", "Level", "capacities", "capacity", "check", "fleet_for", "parse_names"]
 
 #: Outcomes in which a fleet stopped working: the rate it was given is not sustained,
 #: whatever it delivered before.
@@ -196,6 +198,79 @@ def fleet_for(scenario: Union[Scenario, str, os.PathLike[str]], rate: float, *, 
     if hi is not None:
         answer.bottleneck = _bottleneck(base.replace(robots=hi, orders={"seed": 1}))
     return answer
+
+
+@dataclass
+class Combination:
+    """The answer of one allocation strategy under one traffic policy (:func:`capacities`)."""
+
+    allocator: str
+    traffic: str
+    answer: Capacity
+
+    @property
+    def label(self) -> str:
+        return f"{self.allocator}/{self.traffic}"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"allocator": self.allocator, "traffic": self.traffic, **self.answer.to_dict()}
+
+
+#: The traffic policies (docs/traffic.md).
+TRAFFIC = ("wait", "gate", "reserve")
+
+
+def parse_names(text: str, flag: str, known: Sequence[str], python_ok: bool = False) -> list[str]:
+    """Comma-separated names in order (``nearest,hungarian``), each one of ``known`` (or, with
+    ``python_ok``, a Python strategy ``module:Class``); a bad one is one line that lists the
+    known names."""
+    from multibots._text import shown
+    from multibots.strategies import is_python_allocator
+
+    names = [n.strip() for n in text.split(",")]
+    if not text.strip() or any(not n for n in names):
+        raise InputError(f"{flag} = {shown(text)!r}: expected comma-separated names, such as {','.join(known[:2])}")
+    for n in names:
+        if n not in known and not (python_ok and is_python_allocator(n)):
+            near = difflib.get_close_matches(n, known, n=1, cutoff=0.75)
+            hint = f" (did you mean {near[0]}?)" if near else ""
+            raise InputError(f"{flag} = {shown(n)!r}: unknown; expected one of {', '.join(known)}{hint}")
+    dup = [n for n in names if names.count(n) > 1]
+    if dup:
+        raise InputError(f"{flag} = {shown(dup[0])!r}: named twice")
+    return names
+
+
+def capacities(scenario: Union[Scenario, str, os.PathLike[str]], allocators: Optional[Sequence[str]] = None,
+               traffic: Optional[Sequence[str]] = None, *, robots_for: Optional[float] = None,
+               **kwargs: Any) -> list[Combination]:
+    """:func:`capacity` (or, given ``robots_for``, :func:`fleet_for`) once per allocation
+    strategy and traffic policy, every strategy under every policy, strategies first. A list
+    left out (None) keeps the scenario's own choice. Every combination's runs share the store
+    ``out``; the other keyword arguments go to each search."""
+    s = scenario if isinstance(scenario, Scenario) else Scenario.from_toml(scenario)
+    d = s.to_dict()
+    allocs = list(allocators) if allocators is not None else [str(d.get("allocator") or "in-turn")]
+    policies = list(traffic) if traffic is not None else [str(d.get("traffic") or "wait")]
+    for name, values in (("allocators", allocs), ("traffic", policies)):
+        if not values:
+            raise InputError(f"{name}: give at least one")
+        if len(set(values)) < len(values):
+            raise InputError(f"{name} = {values}: a name given twice")
+    combos = [(a, t) for a in allocs for t in policies]
+    # Every combination is checked before the first run: a bad name costs no search.
+    variants = [s.replace(allocator=a, traffic=t) for a, t in combos]
+    for v in variants:
+        check(v, kwargs.get("horizon"), kwargs.get("seeds", 3), kwargs.get("served", 0.95))
+    out = []
+    for (a, t), v in zip(combos, variants):
+        if robots_for is None:
+            answer = capacity(v, **kwargs)
+        else:
+            kwargs.pop("start", None)
+            answer = fleet_for(v, robots_for, **kwargs)
+        out.append(Combination(a, t, answer))
+    return out
 
 
 def _bottleneck(scenario: Scenario) -> Optional[dict[str, Any]]:

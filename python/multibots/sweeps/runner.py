@@ -13,6 +13,7 @@ from typing import Any, Optional
 
 from multibots import _core
 from multibots.exceptions import InputError, MissingExtraError
+from multibots.result import people_costs
 from multibots.runs import engine_id, process_pool, run_key, strategy_id
 from multibots.scenario import Scenario
 from multibots.strategies import is_python_allocator
@@ -20,11 +21,11 @@ from multibots.sweeps import lorr as lorr_sweep
 from multibots.sweeps.spec import Point
 from multibots.sweeps.store import Store
 
-__all__ = ["FIGURES", "estimate_cost", "figures_of", "keys_of", "run_points"]
+__all__ = ["FIGURES", "PEOPLE_COSTS", "backlog_growth", "estimate_cost", "figures_of", "keys_of", "run_points"]
 
 #: The figures stored for each run (docs/sweeps.md).
 FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost", "distance", "throughput",
-           "sustained_throughput", "wait_share", "utilisation", "contacts", "closest")
+           "sustained_throughput", "wait_share", "utilisation", "contacts", "closest", "window")
 #: A finished run waits at most about this many seconds to be written to a Parquet store (at
 #: most that much work is repeated after a kill; fewer, larger part files), and Ray tasks hold
 #: at least this many robot-steps.
@@ -35,8 +36,12 @@ CALL_SECONDS = 0.25
 
 
 _SCALARS = tuple(k for k in FIGURES if k != "distance")
-_LIFELONG = ("latency_p50", "latency_p95", "energy_per_delivery")
-_PEOPLE = ("protective_stops", "min_gap", "warning_steps", "person_wait_steps")
+_LIFELONG = ("latency_p50", "latency_p95", "energy_per_delivery", "ordered")
+_PEOPLE = ("protective_stops", "min_gap", "warning_steps", "person_wait_steps", "tours", "picks", "walk_steps",
+           "blocked_steps")
+#: What robots cost people (``result.people_costs``), stored as ``people_<name>``.
+PEOPLE_COSTS = ("picks_per_hour", "tours_per_hour", "walk_share", "blocked_share", "alone_picks_per_hour",
+                "alone_tours_per_hour", "alone_walk_share", "alone_blocked_share")
 
 
 def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
@@ -48,12 +53,25 @@ def figures_of(raw: dict[str, Any]) -> dict[str, Any]:
     lifelong = get("lifelong") or {}
     for k in _LIFELONG:
         out[k] = lifelong.get(k)
+    out["backlog_growth"] = backlog_growth(out["ordered"], get("steps"), get("sustained_throughput"))
     # Deliveries per window (docs/metrics.md), as text: a CSV cell, and a flat Parquet column.
     out["windows"] = ";".join(map(str, get("windows") or ()))
     people = get("people") or {}
     for k in _PEOPLE:
         out[f"people_{k}"] = people.get(k)
+    costs = people_costs(people) if people else {}
+    for k in PEOPLE_COSTS:
+        out[f"people_{k}"] = costs.get(k)
     return out
+
+
+def backlog_growth(ordered: Optional[int], steps: Optional[int], sustained: Optional[float]) -> Optional[float]:
+    """Orders per 1,000 steps a lifelong run leaves unserved once settled: the demand it saw
+    (orders over its steps) less its sustained throughput. About 0 when the fleet keeps up
+    (either sign, by chance); the unserved demand when it does not. None for finite runs."""
+    if ordered is None or not steps or sustained is None:
+        return None
+    return 1000.0 * ordered / steps - sustained
 
 
 def estimate_cost(s: Scenario) -> float:

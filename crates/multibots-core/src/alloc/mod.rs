@@ -426,6 +426,13 @@ pub fn built_in(scenario: &Scenario) -> Result<Box<dyn Allocator>> {
             format!("\"{name}\""),
             "names a Python allocator (module:Class): run it through the Python package, not the engine alone",
         )),
-        _ => Err(Error::scenario("allocator", format!("\"{name}\""), format!("unknown strategy (built-ins: {})", BUILT_INS.join(", ")))),
+        _ => {
+            let hint = crate::error::did_you_mean(name, BUILT_INS).map_or(String::new(), |n| format!("did you mean \"{n}\"? "));
+            Err(Error::scenario(
+                "allocator",
+                format!("\"{name}\""),
+                format!("unknown strategy ({hint}built-ins: {}; or module:Class for a Python strategy)", BUILT_INS.join(", ")),
+            ))
+        }
     }
 }

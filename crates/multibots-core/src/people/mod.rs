@@ -42,7 +42,7 @@ pub(crate) enum Phase {
 }
 
 /// The workers on the floor, struct of arrays.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct People {
     pub x: Vec<f64>,
     pub y: Vec<f64>,
@@ -76,6 +76,10 @@ pub struct People {
     /// The warning zone's speed factor.
     pub(crate) slow_factor: f64,
     forces: walk::Forces,
+    /// Person-steps spent walking (not picking or resting), and walking steps spent giving
+    /// way (walking back out of the way, or standing there).
+    walk_steps: u64,
+    give_way_steps: u64,
 }
 
 impl People {
@@ -121,6 +125,8 @@ impl People {
             slow: vec![false; robots.len()],
             slow_factor: h.slow,
             forces: walk::Forces::new(h.px_per_m, h.step_seconds),
+            walk_steps: 0,
+            give_way_steps: 0,
         }))
     }
 
@@ -169,6 +175,23 @@ impl People {
     pub fn figures(&self, steps: u64) -> PeopleFigures {
         #[allow(clippy::cast_possible_truncation)]
         let count = self.len() as u32;
-        PeopleFigures { count, ..self.zones.figures(self.len() as u64 * steps, self.tours.finished, self.tours.picked) }
+        let f = self.zones.figures(self.len() as u64 * steps, self.tours.finished, self.tours.picked);
+        let blocked_steps = f.person_wait_steps + self.give_way_steps;
+        PeopleFigures { count, walk_steps: self.walk_steps, blocked_steps, ..f }
+    }
+
+    /// The same people with the fleet removed: their stations, tours and seed as they are
+    /// now, on a floor with no robot. Stepped beside the run (`step_alone`), they give what
+    /// robots cost people: the same workers, the same draws, nothing else changed.
+    #[must_use]
+    pub(crate) fn alone(&self) -> People {
+        self.clone()
+    }
+
+    /// One step of people on a floor with no robot (`alone`).
+    pub(crate) fn step_alone(&mut self) {
+        let none = Robots::default();
+        self.guard(&none, &[]);
+        self.step(&none);
     }
 }

@@ -29,7 +29,7 @@ struct PickCell {
     pick: (f64, f64),
 }
 
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(crate) struct Tours {
     adj: Vec<Vec<(u32, f64)>>,
     pos: Vec<(f64, f64)>,

@@ -106,8 +106,10 @@ impl People {
                 Phase::Walk => {}
             }
             let Some((mut gx, mut gy)) = self.tours.waypoint(k) else { continue };
+            self.walk_steps += 1;
             let (px, py) = (self.x[k], self.y[k]);
             if self.retreat[k] > 0 {
+                self.give_way_steps += 1;
                 // Giving way: back to the last waypoint, out of the robots' way, for a while.
                 self.retreat[k] -= 1;
                 (gx, gy) = (self.ret_x[k], self.ret_y[k]);

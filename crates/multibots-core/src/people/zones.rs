@@ -49,14 +49,25 @@ pub struct PeopleFigures {
     /// Pick tours finished, and picks done.
     pub tours: u64,
     pub picks: u64,
+    /// Person-steps spent walking (not picking or resting).
+    pub walk_steps: u64,
+    /// Walking person-steps held up: hard stops for robots (`person_wait_steps`) and steps
+    /// giving way after no progress for a while (walking back out of the way, or standing
+    /// there), which robots in the way cause, and now and then a crowd of people.
+    pub blocked_steps: u64,
+    /// The same people over the same steps with the fleet removed (same stations, tours and
+    /// seed): what they do without robots. `None` in the figures of that run itself.
+    pub alone: Option<Box<PeopleFigures>>,
     /// The zones' radii, px, centre to centre: protective and warning.
     pub protective_radius: f64,
     pub warning_radius: f64,
     /// Pixels per metre, to read the gaps in metres.
     pub px_per_m: f64,
+    /// Seconds per step (docs/model.md, Units), to read steps as hours.
+    pub step_seconds: f64,
 }
 
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct Zones {
     /// Radii, centre to centre, px.
     pub(super) protective: f64,
@@ -77,6 +88,7 @@ pub(super) struct Zones {
     stopped_steps: u64,
     pub(super) person_wait_steps: u64,
     px_per_m: f64,
+    step_seconds: f64,
 }
 
 impl Zones {
@@ -107,6 +119,7 @@ impl Zones {
             stopped_steps: 0,
             person_wait_steps: 0,
             px_per_m: h.px_per_m,
+            step_seconds: h.step_seconds,
         }
     }
 
@@ -140,9 +153,13 @@ impl Zones {
             person_steps,
             tours,
             picks,
+            walk_steps: 0,
+            blocked_steps: 0,
+            alone: None,
             protective_radius: self.protective,
             warning_radius: self.warning,
             px_per_m: self.px_per_m,
+            step_seconds: self.step_seconds,
         }
     }
 }

@@ -126,9 +126,11 @@ pub(crate) fn unload_zone(layout: &Layout, unload: &Unload) -> Result<NodeId> {
     match unload {
         Unload::First | Unload::Nearest => Ok(first),
         Unload::Node(name) => {
-            let node = layout.node_named(name).ok_or_else(|| Error::scenario("unload", format!("\"{name}\""), "unknown node"))?;
+            let zones = || layout.unloading.iter().map(|&n| layout.nodes[n.index()].name.as_str()).collect::<Vec<_>>();
+            let hint = || format!("the unloading zones are {}; or \"nearest\"", listed(&zones()));
+            let node = layout.node_named(name).ok_or_else(|| Error::scenario("unload", format!("\"{name}\""), format!("unknown node: {}", hint())))?;
             if !layout.unloading.contains(&node) {
-                return Err(Error::scenario("unload", format!("\"{name}\""), "is not an unloading zone"));
+                return Err(Error::scenario("unload", format!("\"{name}\""), format!("is not an unloading zone: {}", hint())));
             }
             Ok(node)
         }
@@ -157,7 +159,14 @@ pub(crate) fn start_nodes(layout: &Layout, scenario: &Scenario) -> Result<Vec<No
     }
     let mut v = Vec::with_capacity(n);
     for (i, name) in names.iter().enumerate() {
-        let node = layout.node_named(name).ok_or_else(|| Error::scenario(format!("starts[{i}]"), format!("\"{name}\""), "unknown node"))?;
+        let node = layout.node_named(name).ok_or_else(|| {
+            let near = crate::error::did_you_mean(name, layout.nodes.iter().map(|n| n.name.as_str()));
+            let hint = near.map_or_else(
+                || format!("the departure nodes are {}", listed(&layout.departure.iter().map(|&n| layout.nodes[n.index()].name.as_str()).collect::<Vec<_>>())),
+                |n| format!("did you mean \"{n}\"?"),
+            );
+            Error::scenario(format!("starts[{i}]"), format!("\"{name}\""), format!("unknown node ({hint})"))
+        })?;
         if !layout.departure.contains(&node) {
             return Err(Error::scenario(format!("starts[{i}]"), format!("\"{name}\""), "is not a departure zone"));
         }
@@ -249,6 +258,14 @@ pub(crate) fn place(world: &World, scenario: &Scenario, starts: &[NodeId], unloa
     // The pushes leave each column with room for up to twice the fleet; a clone holds exactly
     // the fleet (about 140 bytes a robot instead of up to 280).
     Ok((robots.clone(), Homes { park, unload, unload_of_cell }))
+}
+
+/// Names for a message: all of them up to 8, else the first 6 and how many more.
+fn listed(names: &[&str]) -> String {
+    if names.len() <= 8 {
+        return names.join(", ");
+    }
+    format!("{}, ... ({} in all)", names[..6].join(", "), names.len())
 }
 
 #[cfg(test)]

@@ -29,6 +29,11 @@ export const COLOURS = {
   banner: "#20242a",
   bannerText: "#ffffff",
   select: "#ffbf00",
+  person: "#2b6cb0",          // people on the floor, seen from above: shoulders
+  personHead: "#f2c9a0",
+  personEdge: "#10243e",
+  zoneProtective: "#c81e1e",  // a robot's zones around people (the z key)
+  zoneWarning: "#e6a000",
 };
 
 const GROUP_COLOURS = [COLOURS.blue, COLOURS.red, COLOURS.green, COLOURS.grey, COLOURS.other];
@@ -244,6 +249,9 @@ export class Renderer {
       ["unloading", COLOURS.unloading, "unloading"],
       ["charger", COLOURS.charger, "charger"],
       ["battery", null, "battery (blinks: to charge)"],
+      // People only when the run has them (docs/people.md); their zones are drawn with z.
+      ...(this.humans ? [["person", COLOURS.person, "person"],
+                         ["zones", null, "robot's protective, warning zone (z)"]] : []),
     ];
   }
 
@@ -293,6 +301,16 @@ export class Renderer {
         this._unloadingIcon(ctx, cx, cy, 6.5 * ui, 1.5 * ui);
       } else if (kind === "charger") {
         this._chargerIcon(ctx, cx, cy, 14 * ui, 10 * ui, 1 * ui);
+      } else if (kind === "person") {
+        this._personIcon(ctx, cx, cy, 7 * ui, 1.2 * ui);
+      } else if (kind === "zones") {
+        ctx.lineWidth = 1.5 * ui;
+        ctx.setLineDash([3 * ui, 2 * ui]);
+        ctx.strokeStyle = COLOURS.zoneWarning;
+        ctx.beginPath(); ctx.arc(cx, cy, 7 * ui, 0, TAU); ctx.stroke();
+        ctx.strokeStyle = COLOURS.zoneProtective;
+        ctx.beginPath(); ctx.arc(cx, cy, 4 * ui, 0, TAU); ctx.stroke();
+        ctx.setLineDash([]);
       } else if (kind === "battery") {
         const w = 5 * ui;
         [COLOURS.batteryOk, COLOURS.batteryLow, COLOURS.batteryCritical].forEach((c, k) => {
@@ -302,6 +320,15 @@ export class Renderer {
       ctx.fillStyle = "#1d2228";
       ctx.fillText(label, x + 16 * ui + 4 * ui, cy);
     }
+  }
+
+  /** A person from above, as on the floor: shoulders (an ellipse) and head. */
+  _personIcon(ctx, x, y, r, lw) {
+    ctx.lineWidth = lw;
+    ctx.fillStyle = COLOURS.person; ctx.strokeStyle = COLOURS.personEdge;
+    ctx.beginPath(); ctx.ellipse(x, y, r, r * 0.62, 0, 0, TAU); ctx.fill(); ctx.stroke();
+    ctx.fillStyle = COLOURS.personHead;
+    ctx.beginPath(); ctx.arc(x, y, r * 0.42, 0, TAU); ctx.fill(); ctx.stroke();
   }
 
   _departureIcon(ctx, x, y, r, lw) {
@@ -638,8 +665,8 @@ export class Renderer {
       }
       ctx.setLineDash([]);
     }
-    ctx.fillStyle = "#2b6cb0";
-    ctx.strokeStyle = "#10243e";
+    ctx.fillStyle = COLOURS.person;
+    ctx.strokeStyle = COLOURS.personEdge;
     ctx.lineWidth = Math.min(1.2 * px, r * 0.15);
     ctx.beginPath();
     for (let k = 0; k < HX.length; k++) {
@@ -647,7 +674,7 @@ export class Renderer {
       ctx.ellipse(HX[k], HY[k], r, r * 0.62, 0, 0, TAU);
     }
     ctx.fill(); ctx.stroke();
-    ctx.fillStyle = "#f2c9a0";
+    ctx.fillStyle = COLOURS.personHead;
     ctx.beginPath();
     for (let k = 0; k < HX.length; k++) {
       ctx.moveTo(HX[k] + r * 0.42, HY[k]);

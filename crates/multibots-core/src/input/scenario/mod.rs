@@ -390,9 +390,14 @@ mod tests {
         let e = Scenario::from_toml("tasks = [1]\nrobot = { speed = \"fast\" }", "s.toml").unwrap_err().to_string();
         assert_eq!(e, "s.toml: robot.speed = \"fast\": expected a number");
         let e = Scenario::from_toml("tasks = [1]\nrobts = 3", "s.toml").unwrap_err().to_string();
-        assert!(e.starts_with("s.toml: unknown field `robts` (known: layout, robots, "), "{e}");
+        assert!(e.starts_with("s.toml: unknown field `robts` (did you mean `robots`? known: layout, robots, "), "{e}");
         let e = Scenario::from_toml("tasks = [1]\n[robot]\nsped = 3", "s.toml").unwrap_err().to_string();
-        assert!(e.starts_with("s.toml: robot: unknown field `sped` (known: radius, speed, "), "{e}");
+        assert!(e.starts_with("s.toml: robot: unknown field `sped` (did you mean `speed`? known: radius, speed, "), "{e}");
+        // Nothing near: no guess.
+        let e = Scenario::from_toml("tasks = [1]\nvelocity = 3", "s.toml").unwrap_err().to_string();
+        assert!(e.starts_with("s.toml: unknown field `velocity` (known: layout, "), "{e}");
+        let e = Scenario::from_toml("tasks = [1]\ntraffic = \"reserv\"", "s.toml").unwrap_err().to_string();
+        assert_eq!(e, "s.toml: traffic = \"reserv\": expected one of wait, gate, reserve (did you mean \"reserve\"?)");
         let e = Scenario::from_toml("tasks = [1, \"x\"]", "s.toml").unwrap_err().to_string();
         assert!(e.contains("tasks[1]") || e.contains("tasks"), "{e}");
         let e = Scenario::from_toml("tasks = [1", "s.toml").unwrap_err().to_string();

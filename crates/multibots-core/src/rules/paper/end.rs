@@ -5,6 +5,7 @@
 use crate::fleet::robot::State;
 use crate::ids::NONE;
 use crate::output::metrics::{Collapse, Gridlock, LifelongStats, Outcome, RunResult};
+use crate::people::PeopleFigures;
 use crate::rules::paper::lifelong::{self, Lifelong};
 use crate::rules::paper::Paper;
 
@@ -43,7 +44,10 @@ impl Paper {
         let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
         let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
         let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
-        result.people = self.people.as_ref().map(|p| p.figures(self.tally.t));
+        result.people = self
+            .people
+            .as_ref()
+            .map(|p| PeopleFigures { alone: self.people_alone.as_ref().map(|a| Box::new(a.figures(self.tally.t))), ..p.figures(self.tally.t) });
         let (shared, nearest) = self.shared_and_nearest;
         (result.resources, result.bottleneck) = self.usage.report(&self.world.layout, shared, nearest);
         result

@@ -106,6 +106,9 @@ pub(crate) struct Paper {
     events: Vec<Event>,
     /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
     people: Option<Box<People>>,
+    /// The same people with the fleet removed, stepped beside the run: output only (what
+    /// robots cost people, docs/people.md); nothing of the run reads it.
+    people_alone: Option<Box<People>>,
 }
 
 impl Paper {
@@ -146,8 +149,10 @@ impl Paper {
             Some(h) => People::new(h, &world, tables, &robots)?.map(Box::new),
             None => None,
         };
+        let people_alone = people.as_ref().map(|p| Box::new(p.alone()));
         Ok(Paper {
             people,
+            people_alone,
             p: Params::of(scenario),
             cost_weights: scenario.cost.clone(),
             tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics).with_livelock_after(livelock_after(scenario)),
@@ -258,6 +263,9 @@ impl Paper {
         self.block_and_move();
         if let Some(people) = self.people.as_mut() {
             people.step(&self.robots);
+        }
+        if let Some(alone) = self.people_alone.as_mut() {
+            alone.step_alone();
         }
         self.transitions();
         self.end();
