@@ -19,7 +19,18 @@ impl Paper {
         // traffic policy, which may also stop a robot short.
         // A robot in a bay stands one contact distance beside the lane.
         let bay_depth = 2.0 * self.contact_reach.0 + p.margin;
-        traffic::decide(self.traffic.as_mut(), &mut self.collisions, &mut self.robots, &self.world.graph, self.tally.t, &self.wants, p.margin, p.angle, bay_depth, self.people.as_deref());
+        traffic::decide(
+            self.traffic.as_mut(),
+            &mut self.collisions,
+            &mut self.robots,
+            &self.world.graph,
+            self.tally.t,
+            &self.wants,
+            p.margin,
+            p.angle,
+            bay_depth,
+            self.people.as_deref(),
+        );
         let (waits, budget) = traffic::moves(self.traffic.as_ref(), &self.collisions, n);
         let bays = &self.collisions.bay;
         // People: robots that stop for a person (not a collision) or slow down near one.
