@@ -2,7 +2,7 @@
 //! trip, and every validation error.
 
 use multibots_core::input::layout_file::{self, LayoutFile};
-use multibots_core::world::layout::NodeKind;
+use multibots_core::world::layout::{Aisles, NodeKind};
 use multibots_core::{Layout, LayoutParams, NodeId, Scenario, Simulation};
 
 /// The paper layout written out from docs/model.md section 1, independently of the generator.
@@ -212,7 +212,6 @@ fn auto_choices_suit_the_warehouse_size() {
         // Each unloading row holds one zone per crossing of a row (group_cols + 1).
         (layout.unloading.len() / 7, p.resolved().aisles)
     };
-    use multibots_core::world::layout::Aisles;
     assert_eq!(unloading_rows(2), (1, Aisles::Paper));
     assert_eq!(unloading_rows(3), (1, Aisles::Alternate));
     assert_eq!(unloading_rows(6), (2, Aisles::Alternate));

@@ -104,6 +104,7 @@ pub const AUTO_ROWS: u32 = 0;
 mod rows_or_auto {
     use serde::{de, Deserializer, Serializer};
 
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's `with` passes a reference
     pub fn serialize<S: Serializer>(rows: &u32, s: S) -> Result<S::Ok, S::Error> {
         if *rows == super::AUTO_ROWS {
             s.serialize_str("auto")
