@@ -212,7 +212,9 @@ def test_record_via_the_command_and_bad_outputs(cli, tmp_path):
     with multibots.Replay(mbr) as rp:
         assert rp.frames == 121 and rp.summary["delivered"] == json.loads(out.read_text())["numTaskFinished"]
     before = sorted(tmp_path.iterdir())
-    for bad, fragment in ((tmp_path / "no" / "r.mbr", "does not exist"), (tmp_path, "is a directory")):
+    for bad, fragment in ((tmp_path / "no" / "r.mbr", "does not exist"), (tmp_path, "is a directory"),
+                          (tmp_path / "r2.json", "the same file as --out"),
+                          (tmp_path / "r2.json.multibots.json", "the same file as --out")):
         p = cli("lorr", tmp_path / "p.json", "--steps", "20", "--out", tmp_path / "r2.json", "--record", bad)
         cli.assert_one_line_error(p, f"--record = '{bad}'", fragment)
     p = cli("lorr", tmp_path / "p.json", "--steps", "20", "--out", tmp_path / "no" / "r.json", "--record", mbr)

@@ -171,7 +171,7 @@ def _alive(pid: int) -> bool:
 def _remove_stale(path: Path) -> None:
     """Removes temporary files for ``path`` left by writers that were killed.
 
-    Temporary files are named ``.NAME.PID.*`` (the engine's ``.NAME.PID.tmp`` too), so one
+    Temporary files are named ``.NAME.PID.*`` (the engine's ``.NAME.PID.K.tmp`` too), so one
     whose process is gone belongs to nobody: a ``kill -9`` costs disk space only until the
     next write of the same file.
     """

@@ -111,7 +111,8 @@ def test_built_ins_by_name_everywhere():
     with pytest.raises(
         ScenarioError,
         match=r'^allocator = "greedy": unknown strategy '
-        r"\(built-ins: in-turn, nearest, hungarian, auction, energy-aware, min-cost\)$",
+        r"\(built-ins: in-turn, nearest, hungarian, auction, energy-aware, min-cost; or module:Class for a Python "
+        r"strategy\)$",
     ):
         simulate(s, allocator="greedy")
     with pytest.raises(ScenarioError, match='allocator = "greedy": unknown strategy'):

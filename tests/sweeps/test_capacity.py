@@ -160,7 +160,12 @@ def test_the_command_compares_combinations_in_a_table_a_figure_and_json(tmp_path
     for e in entries:
         row = next(line for line in lines if line.startswith(f"{e['allocator']}/{e['traffic']} "))
         assert f"{e['sustainable_rate']:.4g}" in row.split()[1]
-    assert "best: " in p.stdout and (tmp_path / "out" / "capacity.png").stat().st_size > 0
+    rates = [e["sustainable_rate"] for e in entries if e["sustainable_rate"] is not None]
+    if rates:
+        # One winner, or a tie named as such (equal answers are not ranked by flag order).
+        said = "tie: " if rates.count(max(rates)) > 1 else "best: "
+        assert said in p.stdout, p.stdout
+    assert (tmp_path / "out" / "capacity.png").stat().st_size > 0
 
 
 @pytest.mark.parametrize("args,why", [

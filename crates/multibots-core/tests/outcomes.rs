@@ -59,6 +59,8 @@ fn a_fleet_stranding_robot_by_robot_ends_stranded() {
     // (windows 119, 129, 125, 106, 20, 1, ...).
     let mut s = lifelong(6, 10, 1, 3, Aisles::Alternate, 150, 1.5, 7000, Traffic::Reserve);
     s.robot.consumption = 0.002;
+    // Queued robots draw what driving does (the scenario says so): they drain in the queue.
+    s.robot.idle_consumption = Some(0.002);
     let mut sim = Simulation::new(&s).unwrap();
     let r = sim.run().unwrap();
     let stranded = sim.robots().state.iter().filter(|&&st| st == State::Stranded).count();
@@ -66,4 +68,34 @@ fn a_fleet_stranding_robot_by_robot_ends_stranded() {
     assert!(stranded > 0 && stranded < 150);
     assert_eq!(r.outcome, Some(Outcome::Stranded));
     assert_eq!(r.collapse.as_ref().unwrap().stranded as usize, stranded);
+}
+
+#[test]
+fn a_stranded_robot_never_moves_again() {
+    // Robots run flat in the charger queue, many in their bays: where a robot strands it
+    // stays (it does not step back onto its lane), under every traffic policy.
+    for traffic in [Traffic::Wait, Traffic::Reserve] {
+        let mut s = lifelong(6, 10, 1, 3, Aisles::Alternate, 150, 1.5, 4000, traffic);
+        s.robot.consumption = 0.004;
+        s.robot.idle_consumption = Some(0.004);
+        let mut sim = Simulation::new(&s).unwrap();
+        let mut at: Vec<Option<(f64, f64)>> = vec![None; 150];
+        let mut stranded = 0;
+        while !sim.done() {
+            sim.step().unwrap();
+            let r = sim.robots();
+            for (i, p) in at.iter_mut().enumerate() {
+                if r.state[i] == State::Stranded {
+                    match p {
+                        None => {
+                            *p = Some((r.x[i], r.y[i]));
+                            stranded += 1;
+                        }
+                        Some(q) => assert_eq!(*q, (r.x[i], r.y[i]), "{traffic:?}: robot {i} moved at step {}", sim.t()),
+                    }
+                }
+            }
+        }
+        assert!(stranded > 10, "{traffic:?}: {stranded}");
+    }
 }

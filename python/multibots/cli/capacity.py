@@ -139,7 +139,8 @@ def _combinations(base: object, allocs: Optional[list[str]], policies: Optional[
         return
     runs = sum(c.answer.runs for c in combos)
     horizon = combos[0].answer.horizon
-    print(f"{scenario}: {len(combos)} combinations, {runs} runs of {horizon} steps in {seconds:.1f} s; "
+    plural = "s" if len(combos) != 1 else ""
+    print(f"{scenario}: {len(combos)} combination{plural}, {runs} runs of {horizon} steps in {seconds:.1f} s; "
           "per 1,000 steps after the warm-up, at the knee")
     w = max(11, *(len(c.label) for c in combos))
     what = "sustainable" if rate is None else "robots"
@@ -160,12 +161,14 @@ def _combinations(base: object, allocs: Optional[list[str]], policies: Optional[
         neck = f"{b['kind']} {b['node']} (busy {b['busy']:.0%})" if b else "-"
         print(f"{c.label:<{w}} {value:>11} {delivered:>9} {p50:>11} {p95:>6} {waiting:>7} {a.runs:>5}  {neck}")
     ok = [c for c in combos if (c.answer.sustainable_rate if rate is None else c.answer.robots) is not None]
-    if ok:
-        best = (max(ok, key=lambda c: c.answer.sustainable_rate or 0.0) if rate is None
-                else min(ok, key=lambda c: c.answer.robots or 0))
-        said = (f"{best.answer.sustainable_rate:.4g} orders per step" if rate is None
-                else f"{best.answer.robots} robots for {rate:.4g} orders per step")
-        print(f"best: {best.label} with {said}")
+    if ok and len(combos) > 1:
+        key = (lambda c: c.answer.sustainable_rate or 0.0) if rate is None else (lambda c: -(c.answer.robots or 0))
+        top = max(key(c) for c in ok)
+        best = [c for c in ok if key(c) == top]
+        said = (f"{best[0].answer.sustainable_rate:.4g} orders per step" if rate is None
+                else f"{best[0].answer.robots} robots for {rate:.4g} orders per step")
+        # Equal answers are a tie, not a winner picked by the order of the flags.
+        print(f"{'best' if len(best) == 1 else 'tie'}: {', '.join(c.label for c in best)} with {said}")
     png = draw_capacities(combos, out / "capacity.png")
     print(f"wrote {png}")
 

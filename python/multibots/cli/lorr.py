@@ -41,6 +41,12 @@ def lorr(
     for option, path in (("--out", out), ("--record", record)):
         if path is not None:
             _check_output(option, path)
+    if record is not None:
+        # The result, its figures beside it and the replay are three files: one path for two
+        # of them would leave neither whole.
+        taken = {out.resolve(), out.with_name(out.name + ".multibots.json").resolve()}
+        if record.resolve() in taken:
+            raise InputError(f"--record = {str(record)!r}: the same file as --out or its figures; choose another path")
 
     n_steps = parse_number(steps, "--steps", int, 4_294_967_295)
     if n_steps < 0:

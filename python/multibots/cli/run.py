@@ -103,6 +103,10 @@ def overload_lines(result: Any, scenario: Optional[Path]) -> list[str]:
     from multibots.sweeps.runner import backlog_growth
 
     ll = result.lifelong
+    if result.outcome not in (None, "horizon", "complete"):
+        # A fleet that jammed or stranded carries nothing: its backlog says nothing about how
+        # much demand it could carry (the outcome line says what happened).
+        return []
     growth = backlog_growth(ll["ordered"], result.steps, result.sustained_throughput)
     demand = 1000.0 * ll["ordered"] / result.steps if result.steps else 0.0
     if growth is None or growth <= 0.1 * demand:
@@ -220,7 +224,7 @@ def people_cost_lines(p: dict[str, Any]) -> list[str]:
     return [
         f"per worker   {pair('picks_per_hour', '.1f')} picks and {pair('tours_per_hour', '.2f')} tours an hour; "
         f"in brackets the same people without robots",
-        f"their time   walking {pair('walk_share', '.1%')}, held up {pair('blocked_share', '.1%')} "
+        f"their time   walking {pair('walk_share', '.1%')}, of which held up {pair('blocked_share', '.1%')} "
         f"({hours:.2f} worker-hours at {p['step_seconds']} s a step)",
     ]
 

@@ -32,10 +32,11 @@ impl Robots {
 
 /// Robots whose bay flag (`bay[i]`, decided by the step) differs from where they stand step
 /// aside into their bay, `depth` px to the right of their edge, or back onto their lane.
-/// Stepping aside or back is a move of one step (the depth, about six steps' travel, is not
-/// driven). A robot on a node has no side to step to, and a robot whose destination a person
-/// stands too near to (`clear(x, y, radius)` says no) stays where it is this step: `bay[i]`
-/// then says where it is.
+/// Stepping aside or back takes no time of its own (a robot that steps back drives on in the
+/// same step: the bay's depth, about six steps' travel, is not driven). A robot on a node
+/// has no side to step to, and a robot whose destination a person stands too near to
+/// (`clear(x, y, radius)` says no) stays where it is this step: `bay[i]` then says where it
+/// is.
 pub(crate) fn settle(r: &mut Robots, g: &HighwayGraph, bay: &mut [bool], depth: f64, clear: impl Fn(f64, f64, f64) -> bool) {
     let n = r.len();
     if bay.is_empty() || (r.lane_x.is_empty() && !bay[..n].contains(&true)) {

@@ -227,7 +227,7 @@ impl<'a> Shape<'a> {
 }
 
 /// The temporary path beside an output file that the atomic writers (replays, layout
-/// files) write to before renaming it over `path`: `.NAME.PID.tmp`.
+/// files) write to before renaming it over `path`: `.NAME.PID.K.tmp`, K the first free.
 ///
 /// Refuses a target that exists and is not a regular file: renaming over `/dev/full` or a
 /// folder would replace a device or a directory with a file. Removes temporary files of the
@@ -238,7 +238,11 @@ pub fn output_temp(path: &Path) -> Result<PathBuf, String> {
     let name = path.file_name().ok_or("is not a file name")?.to_string_lossy().into_owned();
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     remove_stale(dir, &name);
-    Ok(dir.join(format!(".{name}.{}.tmp", std::process::id())))
+    // The first K free, as well as the process: two writers of one process with one target
+    // (a result and a replay named alike) never share a temporary file.
+    let pid = std::process::id();
+    let free = (0..=u32::MAX).map(|k| dir.join(format!(".{name}.{pid}.{k}.tmp"))).find(|p| !p.exists()).expect("some K is free");
+    Ok(free)
 }
 
 /// Checks that `path` is a new path or a regular file, which a rename may replace (called
@@ -252,7 +256,7 @@ pub fn replaceable(path: &Path) -> Result<(), String> {
     }
 }
 
-/// Removes `.NAME.PID.tmp` files in `dir` whose writer process is gone. Only where the
+/// Removes `.NAME.PID.K.tmp` files in `dir` whose writer process is gone. Only where the
 /// process table can be read (`/proc`); elsewhere nothing is removed.
 fn remove_stale(dir: &Path, name: &str) {
     if !Path::new("/proc/self").exists() {
@@ -262,7 +266,12 @@ fn remove_stale(dir: &Path, name: &str) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     for entry in entries.flatten() {
         let file = entry.file_name();
-        let Some(pid) = file.to_str().and_then(|f| f.strip_prefix(&prefix)).and_then(|rest| rest.strip_suffix(".tmp")) else { continue };
+        // `.NAME.PID.K.tmp`
+        let Some(pid) =
+            file.to_str().and_then(|f| f.strip_prefix(&prefix)).and_then(|rest| rest.strip_suffix(".tmp")).map(|rest| rest.split('.').next().unwrap_or(rest))
+        else {
+            continue;
+        };
         if pid.parse::<u32>().is_ok_and(|p| p != std::process::id() && !Path::new(&format!("/proc/{p}")).exists()) {
             let _ = std::fs::remove_file(entry.path());
         }
@@ -355,7 +364,12 @@ mod tests {
         std::fs::write(&dead, "half").unwrap();
         std::fs::write(&other, "half").unwrap();
         let tmp = output_temp(&target).unwrap();
-        assert_eq!(tmp, dir.join(format!(".r.mbr.{}.tmp", std::process::id())));
+        let name = tmp.file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(tmp.parent(), Some(dir.as_path()));
+        assert!(name.starts_with(&format!(".r.mbr.{}.", std::process::id())) && name.rsplit('.').next() == Some("tmp"), "{name}");
+        // Two writers of one process never share a temporary file.
+        std::fs::write(&tmp, "writing").unwrap();
+        assert_ne!(output_temp(&target).unwrap(), tmp);
         if Path::new("/proc/self").exists() {
             assert!(!dead.exists());
         }

@@ -153,7 +153,6 @@ impl People {
         self.phase.iter().map(|p| *p == Phase::Walk)
     }
 
-    /// After the robots moved: people walk, pick or rest, then the gaps are measured.
     /// Whether a robot of `radius` may stand at `(x, y)`: no person within touching distance
     /// (and the gap people keep). Reads the positions of this step's [`People::guard`].
     pub(crate) fn clear_of(&self, x: f64, y: f64, radius: f64) -> bool {
@@ -163,6 +162,7 @@ impl People {
         clear
     }
 
+    /// After the robots moved: people walk, pick or rest, then the gaps are measured.
     pub(crate) fn step(&mut self, robots: &Robots) {
         let forces = self.forces;
         let blocked = self.walk_people(robots, &forces);

@@ -130,9 +130,8 @@ pub(crate) struct TrafficState {
     /// Consecutive steps a robot was refused for a full exit.
     exit_refusals: Vec<u32>,
     ahead: Vec<Option<Ahead>>,
-    /// Robots in a bay (out of the traffic) this step and the last.
+    /// Robots in a bay (out of the traffic) this step.
     pub out: Vec<bool>,
-    was_out: Vec<bool>,
     /// Output: how far each robot may travel, and who waits.
     pub budget: Vec<f64>,
     pub waits: Vec<bool>,
@@ -154,7 +153,6 @@ impl TrafficState {
             exit_refusals: vec![0; robots],
             ahead: vec![None; robots],
             out: vec![false; robots],
-            was_out: vec![false; robots],
             budget: vec![0.0; robots],
             waits: vec![false; robots],
         }
@@ -237,7 +235,9 @@ impl TrafficState {
     /// robots ahead and behind; until then they stay in the bay.
     fn rejoin(&mut self, r: &Robots, g: &HighwayGraph) {
         let n = r.len();
-        let joining: Vec<usize> = (0..n).filter(|&i| self.was_out[i] && !self.out[i]).collect();
+        // Joining: standing in a bay (where it is, not what it did last step: a step back a
+        // person refused leaves it there) and no longer to be in one.
+        let joining: Vec<usize> = (0..n).filter(|&i| r.in_bay(i) && !self.out[i]).collect();
         if !joining.is_empty() {
             for &i in &joining {
                 self.out[i] = true;
@@ -259,7 +259,6 @@ impl TrafficState {
                 self.out[i] = !(clear && zones_free);
             }
         }
-        self.was_out.copy_from_slice(&self.out);
     }
 
     /// Zone admissions, longest-waiting first: a robot enters a free zone when its exit lane

@@ -61,7 +61,8 @@ pub struct Layout {
 }
 
 /// The generator's parameters: a grid of storage groups between one-way aisles. Omitted
-/// fields take the paper's values.
+/// fields take the paper's values, but for the aisle directions and the unloading rows,
+/// which the generator chooses for the warehouse's size (`"auto"`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct LayoutParams {

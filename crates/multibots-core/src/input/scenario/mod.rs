@@ -234,6 +234,11 @@ impl Scenario {
         positive("robot.energy_full", r.energy_full)?;
         positive("robot.consumption", r.consumption)?;
         positive("robot.charge_rate", r.charge_rate)?;
+        if let Some(idle) = r.idle_consumption {
+            if !(idle.is_finite() && idle >= 0.0) {
+                return Err(Error::scenario("robot.idle_consumption", idle, "must be 0 or more"));
+            }
+        }
         if !(r.threshold.is_finite() && r.threshold >= 0.0) {
             return Err(Error::scenario("robot.threshold", r.threshold, "must be 0 or more"));
         }

@@ -214,6 +214,11 @@ pub struct RobotParams {
     pub consumption: f64,
     /// Energy gained per step at the charger (> 0). Default: 0.05.
     pub charge_rate: f64,
+    /// Energy used per step by a robot standing while it waits for a shared charger (≥ 0):
+    /// a robot in a queue draws what its electronics need, not what driving does (the paper
+    /// has no such queue). Default: a tenth of `consumption`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub idle_consumption: Option<f64>,
 }
 
 /// Steps spent standing to load and to unload.
@@ -317,7 +322,7 @@ pub enum Tasks {
 
 impl Default for RobotParams {
     fn default() -> Self {
-        RobotParams { radius: 12.5, speed: 4.0, energy_full: 10.0, threshold: 3.5, consumption: 0.005, charge_rate: 0.05 }
+        RobotParams { radius: 12.5, speed: 4.0, energy_full: 10.0, threshold: 3.5, consumption: 0.005, charge_rate: 0.05, idle_consumption: None }
     }
 }
 

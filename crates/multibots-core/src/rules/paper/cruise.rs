@@ -95,7 +95,7 @@ impl Paper {
                 if w {
                     distance[i] += motion.advance(g, i, pass.speed[i]);
                 }
-                p.dwell_and_energy(state, &mut pass.dwell[i], &mut pass.energy[i], &mut energy_used[i]);
+                p.dwell_and_energy(state, !w, &mut pass.dwell[i], &mut pass.energy[i], &mut energy_used[i]);
                 due |= p.acts(state, motion.routing[i], pass.dwell[i], pass.energy[i], pass.marked[i]);
             }
             if !due {

@@ -28,8 +28,14 @@ impl Paper {
             // slot, stand in a bay beside the aisle, out of the traffic (docs/model.md
             // section 7; `fleet/bay.rs`).
             self.collisions.bay.resize(n, false);
-            for ((b, s), &routing) in self.collisions.bay.iter_mut().zip(state).zip(routing) {
-                *b = *s == State::Parked || (*s == State::WaitCharger && !routing);
+            // A robot that ran flat in its bay stays there (it strands where it stands).
+            for (i, ((b, s), &routing)) in self.collisions.bay.iter_mut().zip(state).zip(routing).enumerate() {
+                *b = match s {
+                    State::Parked => true,
+                    State::WaitCharger => !routing,
+                    State::Stranded => r.in_bay(i),
+                    _ => false,
+                };
             }
         }
     }

@@ -74,7 +74,7 @@ impl Paper {
                 }
                 distance[i] += motion.advance(g, i, step);
             }
-            p.dwell_and_energy(state, &mut r.dwell[i], &mut r.energy[i], &mut energy_used[i]);
+            p.dwell_and_energy(state, !wants[i], &mut r.dwell[i], &mut r.energy[i], &mut energy_used[i]);
             progress |= moves | state.busy_in_place();
         }
         self.progress |= progress;

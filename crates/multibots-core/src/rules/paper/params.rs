@@ -13,6 +13,8 @@ pub(crate) struct Params {
     pub energy_full: f64,
     pub threshold: f64,
     pub consumption: f64,
+    /// What a robot standing in a charger queue draws per step.
+    pub idle_consumption: f64,
     pub charge_rate: f64,
     pub loading: u32,
     pub unloading: u32,
@@ -73,14 +75,16 @@ impl Params {
     /// Phases 5 and 6 for one robot in `state`: its dwell counter, charging, and consumption
     /// (counted in `energy_used`).
     #[inline]
-    pub(crate) fn dwell_and_energy(&self, state: State, dwell: &mut u32, energy: &mut f64, energy_used: &mut f64) {
+    /// `standing`: the robot had no route under way this step.
+    pub(crate) fn dwell_and_energy(&self, state: State, standing: bool, dwell: &mut u32, energy: &mut f64, energy_used: &mut f64) {
         match state {
             State::Loading | State::Unloading => *dwell += 1,
             State::Charging => *energy = energy::charge(*energy, self.charge_rate, self.energy_full),
             _ => {}
         }
         if !matches!(state, State::Charging | State::Parked | State::Stranded) {
-            let e = energy::consume(*energy, self.consumption);
+            let rate = if state == State::WaitCharger && standing { self.idle_consumption } else { self.consumption };
+            let e = energy::consume(*energy, rate);
             *energy_used += *energy - e;
             *energy = e;
         }
@@ -93,6 +97,7 @@ impl Params {
             energy_full: r.energy_full,
             threshold: r.threshold,
             consumption: r.consumption,
+            idle_consumption: r.idle_consumption.unwrap_or(r.consumption / 10.0),
             charge_rate: r.charge_rate,
             loading: scenario.dwell.loading,
             unloading: scenario.dwell.unloading,
