@@ -107,14 +107,12 @@ impl Distances {
     /// resumed and expands at most `budget` cells (each one taken off `budget`); `None` if
     /// it is not complete yet (it goes on at the next call).
     pub fn search_within(&mut self, goal: u32, budget: &mut u64) -> Option<u32> {
-        let s = match self.by_goal.get(&goal) {
-            Some(&s) => s,
-            None => {
-                if *budget == 0 {
-                    return None;
-                }
-                self.start(goal)
-            }
+        let s = if let Some(&s) = self.by_goal.get(&goal) {
+            s
+        } else if *budget == 0 {
+            return None;
+        } else {
+            self.start(goal)
         };
         self.used[s as usize] = self.clock;
         if !self.complete[s as usize] {
