@@ -152,6 +152,7 @@ def result_figures(out: Path) -> dict[str, Any]:
         "ms_mean": sum(times) / len(times) if times else 0.0,
         "ms_max": max(times) if times else 0.0,
         "rounds_over_1s": sum(t > 1000 for t in times),
+        "slowest": sorted(((round(t), step) for step, t in enumerate(times)), reverse=True)[:5],
         "timeouts": int(res.get("numEntryTimeouts", 0)),
     }
 

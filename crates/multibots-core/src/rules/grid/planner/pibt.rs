@@ -80,12 +80,13 @@ struct Frame {
     swap: u32,
 }
 
-/// Cells the distance searches of a planning round may expand: about 0.15 s (a search of
-/// `warehouse_large` expands its 38,586 free cells in about 0.25 ms on one core), so that no
-/// round, the first included, comes near a second at 10,000 robots on a loaded machine.
-/// Robots whose table is not complete steer by grid distance until a later round completes
-/// it. A count of cells, not a clock: a run is the same on every machine.
-const SEARCH_CELLS_PER_ROUND: u64 = 24_000_000;
+/// Cells the distance searches of a planning round may expand: about 0.1 s on one quiet
+/// core (a search of `warehouse_large` expands its 38,586 free cells in 0.3-0.7 ms, the
+/// latter on a loaded machine), so that no round, the first included, comes near a second
+/// at 10,000 robots. Robots whose table is not complete steer by grid distance until a
+/// later round completes it. A count of cells, not a clock: a run is the same on every
+/// machine.
+const SEARCH_CELLS_PER_ROUND: u64 = 12_000_000;
 
 /// The memory the distance tables may take, 2 GB: the budget is 4 GB in all.
 const TABLE_BUDGET: usize = 2 << 30;
