@@ -20,8 +20,9 @@ repository, when it is there; ``--no-check`` skips it), and the table gives the 
 share of the best-known count (only when run for the same number of steps), planning ms per
 step (mean and max, from the result's ``plannerTimes``), and peak memory (the child's maximum
 RSS from ``wait4``). Rows are kept in ``--rows`` (JSON, merged by instance, entry and steps), so
-that runs made in several invocations land in one table, which is written to the ``lorr``
-section of docs/benchmarks.md with the command and the machine unless ``--no-write``.
+that runs made in several invocations land in one table (``--table-only`` runs nothing and
+writes it), which goes to the ``lorr`` section of docs/benchmarks.md with the commands that
+made its rows and the machine unless ``--no-write``.
 """
 
 from __future__ import annotations
@@ -236,7 +237,7 @@ def machine() -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--instances", type=Path, required=True, help="a folder of the archive's problems")
+    ap.add_argument("--instances", type=Path, help="a folder of the archive's problems")
     ap.add_argument("--only", nargs="*", default=[], help="instance names or patterns (MR24-WAREHOUSE, 'TR23-*')")
     ap.add_argument("--domain", nargs="*", default=[], help="warehouse, random, city, game")
     ap.add_argument("--steps", type=int, help="default: each instance's simulation time, else 5,000")
@@ -250,12 +251,17 @@ def main() -> None:
     ap.add_argument("--no-check", action="store_true")
     ap.add_argument("--no-ours", action="store_true", help="only the Start-Kit")
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--table-only", action="store_true", help="run nothing: write the table of --rows")
     args = ap.parse_args()
+    if args.instances is None and not args.table_only:
+        ap.error("--instances DIR is needed (or --table-only)")
+    command = shlex.join(["python3", "benchmarks/lorr.py", *sys.argv[1:]])
 
     rows: dict[str, dict[str, Any]] = {}
     if args.rows and args.rows.is_file():
         rows = json.loads(args.rows.read_text())
-    for name, problem, why in chosen(problems(args.instances), args.only, args.domain):
+    found = [] if args.table_only else chosen(problems(args.instances), args.only, args.domain)
+    for name, problem, why in found:
         if why:
             print(f"{name}: skipped, {why}", flush=True)
             continue
@@ -274,7 +280,7 @@ def main() -> None:
             argv += ["--simulationTime", str(kit_steps), "--planTimeLimit", str(limit)]
             runs.append(("startkit", argv, kit_steps))
         for entry, argv, n in runs:
-            row = {"instance": name, **run_one(entry, argv, problem, n, not args.no_check)}
+            row = {"instance": name, **run_one(entry, argv, problem, n, not args.no_check), "command": command}
             rows[f"{name}/{entry}/{n}"] = row
             print(table({"x": row})[-1], flush=True)
             if args.rows:
@@ -284,11 +290,18 @@ def main() -> None:
     sys.path.insert(0, str(ROOT / "benchmarks"))
     import sections
 
-    command = shlex.join(["python3", "benchmarks/lorr.py", *sys.argv[1:]])
+    commands: list[str] = []
+    for row in rows.values():
+        if row.get("command") and row["command"] not in commands:
+            commands.append(row["command"])
     body = [
         "## League of Robot Runners instances (`benchmarks/lorr.py`)",
         "",
-        f"`{command}` on {machine()} (shared with other jobs: ms/step is noisy, memory is not).",
+        "```console",
+        *(f"$ {c}" for c in commands),
+        "```",
+        "",
+        f"On {machine()}, shared with other jobs (ms/step is noisy, memory is not).",
         f"MultiBots: planner `pibt`, scheduler `{args.scheduler}` (2024), seed {args.seed}, no time limit. "
         f"Start-Kit: its default planner and scheduler, {args.startkit_time_limit} ms per round. "
         f"Best known: {ARCHIVE}; a share only where the steps match.",
