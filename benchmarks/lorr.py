@@ -208,7 +208,8 @@ def table(rows: dict[str, dict[str, Any]]) -> list[str]:
         name = row["instance"]
         known = BEST_KNOWN.get(name)
         known_text = f"{known[0]:,} ({known[1]:,})" if known else ""
-        who = "MultiBots `pibt`" if row["entry"] == "ours" else "Start-Kit default"
+        year = " (2023)" if "23" in name.split("-")[0] else ""
+        who = "MultiBots `pibt`" if row["entry"] == "ours" else f"Start-Kit{year} default"
         if "failed" in row:
             lines.append(f"| {name} | | {who} | {row['steps']:,} | {row['failed']} | | {known_text} | | | | | | |")
             continue
@@ -296,6 +297,9 @@ def main() -> None:
             commands.append(row["command"])
     body = [
         "## League of Robot Runners instances (`benchmarks/lorr.py`)",
+        "",
+        "The rows were made by these commands (a later run of an instance, entry and steps replaces "
+        "an earlier one), with `--rows` keeping them between runs:",
         "",
         "```console",
         *(f"$ {c}" for c in commands),
