@@ -3,6 +3,12 @@
 //! in a cache of at most `capacity` tables, the least recently used dropped first. A table
 //! holds `u16` per free cell (76 KB on the 38,586 free cells of `warehouse_large`), so
 //! 10,000 robots with 10,000 different goals need 0.8 GB.
+//!
+//! A search can be spread over planning rounds: [`Distances::search_within`] expands at
+//! most a given number of cells, keeps the rest of its queue (the frontier, a few hundred
+//! cells) with the table, and goes on from there when asked again. A table is handed out
+//! only once its search is complete, so every distance read is exact, and the budget is a
+//! count of cells, not a clock, so that a run is the same on every machine.
 
 use crate::input::lorr::GridMap;
 use std::collections::HashMap;
@@ -18,6 +24,10 @@ pub struct Distances {
     goal_of: Vec<u32>,
     used: Vec<u64>,
     by_goal: HashMap<u32, u32>,
+    /// Per slot, the cells its search has labelled but not expanded yet; empty once the
+    /// search is complete.
+    frontier: Vec<Vec<u32>>,
+    complete: Vec<bool>,
     capacity: usize,
     clock: u64,
     queue: Vec<u32>,
@@ -56,6 +66,8 @@ impl Distances {
             goal_of: Vec::new(),
             used: Vec::new(),
             by_goal: HashMap::new(),
+            frontier: Vec::new(),
+            complete: Vec::new(),
             capacity: capacity.max(1),
             clock: 0,
             queue: Vec::new(),
@@ -78,33 +90,63 @@ impl Distances {
         self.clock += 1;
     }
 
-    /// The table slot for `goal` if it is cached (marked as used this round).
+    /// The table slot for `goal` if its search is complete (marked as used this round).
     pub fn cached(&mut self, goal: u32) -> Option<u32> {
         let s = *self.by_goal.get(&goal)?;
         self.used[s as usize] = self.clock;
-        Some(s)
+        self.complete[s as usize].then_some(s)
     }
 
-    /// The table slot for `goal`, searched if it is not cached.
+    /// The table slot for `goal`, searched to the end if it is not cached.
     pub fn slot(&mut self, goal: u32) -> u32 {
-        if let Some(&s) = self.by_goal.get(&goal) {
-            self.used[s as usize] = self.clock;
-            return s;
+        let mut unbounded = u64::MAX;
+        self.search_within(goal, &mut unbounded).expect("an unbounded search completes")
+    }
+
+    /// The table slot for `goal` once its search is complete: the search is started or
+    /// resumed and expands at most `budget` cells (each one taken off `budget`); `None` if
+    /// it is not complete yet (it goes on at the next call).
+    pub fn search_within(&mut self, goal: u32, budget: &mut u64) -> Option<u32> {
+        let s = if let Some(&s) = self.by_goal.get(&goal) {
+            s
+        } else if *budget == 0 {
+            return None;
+        } else {
+            self.start(goal)
+        };
+        self.used[s as usize] = self.clock;
+        if !self.complete[s as usize] {
+            self.expand(s as usize, budget);
         }
+        self.complete[s as usize].then_some(s)
+    }
+
+    /// A slot for `goal`'s new search: a new table, or the least recently used one.
+    fn start(&mut self, goal: u32) -> u32 {
         let s = if self.tables.len() < self.capacity {
             self.tables.push(vec![FAR; self.neighbours.len()]);
             self.goal_of.push(goal);
             self.used.push(0);
+            self.frontier.push(Vec::new());
+            self.complete.push(false);
             (self.tables.len() - 1) as u32
         } else {
             let s = (0..self.used.len()).min_by_key(|&i| self.used[i]).expect("capacity >= 1") as u32;
             self.by_goal.remove(&self.goal_of[s as usize]);
             self.goal_of[s as usize] = goal;
+            self.tables[s as usize].fill(FAR);
             s
         };
         self.by_goal.insert(goal, s);
-        self.used[s as usize] = self.clock;
-        self.search(s as usize, goal);
+        self.searches += 1;
+        let g = self.index[goal as usize];
+        let frontier = &mut self.frontier[s as usize];
+        frontier.clear();
+        if g != u32::MAX {
+            self.tables[s as usize][g as usize] = 0;
+            frontier.push(g);
+        }
+        self.complete[s as usize] = frontier.is_empty();
         s
     }
 
@@ -125,19 +167,16 @@ impl Distances {
         }
     }
 
-    fn search(&mut self, s: usize, goal: u32) {
-        self.searches += 1;
+    /// Breadth-first search in slot `s` from its frontier, at most `budget` cells expanded.
+    fn expand(&mut self, s: usize, budget: &mut u64) {
         let table = &mut self.tables[s];
-        table.fill(FAR);
-        let g = self.index[goal as usize];
-        if g == u32::MAX {
-            return;
-        }
+        // The shared queue keeps its capacity from search to search; the slot keeps only
+        // what is left when the budget runs out.
         self.queue.clear();
-        self.queue.push(g);
-        table[g as usize] = 0;
+        self.queue.append(&mut self.frontier[s]);
         let mut head = 0;
-        while head < self.queue.len() {
+        while head < self.queue.len() && *budget > 0 {
+            *budget -= 1;
             let u = self.queue[head];
             head += 1;
             let d = table[u as usize].saturating_add(1).min(FAR - 1);
@@ -147,6 +186,12 @@ impl Distances {
                     self.queue.push(v);
                 }
             }
+        }
+        if head < self.queue.len() {
+            self.frontier[s].extend_from_slice(&self.queue[head..]);
+        } else {
+            self.frontier[s] = Vec::new();
+            self.complete[s] = true;
         }
     }
 }
@@ -166,5 +211,29 @@ mod tests {
         let s2 = d.slot(0);
         assert!(!d.holds(s, 6) && d.holds(s2, 0));
         assert_eq!(d.get(s2, 8), 4);
+    }
+
+    #[test]
+    fn a_search_spread_over_calls_gives_the_table_of_one_search() {
+        let map = GridMap::parse("type octile\nheight 4\nwidth 5\nmap\n.....\n.@@@.\n...@.\n.@...\n").unwrap();
+        let mut whole = Distances::new(&map, 4);
+        let w = whole.slot(19);
+        let mut parts = Distances::new(&map, 4);
+        let mut calls = 0;
+        let p = loop {
+            calls += 1;
+            let mut budget = 2;
+            if let Some(p) = parts.search_within(19, &mut budget) {
+                break p;
+            }
+            assert_eq!(budget, 0, "an unfinished search spends its whole budget");
+            assert_eq!(parts.cached(19), None, "an unfinished table is not handed out");
+        };
+        assert!(calls > 2);
+        let cells = map.cells() as u32;
+        assert_eq!((0..cells).map(|c| parts.get(p, c)).collect::<Vec<_>>(), (0..cells).map(|c| whole.get(w, c)).collect::<Vec<_>>());
+        assert_eq!(parts.searches, 1);
+        let mut none = 0;
+        assert_eq!(parts.search_within(0, &mut none), None, "no budget, no new search");
     }
 }
