@@ -15,23 +15,31 @@ fn xorshift(state: &mut u64) -> u64 {
     *state
 }
 
+/// `robots` robots on a generated warehouse of `rows` × `cols` groups, the rest drawn with
+/// `pick(k)` (a number below `k`): either aisle pattern, 1 to 4 unloading rows, few or many
+/// chargers, shared, robots spread over parking slots (bays, charger queues), nearest or first
+/// unloading.
+fn generated(pick: &mut impl FnMut(u64) -> u64, robots: u32, rows: u32, cols: u32, traffic: Traffic) -> Scenario {
+    let mut s = Scenario::paper(robots, &[]);
+    let aisles = if pick(2) == 0 { Aisles::Paper } else { Aisles::Alternate };
+    let unloading_rows = 1 + pick(u64::from(rows.min(4))) as u32;
+    let chargers = 1 + pick(u64::from(cols + 1)) as u32;
+    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles, ..LayoutParams::paper() });
+    s.placement = Placement::Spread;
+    s.charging.chargers = ChargerUse::Shared;
+    s.unload = if pick(2) == 0 { Unload::Nearest } else { Unload::First };
+    s.allocator = "nearest".into();
+    s.traffic = traffic;
+    s
+}
+
 /// A random generated warehouse, overloaded, with `robots` robots.
 fn random_warehouse(seed: u64, traffic: Traffic) -> Scenario {
     let mut rng = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
     let mut pick = |k: u64| xorshift(&mut rng) % k;
     let (rows, cols) = (3 + pick(6) as u32, 3 + pick(8) as u32);
     let robots = 20 + pick(180) as u32;
-    let mut s = Scenario::paper(robots, &[]);
-    let aisles = if pick(2) == 0 { Aisles::Paper } else { Aisles::Alternate };
-    let unloading_rows = 1 + pick(u64::from(rows.min(3))) as u32;
-    let chargers = 1 + pick(u64::from(cols + 1)) as u32;
-    s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles, ..LayoutParams::paper() });
-    // Robots spread over parking slots, sharing the chargers (bays, charger queues).
-    s.placement = Placement::Spread;
-    s.charging.chargers = ChargerUse::Shared;
-    s.unload = if pick(2) == 0 { Unload::Nearest } else { Unload::First };
-    s.allocator = "nearest".into();
-    s.traffic = traffic;
+    let mut s = generated(&mut pick, robots, rows, cols, traffic);
     // Some fleets charge during the run, some never need to.
     s.robot.consumption = [0.0002, 0.002, 0.004][pick(3) as usize];
     s.collision.margin = [0.0, 3.0][pick(2) as usize];
@@ -136,16 +144,8 @@ fn reserve_lets_no_two_robots_touch_on_random_warehouses() {
         let robots = [100, 250, 500, 900, 1400, 2000][seed as usize - 1];
         let cols = f64::from(robots / 4).sqrt() as u32 + pick(5) as u32;
         let rows = robots / (4 * cols) + 2 + pick(3) as u32;
-        let mut s = Scenario::paper(robots, &[]);
-        let aisles = if pick(2) == 0 { Aisles::Paper } else { Aisles::Alternate };
-        let unloading_rows = 1 + pick(u64::from(rows.min(4))) as u32;
-        let chargers = 1 + pick(u64::from(cols + 1)) as u32;
-        s.layout_generate = Some(LayoutParams { group_rows: rows, group_cols: cols, chargers, unloading_rows, aisles, ..LayoutParams::paper() });
-        s.placement = Placement::Spread;
-        s.charging.chargers = ChargerUse::Shared;
-        s.unload = if pick(2) == 0 { Unload::Nearest } else { Unload::First };
-        s.allocator = "nearest".into();
-        s.traffic = Traffic::Reserve;
+        let mut s = generated(&mut pick, robots, rows, cols, Traffic::Reserve);
+        let (aisles, unloading_rows, chargers) = s.layout_generate.as_ref().map(|p| (p.aisles, p.unloading_rows, p.chargers)).unwrap();
         // Small fleets charge within the horizon (a battery cycle of 1,300 steps); a big
         // warehouse's longest trip needs a battery that lasts longer.
         s.robot.consumption = if robots <= 500 { [0.0002, 0.005][pick(2) as usize] } else { [0.0002, 0.0008][pick(2) as usize] };
