@@ -24,7 +24,7 @@ __all__ = ["PLANNERS", "SCHEDULERS", "LorrResult", "run"]
 #: The built-in planners; the first is the default.
 PLANNERS: tuple[str, ...] = ("pibt",)
 #: The built-in schedulers (2024 rules); the first is the default.
-SCHEDULERS: tuple[str, ...] = ("nearest", "greedy", "hungarian")
+SCHEDULERS: tuple[str, ...] = ("nearest", "greedy", "hungarian", "auction")
 
 #: Steps between two calls of ``progress``.
 PROGRESS_EVERY = 50

@@ -24,7 +24,9 @@ def lorr(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
     planner: str = typer.Option("pibt", "--planner", help="Planner: pibt."),
-    scheduler: str = typer.Option("nearest", "--scheduler", help="Scheduler (2024): nearest, greedy, hungarian."),
+    scheduler: str = typer.Option(
+        "nearest", "--scheduler", help="Scheduler (2024): nearest, greedy, hungarian, auction.",
+    ),
     plan_time_limit: Optional[str] = typer.Option(
         None, "--plan-time-limit", show_default=False,
         help="The competition's planning time limit per step, in ms: past it every robot waits a step (T).",
