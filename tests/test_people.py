@@ -4,13 +4,16 @@ from __future__ import annotations
 
 import csv
 import json
+from pathlib import Path
 
 import numpy as np
 
 import multibots
 from multibots.strategies import AllocView
 
-from conftest import ROOT
+# The repository (a `conftest` import would find whichever conftest.py was loaded first).
+ROOT = Path(__file__).resolve().parents[1]
+
 
 PEOPLE = ROOT / "scenarios" / "people.toml"
 

@@ -20,8 +20,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT
-
+# The repository (a `conftest` import would find whichever conftest.py was loaded first).
+ROOT = Path(__file__).resolve().parents[2]
 MB = 1 << 20
 SMALL = 'layout = "paper"\nrobots = 2\ntasks = [11, 8]\n'
 

@@ -11,7 +11,9 @@ import pytest
 import multibots
 from multibots.experiments import compare as study
 
-from conftest import ROOT
+# The repository (a `conftest` import would find whichever conftest.py was loaded first).
+ROOT = Path(__file__).resolve().parents[2]
+
 
 pytest.importorskip("polars", reason="the study extra (polars) is not installed")
 
