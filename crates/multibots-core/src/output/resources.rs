@@ -145,7 +145,7 @@ impl Usage {
 
     /// Every unloading zone and charger, the charger queue where robots queued, and the ten
     /// crossings with the longest mean queue (of those with any); then the bottleneck.
-    pub fn report(&self, layout: &Layout, shared_chargers: bool, unload_nearest: bool) -> (Vec<ResourceUse>, Option<Bottleneck>) {
+    pub fn report(&self, layout: &Layout, shared_chargers: bool, unload_nearest: bool, reserve: bool) -> (Vec<ResourceUse>, Option<Bottleneck>) {
         let steps = self.steps.max(1) as f64;
         let of = |kind, k: usize| ResourceUse {
             kind,
@@ -190,13 +190,13 @@ impl Usage {
             .max_by(|a, b| a.busy.total_cmp(&b.busy).then_with(|| a.mean_queue.total_cmp(&b.mean_queue)).then_with(|| b.node.cmp(&a.node)));
         let bottleneck = service
             .or_else(|| out.iter().filter(queued).max_by(|a, b| a.mean_queue.total_cmp(&b.mean_queue).then_with(|| b.node.cmp(&a.node))))
-            .map(|u| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, shared_chargers, unload_nearest) });
+            .map(|u| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, shared_chargers, unload_nearest, reserve) });
         (out, bottleneck)
     }
 }
 
 /// What would relieve a bottleneck of this kind.
-fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_nearest: bool) -> String {
+fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_nearest: bool, reserve: bool) -> String {
     match kind {
         ResourceKind::Unloading if layout.unloading.len() == 1 || !unload_nearest => {
             "more unloading zones: layout_generate.unloading_rows, with unload = \"nearest\"".into()
@@ -208,6 +208,58 @@ fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_ne
         ResourceKind::Charger | ResourceKind::ChargerQueue => {
             "more chargers (layout_generate.chargers), or charging earlier in quiet times (charging.level)".into()
         }
-        ResourceKind::Crossing => "spread the flow: layout_generate.aisles = \"alternate\", traffic = \"reserve\"".into(),
+        ResourceKind::Crossing => {
+            // Only what the run does not do already: a layout whose westward traffic shares
+            // few aisles, collision waiting where reservations would keep crossings clear.
+            let mut advice = Vec::new();
+            if few_westward_rows(layout) {
+                advice.push("layout_generate.aisles = \"alternate\"");
+            }
+            if !reserve {
+                advice.push("traffic = \"reserve\"");
+            }
+            if advice.is_empty() {
+                "spread the flow: more aisles (a wider or longer layout), or fewer robots on it".into()
+            } else {
+                format!("spread the flow: {}", advice.join(", "))
+            }
+        }
+    }
+}
+
+/// Whether the layout's horizontal aisles run west on fewer rows than half of those running
+/// east (the paper's directions: one westward row for all the westward traffic).
+fn few_westward_rows(layout: &Layout) -> bool {
+    let mut east: Vec<u64> = Vec::new();
+    let mut west: Vec<u64> = Vec::new();
+    for &(u, v) in &layout.edges {
+        let ((ux, uy), (vx, vy)) = (layout.pos(u), layout.pos(v));
+        if uy == vy {
+            let rows = if vx > ux { &mut east } else { &mut west };
+            rows.push(uy.to_bits());
+        }
+    }
+    for rows in [&mut east, &mut west] {
+        rows.sort_unstable();
+        rows.dedup();
+    }
+    2 * west.len() < east.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::layout::{Aisles, LayoutParams};
+
+    #[test]
+    fn crossing_advice_names_only_what_the_run_does_not_do() {
+        let layout = |aisles| Layout::generate(&LayoutParams { group_rows: 6, group_cols: 4, chargers: 5, aisles, ..LayoutParams::paper() }, "g").unwrap();
+        let (paper, alternate) = (layout(Aisles::Paper), layout(Aisles::Alternate));
+        assert!(few_westward_rows(&paper) && !few_westward_rows(&alternate));
+        let advice = |l: &Layout, reserve| relieve(ResourceKind::Crossing, l, true, true, reserve);
+        assert_eq!(advice(&paper, false), "spread the flow: layout_generate.aisles = \"alternate\", traffic = \"reserve\"");
+        assert_eq!(advice(&paper, true), "spread the flow: layout_generate.aisles = \"alternate\"");
+        assert_eq!(advice(&alternate, false), "spread the flow: traffic = \"reserve\"");
+        assert!(!advice(&alternate, true).contains("alternate") && !advice(&alternate, true).contains("reserve"));
     }
 }

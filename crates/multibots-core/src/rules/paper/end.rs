@@ -49,7 +49,12 @@ impl Paper {
             .as_ref()
             .map(|p| PeopleFigures { alone: self.people_alone.as_ref().map(|a| Box::new(a.figures(self.tally.t))), ..p.figures(self.tally.t) });
         let (shared, nearest) = self.shared_and_nearest;
-        (result.resources, result.bottleneck) = self.usage.report(&self.world.layout, shared, nearest);
+        (result.resources, result.bottleneck) = self.usage.report(
+            &self.world.layout,
+            shared,
+            nearest,
+            self.traffic.as_ref().is_some_and(|ts| ts.policy == crate::input::scenario::Traffic::Reserve),
+        );
         result
     }
 
