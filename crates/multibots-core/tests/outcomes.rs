@@ -54,10 +54,9 @@ fn a_fleet_that_keeps_delivering_ends_at_its_horizon() {
 
 #[test]
 fn a_fleet_stranding_robot_by_robot_ends_stranded() {
-    // Three shared chargers for 150 robots whose battery lasts 5,000 steps: robots queue for
-    // a charger (in their bays), drain there and strand one by one while a few still move
-    // (windows 119, 129, 125, 106, 20, 1, ...).
-    let mut s = lifelong(6, 10, 1, 3, Aisles::Alternate, 150, 1.5, 7000, Traffic::Reserve);
+    // One shared charger for 150 robots whose battery lasts 5,000 steps: robots queue for
+    // it (in their bays), drain there and strand one by one while a few still move.
+    let mut s = lifelong(6, 10, 1, 1, Aisles::Alternate, 150, 1.5, 7000, Traffic::Reserve);
     s.robot.consumption = 0.002;
     // Queued robots draw what driving does (the scenario says so): they drain in the queue.
     s.robot.idle_consumption = Some(0.002);

@@ -38,8 +38,8 @@ pub(crate) struct Chargers {
     slot_of_node: Vec<u32>,
     /// The robot holding each charger, or `NONE`.
     claim: Vec<u32>,
-    /// Robots waiting for a charger, first come first served.
-    queue: VecDeque<u32>,
+    /// Robots waiting for a charger, in the order they came, with the step each began to wait.
+    queue: VecDeque<(u32, u64)>,
     /// `to_charger[k * nodes + u]`: path length from node `u` to charger `k`, for O(1)
     /// nearest-charger choices inside the step loop.
     to_charger: Vec<f64>,
@@ -137,7 +137,7 @@ impl Paper {
                 // unloading zone, where the next robot would stand on it).
                 self.route(i, self.homes.target(&self.robots, i));
             }
-            self.chargers.queue.push_back(i as u32);
+            self.chargers.queue.push_back((i as u32, self.tally.t));
         }
     }
 
@@ -153,18 +153,33 @@ impl Paper {
         self.head_for_charger(i, charger);
     }
 
-    /// A charger became free: the longest-waiting robot (still waiting) takes it.
+    /// A charger became free: of the robots still waiting, the one whose drive to it is
+    /// shortest, less the steps it has waited, takes it (ties: the first to come). Serving
+    /// the longest-waiting robot wherever it stands left chargers idle while robots drove
+    /// across the warehouse to them; counting the wait keeps a far robot from waiting for
+    /// ever.
     fn release_charger(&mut self, charger: u32) {
         let k = self.chargers.slot_of_node[charger as usize];
         if k == NONE {
             return;
         }
         self.chargers.claim[k as usize] = NONE;
-        while let Some(j) = self.chargers.queue.pop_front() {
-            if self.robots.state[j as usize] == State::WaitCharger {
-                self.claim_charger(j as usize, k as usize);
-                break;
+        let state = &self.robots.state;
+        self.chargers.queue.retain(|&(j, _)| state[j as usize] == State::WaitCharger);
+        let nodes = self.world.layout.nodes.len();
+        let row = &self.chargers.to_charger[k as usize * nodes..(k as usize + 1) * nodes];
+        let mut best: Option<(f64, usize)> = None;
+        for (pos, &(j, since)) in self.chargers.queue.iter().enumerate() {
+            let j = j as usize;
+            let drive = route::length_via_row(&self.world.graph, Place::of(&self.robots, j), NodeId(charger), row) / self.robots.speed[j];
+            let priority = drive - (self.tally.t - since) as f64;
+            if best.map_or(true, |(b, _)| priority < b) {
+                best = Some((priority, pos));
             }
+        }
+        if let Some((_, pos)) = best {
+            let (j, _) = self.chargers.queue.remove(pos).expect("a position of the queue");
+            self.claim_charger(j as usize, k as usize);
         }
     }
 
