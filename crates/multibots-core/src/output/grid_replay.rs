@@ -150,13 +150,21 @@ impl GridReplay {
     }
 
     fn repeat(&mut self) -> Result<()> {
-        let Self { x, y, heading, state, .. } = self;
+        self.push_frame(false)
+    }
+
+    /// The frame of the robots as they stand, with this step's events or none.
+    fn push_frame(&mut self, with_events: bool) -> Result<()> {
+        let Self { x, y, heading, state, events, .. } = self;
         self.writer.push_with(self.counters, |c| {
             c.x.extend_from_slice(x);
             c.y.extend_from_slice(y);
             c.energy.extend(std::iter::repeat(u16::MAX).take(x.len()));
             c.heading.extend_from_slice(heading);
             c.state.extend_from_slice(state);
+            if with_events {
+                c.events.extend_from_slice(events);
+            }
         })
     }
 
@@ -221,15 +229,7 @@ impl GridReplay {
             } as u8);
         }
         self.counters = [run.record().errors.len() as u32, 0, run.finished() as u32];
-        let Self { x, y, heading, state, events, .. } = self;
-        self.writer.push_with(self.counters, |c| {
-            c.x.extend_from_slice(x);
-            c.y.extend_from_slice(y);
-            c.energy.extend(std::iter::repeat(u16::MAX).take(x.len()));
-            c.heading.extend_from_slice(heading);
-            c.state.extend_from_slice(state);
-            c.events.extend_from_slice(events);
-        })
+        self.push_frame(true)
     }
 }
 
