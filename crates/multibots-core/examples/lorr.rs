@@ -1,5 +1,5 @@
 //! Runs a League of Robot Runners problem and writes the competition's result file:
-//! `cargo run --release -p multibots-core --example lorr -- PROBLEM.json STEPS RESULT.json [SCHEDULER]`.
+//! `cargo run --release -p multibots-core --example lorr -- PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER]]`.
 //! Prints the score and MultiBots' figures.
 
 use multibots_core::input::lorr::Problem;
@@ -9,7 +9,7 @@ use std::sync::Arc;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.len() < 4 {
-        eprintln!("usage: lorr PROBLEM.json STEPS RESULT.json [SCHEDULER]");
+        eprintln!("usage: lorr PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER]]");
         std::process::exit(2);
     }
     let problem = match Problem::load(args[1].as_ref()) {
@@ -23,6 +23,9 @@ fn main() {
     let mut options = LorrOptions::default();
     if let Some(s) = args.get(4) {
         options.scheduler.clone_from(s);
+    }
+    if let Some(p) = args.get(5) {
+        options.planner.clone_from(p);
     }
     let mut run = LorrRun::new(problem, options).expect("built-in options");
     let began = std::time::Instant::now();

@@ -23,7 +23,7 @@ def lorr(
     out: Optional[Path] = typer.Option(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
-    planner: str = typer.Option("pibt", "--planner", help="Planner: pibt."),
+    planner: str = typer.Option("pibt", "--planner", help="Planner: pibt (on highways), pibt-no-highways."),
     scheduler: str = typer.Option(
         "nearest", "--scheduler", help="Scheduler (2024): nearest, greedy, hungarian, auction.",
     ),

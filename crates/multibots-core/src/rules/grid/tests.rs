@@ -162,3 +162,57 @@ fn pibt_runs_are_the_same_for_a_seed_and_valid() {
     let c = pibt_run(4);
     assert_ne!(letters(&a, true), letters(&c, true), "the seed matters");
 }
+
+/// Robots crossing a field of shelves (two-cell blocks, aisles between) back and forth, on
+/// the 2024 rules, under planner `planner`; the run after 400 steps.
+fn shelves_run(planner: &str) -> LorrRun {
+    let mut rows = vec![".".repeat(24)];
+    for _ in 0..4 {
+        rows.push("..@@..@@..@@..@@..@@....".into());
+        rows.push("..@@..@@..@@..@@..@@....".into());
+        rows.push(".".repeat(24));
+    }
+    let map = format!("type octile\nheight {}\nwidth 24\nmap\n{}\n", rows.len(), rows.join("\n"));
+    let cols = 24u32;
+    let starts: Vec<u32> = (0..24).map(|k| (k % 5) * 3 * cols + (k * 7) % 24).collect();
+    let tasks: Vec<Vec<u32>> = (0..200u32).map(|k| vec![((k * 37) % 5) * 3 * cols + (k * 11) % 24]).collect();
+    let tasks: Vec<&[u32]> = tasks.iter().map(Vec::as_slice).collect();
+    let p = problem(&map, &starts, &tasks, Version::Y2024, 1.5);
+    let options = LorrOptions { planner: planner.into(), ..LorrOptions::default() };
+    let mut run = LorrRun::new(p, options).unwrap();
+    run.run_to(400);
+    run
+}
+
+#[test]
+fn on_highways_robots_mostly_move_with_the_lane_and_every_run_is_valid() {
+    let along_share = |run: &LorrRun| {
+        let r = run.record();
+        let n = run.problem().team_size();
+        let map = &run.problem().map;
+        let (mut loc, mut heading) = (run.problem().starts.clone(), vec![0u8; n]);
+        let (mut along, mut moves) = (0u32, 0u32);
+        for t in 0..r.steps() {
+            for k in 0..n {
+                match r.actual[t * n + k] {
+                    0 => {
+                        moves += 1;
+                        along += u32::from(super::planner::highway_cost(map, loc[k], heading[k]) == super::planner::WITH);
+                        loc[k] = super::action::ahead(map, loc[k], heading[k]).unwrap();
+                    }
+                    1 => heading[k] = (heading[k] + 1) % 4,
+                    2 => heading[k] = (heading[k] + 3) % 4,
+                    _ => {}
+                }
+            }
+        }
+        f64::from(along) / f64::from(moves.max(1))
+    };
+    let (lanes, open) = (shelves_run("pibt"), shelves_run("pibt-no-highways"));
+    for run in [&lanes, &open] {
+        assert!(run.record().errors.is_empty());
+        assert!(run.finished() > 30, "{} finished {}", run.options().planner, run.finished());
+    }
+    let (a, b) = (along_share(&lanes), along_share(&open));
+    assert!(a > 0.8 && b < 0.7, "moves along the lane: {a:.2} on highways, {b:.2} without");
+}

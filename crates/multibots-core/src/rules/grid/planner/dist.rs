@@ -31,6 +31,11 @@ pub struct Distances {
     capacity: usize,
     clock: u64,
     queue: Vec<u32>,
+    /// Per free cell, the cost of leaving it in each heading, when moves are weighted
+    /// (guidance); `None`: every move costs 1 and searches are breadth-first.
+    weight: Option<Vec<[u8; 4]>>,
+    /// Dial's queue of the weighted searches, empty between searches.
+    buckets: Vec<Vec<u32>>,
     /// Searches made so far.
     pub searches: u64,
 }
@@ -71,8 +76,26 @@ impl Distances {
             capacity: capacity.max(1),
             clock: 0,
             queue: Vec::new(),
+            weight: None,
+            buckets: Vec::new(),
             searches: 0,
         }
+    }
+
+    /// Tables whose moves cost `weight(cell, heading)` (at least 1) instead of 1.
+    #[must_use]
+    pub fn weighted(map: &GridMap, capacity: usize, weight: impl Fn(u32, u8) -> u8) -> Distances {
+        let mut d = Distances::new(map, capacity);
+        let mut w = Vec::with_capacity(d.neighbours.len());
+        for (c, &free) in map.free.iter().enumerate() {
+            if free {
+                w.push(std::array::from_fn(|h| weight(c as u32, h as u8).max(1)));
+            }
+        }
+        let largest = w.iter().flatten().copied().max().unwrap_or(1);
+        d.buckets = vec![Vec::new(); usize::from(largest) + 1];
+        d.weight = Some(w);
+        d
     }
 
     /// The number of free neighbours of `cell`.
@@ -169,6 +192,10 @@ impl Distances {
 
     /// Breadth-first search in slot `s` from its frontier, at most `budget` cells expanded.
     fn expand(&mut self, s: usize, budget: &mut u64) {
+        if self.weight.is_some() {
+            self.expand_weighted(s, budget);
+            return;
+        }
         let table = &mut self.tables[s];
         // The shared queue keeps its capacity from search to search; the slot keeps only
         // what is left when the budget runs out.
@@ -192,6 +219,61 @@ impl Distances {
         } else {
             self.frontier[s] = Vec::new();
             self.complete[s] = true;
+        }
+    }
+}
+
+impl Distances {
+    /// Dijkstra's search in slot `s` from its frontier (towards the goal: a cell's
+    /// distance is the cost of its move onto a neighbour plus the neighbour's), at most
+    /// `budget` cells expanded. Costs are small integers, so the queue is Dial's: a ring of
+    /// buckets, one per distance, as many as the largest cost plus one.
+    fn expand_weighted(&mut self, s: usize, budget: &mut u64) {
+        let weight = self.weight.as_ref().expect("weighted tables");
+        let table = &mut self.tables[s];
+        let ring = self.buckets.len();
+        let mut cur = u16::MAX;
+        for u in self.frontier[s].drain(..) {
+            let d = table[u as usize];
+            cur = cur.min(d);
+            self.buckets[d as usize % ring].push(u);
+        }
+        let mut waiting = self.buckets.iter().map(Vec::len).sum::<usize>();
+        while *budget > 0 && waiting > 0 {
+            let b = cur as usize % ring;
+            let Some(u) = self.buckets[b].pop() else {
+                cur += 1;
+                continue;
+            };
+            waiting -= 1;
+            if table[u as usize] != cur {
+                continue;
+            }
+            *budget -= 1;
+            for (h, &v) in self.neighbours[u as usize].iter().enumerate() {
+                if v == u32::MAX {
+                    continue;
+                }
+                // v moves onto u heading the opposite way of h.
+                let dv = cur.saturating_add(u16::from(weight[v as usize][(h + 2) % 4])).min(FAR - 1);
+                if dv < table[v as usize] {
+                    table[v as usize] = dv;
+                    self.buckets[dv as usize % ring].push(v);
+                    waiting += 1;
+                }
+            }
+        }
+        if waiting == 0 {
+            self.frontier[s] = Vec::new();
+            self.complete[s] = true;
+        } else {
+            // Stale entries go: a cell is kept once, at its current label.
+            let frontier = &mut self.frontier[s];
+            for (b, bucket) in self.buckets.iter_mut().enumerate() {
+                frontier.extend(bucket.drain(..).filter(|&u| table[u as usize] as usize % ring == b && table[u as usize] >= cur));
+            }
+            frontier.sort_unstable();
+            frontier.dedup();
         }
     }
 }
@@ -235,5 +317,49 @@ mod tests {
         assert_eq!(parts.searches, 1);
         let mut none = 0;
         assert_eq!(parts.search_within(0, &mut none), None, "no budget, no new search");
+    }
+
+    /// Distances to `goal` by Bellman-Ford over every move, sharing nothing with the search.
+    fn relaxed(map: &GridMap, goal: u32, weight: impl Fn(u32, u8) -> u8) -> Vec<u16> {
+        let mut d = vec![FAR; map.cells()];
+        d[goal as usize] = 0;
+        loop {
+            let mut changed = false;
+            for c in 0..map.cells() as u32 {
+                if !map.free[c as usize] {
+                    continue;
+                }
+                for h in 0..4 {
+                    let Some(q) = crate::rules::grid::action::ahead(map, c, h) else { continue };
+                    if map.free[q as usize] && d[q as usize] != FAR && d[q as usize] + u16::from(weight(c, h)) < d[c as usize] {
+                        d[c as usize] = d[q as usize] + u16::from(weight(c, h));
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                return d;
+            }
+        }
+    }
+
+    #[test]
+    fn weighted_tables_match_a_relaxation_however_the_search_is_spread() {
+        let map = GridMap::parse("type octile\nheight 5\nwidth 7\nmap\n.......\n.@@.@@.\n...@...\n.@.@.@.\n.......\n").unwrap();
+        let weight = |c: u32, h: u8| [3u8, 7, 1, 12][h as usize] + (c % 3) as u8;
+        for goal in [0, 16, 34] {
+            let want = relaxed(&map, goal, weight);
+            for step in [1, 3, u64::MAX] {
+                let mut d = Distances::weighted(&map, 2, weight);
+                let slot = loop {
+                    let mut budget = step;
+                    if let Some(s) = d.search_within(goal, &mut budget) {
+                        break s;
+                    }
+                };
+                let got: Vec<u16> = (0..map.cells() as u32).map(|c| d.get(slot, c)).collect();
+                assert_eq!(got, want, "goal {goal}, {step} cells a call");
+            }
+        }
     }
 }

@@ -6,12 +6,15 @@
 //!
 //! | name | what it does |
 //! | --- | --- |
-//! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs` |
+//! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs`, on highways (`guidance.rs`) |
+//! | `pibt-no-highways` | the same PIBT, every move costing the same |
 
 mod dist;
+mod guidance;
 mod pibt;
 
 pub use dist::Distances;
+pub use guidance::{highway_cost, AGAINST, WITH};
 pub use pibt::Pibt;
 
 use super::action::Action;
@@ -44,12 +47,13 @@ pub trait Planner: Send + Sync {
 }
 
 /// The built-in planners, by name.
-pub const BUILT_INS: &[&str] = &["pibt"];
+pub const BUILT_INS: &[&str] = &["pibt", "pibt-no-highways"];
 
 /// A built-in planner by name, for `map`, seeded by `seed`.
 pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
     match name {
-        "pibt" => Ok(Box::new(Pibt::new(map, robots, seed))),
+        "pibt" => Ok(Box::new(Pibt::new(map, robots, seed, true))),
+        "pibt-no-highways" => Ok(Box::new(Pibt::new(map, robots, seed, false))),
         _ => Err(Error::scenario("planner", name, format!("is not a planner; the built-in ones are {}", BUILT_INS.join(", ")))),
     }
 }
