@@ -189,6 +189,7 @@ fn on_highways_robots_mostly_move_with_the_lane_and_every_run_is_valid() {
     let along_share = |run: &LorrRun| {
         let r = run.record();
         let n = run.problem().team_size();
+        let costs = super::planner::highway_costs(&run.problem().map);
         let map = &run.problem().map;
         let (mut loc, mut heading) = (run.problem().starts.clone(), vec![0u8; n]);
         let (mut along, mut moves) = (0u32, 0u32);
@@ -197,7 +198,7 @@ fn on_highways_robots_mostly_move_with_the_lane_and_every_run_is_valid() {
                 match r.actual[t * n + k] {
                     0 => {
                         moves += 1;
-                        along += u32::from(super::planner::highway_cost(map, loc[k], heading[k]) == super::planner::WITH);
+                        along += u32::from(costs[loc[k] as usize][heading[k] as usize] == super::planner::WITH);
                         loc[k] = super::action::ahead(map, loc[k], heading[k]).unwrap();
                     }
                     1 => heading[k] = (heading[k] + 1) % 4,

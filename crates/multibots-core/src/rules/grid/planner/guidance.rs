@@ -9,7 +9,8 @@
 //! that used them: the 2024 winner (ssfc/LORR24, `graph_guidance.cpp`: moves along a lane
 //! cost 20, against it 200) and the 2023 test-round leader on `warehouse_large` (Team
 //! Pikachu, near one-way lanes). We read them and chose our own costs and layout:
-//! - rows alternate, even rows east, odd rows west;
+//! - rows alternate east and west from one corridor row to the next (the first one east),
+//!   whatever the rows between them;
 //! - columns follow a period of 8, `N S N S S N S N` from column 0, so that the vertical
 //!   aisles of a warehouse (one every 4 columns on the archive's maps) alternate too, and
 //!   each direction has two lanes in every 8 columns;
@@ -35,22 +36,37 @@ pub const AGAINST: u8 = 200;
 /// Columns whose lane runs north, one bit per column modulo 8 (bit 0: column 0).
 const NORTHBOUND: u32 = 0b1010_0101;
 
-/// The cost of leaving `cell` in `heading` (0 east, 1 south, 2 west, 3 north).
+/// Per free cell, the cost of leaving it in each heading (0 east, 1 south, 2 west, 3 north),
+/// as [`super::Distances::weighted`] takes it.
+///
+/// A row's direction alternates from one corridor row to the next: a row where at least
+/// half the free cells have a free neighbour east. Counting rows by their index instead puts
+/// every corridor of a map whose corridors are every other row (the archive's sortation maps)
+/// on one direction, and the robots going the other way then detour round the whole map.
 #[must_use]
-pub fn highway_cost(map: &GridMap, cell: u32, heading: u8) -> u8 {
-    let (row, col) = map.row_col(cell);
-    let north = (NORTHBOUND >> (col % 8)) & 1 == 1;
-    let along = match heading {
-        0 => row % 2 == 0,
-        2 => row % 2 == 1,
-        1 => !north,
-        _ => north,
-    };
-    if along {
-        WITH
-    } else {
-        AGAINST
+pub fn highway_costs(map: &GridMap) -> Vec<[u8; 4]> {
+    let (rows, cols) = (map.rows as usize, map.cols as usize);
+    let free = |r: usize, c: usize| map.free[r * cols + c];
+    let mut corridors_above = 0u32;
+    let mut out = vec![[AGAINST; 4]; map.cells()];
+    for r in 0..rows {
+        let east = corridors_above % 2 == 0;
+        let (mut cells, mut ways_east) = (0, 0);
+        for c in 0..cols {
+            if !free(r, c) {
+                continue;
+            }
+            cells += 1;
+            ways_east += usize::from(c + 1 < cols && free(r, c + 1));
+            let north = (NORTHBOUND >> (c % 8)) & 1 == 1;
+            let along = [east, !north, !east, north];
+            out[r * cols + c] = along.map(|a| if a { WITH } else { AGAINST });
+        }
+        if cells > 0 && 2 * ways_east >= cells {
+            corridors_above += 1;
+        }
     }
+    out
 }
 
 #[cfg(test)]
@@ -58,14 +74,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn rows_alternate_and_columns_follow_the_period() {
-        let map = GridMap::parse("type octile\nheight 2\nwidth 9\nmap\n.........\n.........\n").unwrap();
-        assert_eq!((highway_cost(&map, 0, 0), highway_cost(&map, 0, 2)), (WITH, AGAINST));
-        assert_eq!((highway_cost(&map, 9, 0), highway_cost(&map, 9, 2)), (AGAINST, WITH));
-        let north: Vec<bool> = (0..9).map(|c| highway_cost(&map, c, 3) == WITH).collect();
+    fn corridors_alternate_down_each_column_and_columns_follow_the_period() {
+        // Rows 0, 1 and 3 are corridors; row 2 has no east-west move (a lattice row).
+        let map = GridMap::parse("type octile\nheight 4\nwidth 9\nmap\n.........\n.........\n.@.@.@.@.\n.........\n").unwrap();
+        let costs = highway_costs(&map);
+        let east = |cell: u32| costs[cell as usize][0] == WITH && costs[cell as usize][2] == AGAINST;
+        let west = |cell: u32| costs[cell as usize][2] == WITH && costs[cell as usize][0] == AGAINST;
+        assert!((0..9).all(|c| east(c)) && (9..18).all(|c| west(c)));
+        assert!((27..36).all(|c| east(c)), "the third corridor runs east though its row is odd");
+        let north: Vec<bool> = (0..9).map(|c| costs[c][3] == WITH).collect();
         assert_eq!(north, [true, false, true, false, false, true, false, true, true]);
-        for c in 0..18 {
-            assert_ne!(highway_cost(&map, c, 1) == WITH, highway_cost(&map, c, 3) == WITH, "one way per column");
+        for cell in (0..36).filter(|&c| map.free[c]) {
+            assert_ne!(costs[cell][1] == WITH, costs[cell][3] == WITH, "one way per column");
         }
     }
 }

@@ -14,7 +14,7 @@ mod guidance;
 mod pibt;
 
 pub use dist::Distances;
-pub use guidance::{highway_cost, AGAINST, WITH};
+pub use guidance::{highway_costs, AGAINST, WITH};
 pub use pibt::Pibt;
 
 use super::action::Action;

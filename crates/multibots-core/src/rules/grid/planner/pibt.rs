@@ -49,7 +49,7 @@
 //! as the fleet (10,000 robots), deeper than a thread's stack allows.
 
 use super::dist::{Distances, FAR};
-use super::guidance::highway_cost;
+use super::guidance::highway_costs;
 use super::{PlanView, Planner, NO_GOAL};
 use crate::input::lorr::GridMap;
 use crate::rules::grid::action::{ahead, heading_to, Action};
@@ -109,7 +109,12 @@ impl Pibt {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let tie = (0..robots).map(|_| rng.random::<f32>()).collect();
         Pibt {
-            dist: if highways { Distances::weighted(map, capacity, |c, h| highway_cost(map, c, h)) } else { Distances::new(map, capacity) },
+            dist: if highways {
+                let costs = highway_costs(map);
+                Distances::weighted(map, capacity, |c, h| costs[c as usize][h as usize])
+            } else {
+                Distances::new(map, capacity)
+            },
             cols: map.cols,
             rng,
             tie,
