@@ -255,7 +255,7 @@ impl Scenario {
         if !ch.level.is_finite() {
             return Err(Error::scenario("charging.level", ch.level, "must be a finite number"));
         }
-        if ch.policy == ChargingPolicy::Opportunistic && !(ch.level > r.threshold && ch.level <= r.energy_full) {
+        if ch.policy != ChargingPolicy::Threshold && !(ch.level > r.threshold && ch.level <= r.energy_full) {
             return Err(Error::scenario(
                 "charging.level",
                 ch.level,
