@@ -262,6 +262,11 @@ impl Scenario {
                 format!("must be above robot.threshold ({}) and at most robot.energy_full ({})", r.threshold, r.energy_full),
             ));
         }
+        if let Some(reach) = ch.reach {
+            if !(reach.is_finite() && reach > 0.0) {
+                return Err(Error::scenario("charging.reach", reach, "must be greater than 0 px"));
+            }
+        }
         for (field, w) in [("cost.distance", self.cost.distance), ("cost.time", self.cost.time), ("cost.collision", self.cost.collision)] {
             if !(w.is_finite() && w >= 0.0) {
                 return Err(Error::scenario(field, w, "must be 0 or more"));

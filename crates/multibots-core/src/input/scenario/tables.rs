@@ -291,11 +291,17 @@ pub struct Charging {
     #[serde(skip_serializing_if = "ChargerUse::is_home")]
     #[schemars(extend("default" = "home"))]
     pub chargers: ChargerUse,
+    /// With `"staggered"` and shared chargers: a robot above the threshold goes only to a free
+    /// charger at most this far by route, px (> 0), so that the chargers' time is spent
+    /// charging rather than waiting for robots driving across the warehouse. Default: no
+    /// limit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reach: Option<f64>,
 }
 
 impl Default for Charging {
     fn default() -> Self {
-        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home }
+        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home, reach: None }
     }
 }
 

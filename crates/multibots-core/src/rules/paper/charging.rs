@@ -7,8 +7,9 @@
 //!   after unloading.
 //! - **Opportunistic charging** (extension): an idle robot below `charging.level` also goes.
 //! - **Staggered charging** (extension): an idle robot below its own level, spread between
-//!   the threshold and `charging.level` over the fleet, goes when a charger is free for it; it
-//!   never queues above the threshold (docs/charging.md says why).
+//!   the threshold and `charging.level` over the fleet, goes when a charger is free for it
+//!   (within `charging.reach`); it never queues above the threshold (docs/charging.md says
+//!   why).
 //! - **Stranding.** A robot whose energy reaches zero stops for good.
 //! - **C** counts arrivals at a charger to charge.
 //! - **Chargers.** In the paper every robot charges at its own home charger. Shared chargers
@@ -45,6 +46,8 @@ pub(crate) struct Chargers {
     queue: VecDeque<(u32, u64)>,
     /// Chargers nobody holds.
     free: usize,
+    /// Staggered charging: how far a robot above the threshold drives to a free charger, px.
+    reach: f64,
     /// `to_charger[k * nodes + u]`: path length from node `u` to charger `k`, for O(1)
     /// nearest-charger choices inside the step loop.
     to_charger: Vec<f64>,
@@ -60,13 +63,22 @@ impl Chargers {
         let shared = scenario.charging.chargers == ChargerUse::Shared;
         let to_charger = if shared { layout.chargers.iter().flat_map(|&c| world.graph.lengths_to(c)).collect() } else { Vec::new() };
         let free = layout.chargers.len();
-        Chargers { shared, slot_of_node, claim: vec![NONE; free], queue: VecDeque::new(), free, to_charger }
+        let reach = scenario.charging.reach.unwrap_or(f64::INFINITY);
+        Chargers { shared, slot_of_node, claim: vec![NONE; free], queue: VecDeque::new(), free, reach, to_charger }
     }
 
     /// Whether a robot sent to charge now would find a charger free: its home charger, or a
     /// shared one nobody holds.
     fn one_free(&self) -> bool {
         !self.shared || self.free > 0
+    }
+
+    /// Whether a free charger lies within `reach` px of `from` by route.
+    fn nearest_free_within(&self, world: &World, from: Place, reach: f64) -> bool {
+        self.nearest_free(world, from).is_some_and(|k| {
+            let nodes = world.layout.nodes.len();
+            route::length_via_row(&world.graph, from, world.layout.chargers[k], &self.to_charger[k * nodes..(k + 1) * nodes]) <= reach
+        })
     }
 
     /// The nearest free charger from `from` by route (ties: the first in the layout).
@@ -113,7 +125,12 @@ impl Paper {
         }
         if let Some(level) = self.p.staggered {
             if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], own_level(self.p.threshold, level, i)) && self.chargers.one_free() {
-                self.send_to_charge(i);
+                let near = !self.chargers.shared
+                    || self.chargers.reach.is_infinite()
+                    || self.chargers.nearest_free_within(&self.world, Place::of(&self.robots, i), self.chargers.reach);
+                if near {
+                    self.send_to_charge(i);
+                }
             }
         }
         if energy::exhausted(self.robots.energy[i]) && self.robots.state[i] != State::Stranded {
