@@ -54,15 +54,60 @@ fn the_top_wall_alone_is_the_paper_layout_and_too_many_chargers_are_named() {
     assert_eq!(Layout::generate(&LayoutParams { charger_walls: ChargerWalls::Top, ..LayoutParams::paper() }, "paper").unwrap(), Layout::paper());
     let bad = |walls, chargers| Layout::generate(&LayoutParams { charger_walls: walls, chargers, ..LayoutParams::paper() }, "x").unwrap_err().to_string();
     assert_eq!(
-        bad(ChargerWalls::Top, 7),
-        "layout.chargers = 7: must be between 1 and 6 (one per top-aisle crossing; charger_walls = \"top-bottom\" or \"all\" places more)"
+        bad(ChargerWalls::Top, 12),
+        "layout.chargers = 12: must be between 1 and 11 (one per top-aisle crossing and one midway between two; charger_walls = \"top-bottom\" or \"all\" places more)"
     );
     assert_eq!(
-        bad(ChargerWalls::TopBottom, 13),
-        "layout.chargers = 13: must be between 1 and 12 (one per crossing of the top and bottom rows; charger_walls = \"all\" places more)"
+        bad(ChargerWalls::TopBottom, 23),
+        "layout.chargers = 23: must be between 1 and 22 (one per crossing of the top and bottom rows and one midway between two; charger_walls = \"all\" places more)"
     );
-    assert_eq!(bad(ChargerWalls::All, 19), "layout.chargers = 19: must be between 1 and 18 (one per crossing along each wall, two at the corners)");
-    assert!(Layout::generate(&LayoutParams { charger_walls: ChargerWalls::All, chargers: 18, ..LayoutParams::paper() }, "x").is_ok());
+    assert_eq!(
+        bad(ChargerWalls::All, 29),
+        "layout.chargers = 29: must be between 1 and 28 (one per crossing along each wall, two at the corners, and one midway between two crossings of the top and bottom rows)"
+    );
+    assert!(Layout::generate(&LayoutParams { charger_walls: ChargerWalls::All, chargers: 28, ..LayoutParams::paper() }, "x").is_ok());
+}
+
+#[test]
+fn chargers_beyond_the_crossings_stand_midway_on_nodes_that_split_the_wall_aisles() {
+    let (rows, cols) = (4u32, 6u32);
+    let at_crossings = 2 * (cols + 1) + 2 * (rows + 1);
+    let most = at_crossings + 2 * cols;
+    for chargers in [at_crossings + 1, at_crossings + cols, most] {
+        let p = LayoutParams { group_rows: rows, group_cols: cols, chargers, charger_walls: ChargerWalls::All, ..LayoutParams::paper() };
+        let l = Layout::generate(&p, "rows").unwrap();
+        let crossings = ((rows + 1) * (cols + 1)) as usize;
+        let mids = (chargers - at_crossings) as usize;
+        assert_eq!(l.highway_nodes(), crossings + mids);
+        assert_eq!(l.chargers.len(), chargers as usize);
+        // One charger to a place.
+        let mut places: Vec<(i64, i64)> = l.chargers.iter().map(|&c| (l.pos(c).0 as i64, l.pos(c).1 as i64)).collect();
+        places.sort_unstable();
+        places.dedup();
+        assert_eq!(places.len(), chargers as usize);
+        let [_, y0, _, y1] = l.bounds;
+        for k in crossings..crossings + mids {
+            let m = multibots_core::ids::NodeId(k as u32);
+            let (mx, my) = l.pos(m);
+            // On the top or bottom aisle, midway between the two crossings its one edge in and
+            // its one edge out join, in a straight line, with its charger straight out.
+            let ins: Vec<_> = l.edges.iter().filter(|e| e.1 == m).collect();
+            let outs: Vec<_> = l.edges.iter().filter(|e| e.0 == m).collect();
+            assert_eq!((ins.len(), outs.len()), (1, 1));
+            let (a, b) = (l.pos(ins[0].0), l.pos(outs[0].1));
+            assert!(a.1 == my && b.1 == my && (a.0 + b.0) / 2.0 == mx, "{a:?} {b:?} ({mx}, {my})");
+            assert!(!l.edges.contains(&(ins[0].0, outs[0].1)), "the aisle's edge is split, not kept");
+            let c = l.charger_at(m).expect("a charger on each midway node");
+            let (cx, cy) = l.pos(c);
+            assert!(cx == mx && (cy - my).abs() == p.spur && (cy < y0 || cy > y1));
+        }
+        // A run on it: the graph is checked (strongly connected, every charger reachable).
+        let mut s = lifelong(rows, cols, 1, chargers, Aisles::Paper, 20, 0.1, 200, Traffic::Reserve);
+        s.layout_generate.as_mut().unwrap().charger_walls = ChargerWalls::All;
+        let sim = Simulation::new(&s).unwrap();
+        let w = &sim.world().layout;
+        assert_eq!((&w.nodes, &w.edges, &w.spurs), (&l.nodes, &l.edges, &l.spurs));
+    }
 }
 
 /// 200 robots, overloaded (one order per step), a battery of 20,000 steps of driving, over
@@ -103,9 +148,10 @@ fn staggered_charging_at_chargers_on_every_wall_keeps_an_overloaded_fleet_delive
     assert_eq!(stranded, 0);
     assert!(worst_share(&wave) < 0.5, "{:?}", wave.windows);
     assert!(queue > 100, "{queue}");
-    // Staggered, at chargers on every wall: robots charge early, a few at a time, when a
-    // charger near them is free.
-    let (r, stranded, queue) = run(&fleet(36, ChargerWalls::All, ChargingPolicy::Staggered));
+    // Staggered, at chargers on every wall (at every crossing of them and midway between
+    // those of the top and bottom rows): robots charge early, a few at a time, when a charger
+    // near them is free.
+    let (r, stranded, queue) = run(&fleet(56, ChargerWalls::All, ChargingPolicy::Staggered));
     assert_eq!(stranded, 0);
     assert!(r.c > 0);
     assert!(r.windows.iter().all(|&w| w > 0), "{:?}", r.windows);

@@ -100,8 +100,9 @@ def generate(
         parser=whole_flag("--chargers", 0, 4 * (MAX_GROUPS + 1), _TOO_LARGE),
     ),
     charger_walls: str = typer.Option("top", "--charger-walls", help="Walls with chargers, on spurs out of the "
-                                      "warehouse: top (the paper's, at most C + 1), top-bottom (at most 2(C + 1)) or "
-                                      "all (also left and right: at most 2(C + 1) + 2(R + 1))."),
+                                      "warehouse, at crossings first, then midway between two of the top and bottom "
+                                      "rows: top (the paper's, at most 2C + 1), top-bottom (at most 2(2C + 1)) or all "
+                                      "(also left and right: at most 2(2C + 1) + 2(R + 1))."),
     spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur")),
     name: str = typer.Option("generated", "--name", help="The layout's name."),
     unloading_rows: str = typer.Option(
