@@ -54,12 +54,14 @@ def generate_layout(
     name: str = "generated",
     unloading_rows: Union[int, str] = "auto",
     aisles: str = "auto",
+    charger_walls: str = "top",
 ) -> str:
     """The layout file text of a generated grid warehouse (checked by the engine): every
     field of a scenario's ``[layout_generate]`` (docs/layout-format.md).
 
     The defaults are the paper's warehouse; ``chargers`` defaults to one per top-aisle
-    crossing (``group_cols + 1``); ``unloading_rows`` and ``aisles`` default to ``"auto"``,
+    crossing (``group_cols + 1``), spread over the walls ``charger_walls`` names (``"top"``,
+    ``"top-bottom"`` or ``"all"``); ``unloading_rows`` and ``aisles`` default to ``"auto"``,
     which the generator chooses for the warehouse's size (the paper's for the paper's size).
     """
     w, h = parse_group_size(group_size)
@@ -74,6 +76,7 @@ def generate_layout(
         "spur": float(spur),
         "unloading_rows": unloading_rows,
         "aisles": aisles,
+        "charger_walls": charger_walls,
     }
     for key in ("group_rows", "group_cols", "group_width", "group_height", "chargers", "unloading_rows"):
         if params[key] != "auto" and params[key] < 0:

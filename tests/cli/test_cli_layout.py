@@ -67,7 +67,10 @@ def test_cli_generate_writes_a_checked_file(cli, tmp_path):
         (["--group-cols", "0"], "--group-cols = 0: must be at least 1"),
         (["--group-size", "3x4"], "--group-size = 3x4: must be 1 or 2"),
         (["--group-size", "2by4"], "--group-size = '2by4': expected WxH"),
-        (["--chargers", "9"], "--chargers = 9: must be between 1 and 6"),
+        (["--chargers", "12"], "--chargers = 12: must be between 1 and 11"),
+        (["--chargers", "23", "--charger-walls", "top-bottom"], "--chargers = 23: must be between 1 and 22"),
+        (["--chargers", "29", "--charger-walls", "all"], "--chargers = 29: must be between 1 and 28"),
+        (["--charger-walls", "sides"], '--charger-walls = "sides": expected one of top, top-bottom, all'),
         (["--aisle", "0"], "--aisle = 0: must be greater than 0"),
     ],
 )
@@ -94,3 +97,17 @@ def test_layout_generate_has_a_flag_for_every_layout_generate_field(cli, tmp_pat
     assert p.returncode == 0, p.stderr
     text = out.read_text()
     assert "unloading_rows = 2" in text and 'aisles = "alternate"' in text
+
+
+def test_cli_generate_puts_chargers_on_every_wall(cli, tmp_path):
+    out = tmp_path / "walls.toml"
+    p = cli("layout", "generate", "--out", out, "--chargers", "18", "--charger-walls", "all")
+    assert p.returncode == 0, p.stderr
+    assert "18 chargers" in p.stdout and 'charger_walls = "all"' in out.read_text()
+    data = check_layout_file(out)
+    x0, y0, x1, y1 = data["bounds"]
+    charger_xy = [(n["x"], n["y"]) for n in data["nodes"] if n["kind"] == "charger"]
+    # Outside the warehouse on each of its four sides, one charger to a place.
+    assert len(set(charger_xy)) == 18
+    sides = {(x < x0, x > x1, y < y0, y > y1) for x, y in charger_xy}
+    assert sides == {tuple(k == j for k in range(4)) for j in range(4)}

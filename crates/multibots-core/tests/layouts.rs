@@ -156,7 +156,7 @@ fn generator_parameter_errors() {
     assert!(bad(LayoutParams { group_width: 3, ..paper() }).starts_with("layout.group_width = 3: must be 1 or 2"));
     assert_eq!(bad(LayoutParams { group_height: 0, ..paper() }), "layout.group_height = 0: must be at least 1");
     assert_eq!(bad(LayoutParams { aisle: 0.0, ..paper() }), "layout.aisle = 0: must be greater than 0");
-    assert!(bad(LayoutParams { chargers: 7, ..paper() }).starts_with("layout.chargers = 7: must be between 1 and 6"));
+    assert!(bad(LayoutParams { chargers: 12, ..paper() }).starts_with("layout.chargers = 12: must be between 1 and 11"));
     assert!(bad(LayoutParams { group_rows: 200, group_cols: 200, chargers: 1, ..paper() }).contains("layout too large"));
     // A size past its limit names the field that makes it so, with its value (issue 28).
     assert_eq!(

@@ -70,6 +70,7 @@ _FLAGS = {
     "spur": "--spur",
     "unloading_rows": "--unloading-rows",
     "aisles": "--aisles",
+    "charger_walls": "--charger-walls",
 }
 
 
@@ -94,9 +95,14 @@ def generate(
     aisle: float = typer.Option(50.0, "--aisle", help="Aisle width, px.", parser=finite_flag("--aisle")),
     cell: float = typer.Option(50.0, "--cell", help="Side of a storage cell, px.", parser=finite_flag("--cell")),
     chargers: Optional[int] = typer.Option(
-        None, "--chargers", help="Chargers along the top aisle (default C + 1).", show_default=False,
-        parser=whole_flag("--chargers", 0, MAX_GROUPS + 1, _TOO_LARGE),
+        None, "--chargers", help="Chargers, spread evenly over the crossings of the walls --charger-walls names "
+        "(default C + 1).", show_default=False,
+        parser=whole_flag("--chargers", 0, 4 * (MAX_GROUPS + 1), _TOO_LARGE),
     ),
+    charger_walls: str = typer.Option("top", "--charger-walls", help="Walls with chargers, on spurs out of the "
+                                      "warehouse, at crossings first, then midway between two of the top and bottom "
+                                      "rows: top (the paper's, at most 2C + 1), top-bottom (at most 2(2C + 1)) or all "
+                                      "(also left and right: at most 2(2C + 1) + 2(R + 1))."),
     spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur")),
     name: str = typer.Option("generated", "--name", help="The layout's name."),
     unloading_rows: str = typer.Option(
@@ -114,7 +120,7 @@ def generate(
 
     try:
         text = generate_layout(group_rows, group_cols, group_size, aisle, cell, chargers, spur, name, unloading_rows,
-                              aisles)
+                              aisles, charger_walls)
     except ScenarioError as e:
         # The engine names its field; the user set a flag, with this text.
         m = re.fullmatch(r"layout\.(\w+)(?: = (.*?))?: (.*)", str(e))

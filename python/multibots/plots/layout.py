@@ -358,10 +358,15 @@ def _layout_figure(layout: Mapping[str, Any], cells_full: Sequence[int] | None =
             ax.text(x - off if left else x + off, y - off, name, fontsize=node_font,
                     ha="right" if left else "left", va="bottom", color="#111111",
                     fontweight="bold", zorder=8)
-        # Charger names right of the battery, or left of it at the east edge.
+        # Charger names right of the battery, or left of it at the east edge; beside the
+        # west and east walls (charger_walls = "all"), above it, clear of the crossing.
         for c in charger_ids:
             x, y = pos[c]
             name = str(nodes[c].get("name", c))
+            if x < bx0 or x > bx1:
+                ax.text(x, y - bat_h / 2 - 0.05 * sym, name, fontsize=node_font * 0.85, ha="center",
+                        va="bottom", color="#1b5e20", zorder=8)
+                continue
             gap = bat_w / 2 + bat_w / 7 + 0.08 * sym
             right = x + gap + 0.85 * len(name) * char_w <= ex1
             ax.text(x + gap if right else x - bat_w / 2 - 0.08 * sym, y, name,

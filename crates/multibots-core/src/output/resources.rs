@@ -206,7 +206,7 @@ fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_ne
             "charging.chargers = \"shared\", or more chargers: layout_generate.chargers".into()
         }
         ResourceKind::Charger | ResourceKind::ChargerQueue => {
-            "more chargers (layout_generate.chargers), or charging earlier in quiet times (charging.level)".into()
+            "more chargers, near every part of the warehouse (layout_generate.chargers with charger_walls = \"all\"), or robots that charge early a few at a time (charging.policy = \"staggered\"; docs/charging.md)".into()
         }
         ResourceKind::Crossing => {
             // Only what the run does not do already: a layout whose westward traffic shares

@@ -199,7 +199,18 @@ impl TrafficState {
                 self.budget[i] = 0.0;
                 continue;
             }
-            let a = self.lanes.ahead_of(r, g, i);
+            let mut a = self.lanes.ahead_of(r, g, i);
+            let mut give_way = false;
+            if self.policy == Traffic::Reserve {
+                if r.at_node[i] != NONE {
+                    give_way = !self.spur_clear(g, self.lanes.edge_of[i]);
+                } else if a.v != NONE && a.e2 != NONE && a.stop < self.zone && !self.spur_clear(g, a.e2) {
+                    // Inside the crossing's zone already (sent to a charger on its way
+                    // through), with the charger's spur in use: it goes round instead.
+                    give_way = !self.detour(r, g, i, &a);
+                    a = self.lanes.ahead_of(r, g, i);
+                }
+            }
             let mut d = match people {
                 Some(p) if p.slow[i] => r.speed[i] * p.slow_factor,
                 _ => r.speed[i],
@@ -209,6 +220,14 @@ impl TrafficState {
             } else {
                 // Never into the zone beyond the next crossing in the same step.
                 d = d.min(a.stop + (a.len2 - self.zone).max(0.0)).min(a.stop + a.stop2);
+            }
+            if give_way {
+                // Bound for a charger whose spur another robot is leaving by: it waits, or
+                // (on the crossing) goes round from the next step.
+                d = 0.0;
+                if r.at_node[i] != NONE {
+                    self.exit_refusals[i] = DETOUR_AFTER;
+                }
             }
             self.budget[i] = d;
             self.ahead[i] = Some(a);
@@ -316,7 +335,7 @@ impl TrafficState {
         let ends_here = a.e2 == NONE || a.stop2 < self.zone;
         let (in_zone, admitted) = (self.lanes.count[v], self.admitted_count[v]);
         if in_zone == 0 && admitted == 0 {
-            return (true, ends_here || self.room_on(r, i, a.e2));
+            return (true, ends_here || self.room_on(r, g, i, a.e2));
         }
         let e = self.lanes.edge_of[i];
         let platoon = !ends_here
@@ -330,12 +349,23 @@ impl TrafficState {
         let need = self.zone + gap * f64::from(in_zone + admitted + 1);
         let p = self.lanes.last_beyond(a.e2, self.zone);
         let room = if p == NONE { a.len2 - self.zone >= need } else { self.lanes.s[p as usize] >= need };
-        (true, room)
+        (true, room && self.spur_clear(g, a.e2))
     }
 
-    fn room_on(&self, r: &Robots, i: usize, e: u32) -> bool {
+    fn room_on(&self, r: &Robots, g: &HighwayGraph, i: usize, e: u32) -> bool {
         let tail = self.lanes.tail(e);
-        tail == NONE || tail as usize == i || self.lanes.s[tail as usize] >= self.zone + r.radius[i] + r.radius[tail as usize] + self.margin
+        (tail == NONE || tail as usize == i || self.lanes.s[tail as usize] >= self.zone + r.radius[i] + r.radius[tail as usize] + self.margin)
+            && self.spur_clear(g, e)
+    }
+
+    /// Whether edge `e`, when it leads into a charger's spur (the only two-way edges, and a
+    /// dead end: the robot leaving the charger and the one coming to it would meet head-on
+    /// and stand there for good), has nobody coming back along it and nobody at the charger.
+    /// Aisles are one way, and a spur out of a charger leads to a crossing: always clear.
+    fn spur_clear(&self, g: &HighwayGraph, e: u32) -> bool {
+        let (u, w, _) = g.edge(e);
+        let back = g.edge_id(w, u);
+        back == NONE || g.out(w as usize).len() > 1 || (self.lanes.lane(back).is_empty() && self.lanes.holder[w as usize] == NONE)
     }
 
     /// Another exit from `a.v` with room, not a charger's dead end: robot `i` will take it.
@@ -348,7 +378,7 @@ impl TrafficState {
             if e == a.e2 || g.out(w as usize).len() < 2 && w != r.goal[i] {
                 continue;
             }
-            if self.room_on(r, i, e) {
+            if self.room_on(r, g, i, e) {
                 if r.via.len() <= i {
                     r.via.resize(r.len(), NONE);
                 }
@@ -383,7 +413,7 @@ impl TrafficState {
                 if e == current || g.out(w as usize).len() < 2 && w != r.goal[i] {
                     continue;
                 }
-                if self.room_on(r, i, e) {
+                if self.room_on(r, g, i, e) {
                     crate::fleet::route::detour_at_node(r, g, i, w);
                     self.exit_refusals[i] = 0;
                     break;

@@ -78,8 +78,18 @@ pub struct LayoutParams {
     pub aisle: f64,
     /// Side of a storage cell, px.
     pub cell: f64,
-    /// Number of chargers along the top aisle (at most C + 1), spread evenly.
+    /// Number of chargers, each at the end of a spur pointing out of the warehouse, spread
+    /// evenly over the crossings of the walls that `charger_walls` names (C + 1 on the top
+    /// wall; a corner crossing of two chosen walls takes one for each), and beyond one at every
+    /// such crossing, midway between two crossings of the top (and bottom) row: at most 2C + 1
+    /// on the top wall alone.
     pub chargers: u32,
+    /// Which walls of the warehouse carry chargers: `"top"` (the paper: above the top row of
+    /// crossings), `"top-bottom"` (also below the bottom row), or `"all"` (also beside the
+    /// leftmost and rightmost columns), so that a big fleet has chargers near every part of the
+    /// warehouse. Default: `"top"`.
+    #[serde(skip_serializing_if = "ChargerWalls::is_top")]
+    pub charger_walls: ChargerWalls,
     /// Length of a charger's spur, px.
     pub spur: f64,
     /// Rows of crossings whose crossings are unloading zones, spread evenly from the bottom
@@ -172,6 +182,71 @@ impl Aisles {
     }
 }
 
+/// Walls of a generated layout that carry chargers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChargerWalls {
+    /// Above the top row of crossings (the paper's).
+    #[default]
+    Top,
+    /// Above the top row and below the bottom row.
+    TopBottom,
+    /// Above the top row, below the bottom row, left of the leftmost column and right of the
+    /// rightmost one.
+    All,
+}
+
+impl ChargerWalls {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn is_top(&self) -> bool {
+        *self == ChargerWalls::Top
+    }
+
+    /// The places for chargers at crossings: `(row, column, dx, dy)` of a crossing and the
+    /// direction, out of the warehouse, of a spur from it; the top row first (as the paper
+    /// numbers its chargers), then the bottom row, the left column and the right column.
+    fn slots(self, rows: usize, cols: usize) -> Vec<(usize, usize, f64, f64)> {
+        let mut slots: Vec<_> = (0..=cols).map(|k| (0, k, 0.0, -1.0)).collect();
+        if self != ChargerWalls::Top {
+            slots.extend((0..=cols).map(|k| (rows, k, 0.0, 1.0)));
+        }
+        if self == ChargerWalls::All {
+            slots.extend((0..=rows).map(|m| (m, 0, -1.0, 0.0)));
+            slots.extend((0..=rows).map(|m| (m, cols, 1.0, 0.0)));
+        }
+        slots
+    }
+
+    /// The places for chargers midway between two crossings of a horizontal wall aisle (no
+    /// storage cell is served from those aisles): `(row, column, dy)`, midway between
+    /// columns `column` and `column + 1`; the top row first.
+    fn midway(self, rows: usize, cols: usize) -> Vec<(usize, usize, f64)> {
+        let mut places: Vec<_> = (0..cols).map(|k| (0, k, -1.0)).collect();
+        if self != ChargerWalls::Top {
+            places.extend((0..cols).map(|k| (rows, k, 1.0)));
+        }
+        places
+    }
+
+    /// The most chargers there can be: one per place.
+    fn most(self, rows: u64, cols: u64) -> u64 {
+        match self {
+            ChargerWalls::Top => 2 * cols + 1,
+            ChargerWalls::TopBottom => 2 * (2 * cols + 1),
+            ChargerWalls::All => 2 * (2 * cols + 1) + 2 * (rows + 1),
+        }
+    }
+
+    /// What each place is, for an error naming the most chargers there can be.
+    fn describe(self) -> &'static str {
+        match self {
+            ChargerWalls::Top => "one per top-aisle crossing and one midway between two; charger_walls = \"top-bottom\" or \"all\" places more",
+            ChargerWalls::TopBottom => "one per crossing of the top and bottom rows and one midway between two; charger_walls = \"all\" places more",
+            ChargerWalls::All => "one per crossing along each wall, two at the corners, and one midway between two crossings of the top and bottom rows",
+        }
+    }
+}
+
 /// What a scenario's `[layout_generate]` table starts from: the paper's warehouse, with the
 /// choices that must suit the warehouse's size (aisle directions, unloading rows) made by
 /// the generator (`"auto"`). The paper's own layout is [`LayoutParams::paper`], explicit.
@@ -194,6 +269,7 @@ impl LayoutParams {
             cell: 50.0,
             chargers: 6,
             spur: 40.0,
+            charger_walls: ChargerWalls::Top,
             unloading_rows: 1,
             aisles: Aisles::Paper,
         }
@@ -265,12 +341,10 @@ impl LayoutParams {
         if self.unloading_rows != AUTO_ROWS && self.unloading_rows > self.group_rows {
             return bad("unloading_rows", self.unloading_rows.to_string(), &format!("must be between 1 and group_rows ({})", self.group_rows));
         }
-        if self.chargers == 0 || u64::from(self.chargers) > u64::from(self.group_cols) + 1 {
-            return bad(
-                "chargers",
-                self.chargers.to_string(),
-                &format!("must be between 1 and {} (one per top-aisle crossing)", u64::from(self.group_cols) + 1),
-            );
+        let (rows, cols) = (u64::from(self.group_rows), u64::from(self.group_cols));
+        let places = self.charger_walls.most(rows, cols);
+        if self.chargers == 0 || u64::from(self.chargers) > places {
+            return bad("chargers", self.chargers.to_string(), &format!("must be between 1 and {places} ({})", self.charger_walls.describe()));
         }
         let factors =
             [("group_rows", self.group_rows), ("group_cols", self.group_cols), ("group_width", self.group_width), ("group_height", self.group_height)];
@@ -456,13 +530,45 @@ impl Layout {
                 }
             }
         }
+        // Chargers at crossings first, spread evenly over their places in order (with the top
+        // wall alone and at most C + 1 chargers, i · (C + 1) / K of the top row: the paper's);
+        // beyond one at every crossing, the rest spread evenly midway between crossings of the
+        // top and bottom rows, each on a node of its own that splits the aisle in two.
+        let slots = p.charger_walls.slots(rows, cols);
+        let k_all = p.chargers as usize;
+        let at_crossings = k_all.min(slots.len());
+        let midway = p.charger_walls.midway(rows, cols);
+        let extra = k_all - at_crossings;
+        let mids: Vec<(usize, usize, f64)> = (0..extra).map(|j| midway[j * midway.len() / extra]).collect();
+        let mut mid_nodes = Vec::with_capacity(mids.len());
+        for &(m, k, _) in &mids {
+            let (a, b) = (node_of(m, k), node_of(m, k + 1));
+            let id = NodeId(nodes.len() as u32);
+            let (x, y) = ((nodes[a.index()].x + nodes[b.index()].x) / 2.0, nodes[a.index()].y);
+            nodes.push(Node { name: node_name(id.index()), x, y, kind: NodeKind::Highway });
+            mid_nodes.push(id);
+            // The aisle's edge between the two crossings now runs through the new node.
+            let (from, to) = if east(m) { (a, b) } else { (b, a) };
+            let e = edges.iter().position(|&uv| uv == (from, to)).expect("a wall aisle's edge");
+            edges[e] = (from, id);
+        }
+        for (&(m, k, _), &id) in mids.iter().zip(&mid_nodes) {
+            let (a, b) = (node_of(m, k), node_of(m, k + 1));
+            edges.push((id, if east(m) { b } else { a }));
+        }
         let mut chargers = Vec::new();
         let mut spurs = Vec::new();
-        for i in 0..p.chargers as usize {
-            let k = i * kn / p.chargers as usize;
-            let at = node_of(0, k);
+        let places = (0..at_crossings)
+            .map(|i| {
+                let (m, k, dx, dy) = slots[i * slots.len() / at_crossings];
+                (node_of(m, k), dx, dy)
+            })
+            .chain(mids.iter().zip(&mid_nodes).map(|(&(_, _, dy), &id)| (id, 0.0, dy)))
+            .collect::<Vec<_>>();
+        for (i, (at, dx, dy)) in places.into_iter().enumerate() {
             let id = NodeId(nodes.len() as u32);
-            nodes.push(Node { name: format!("CH{i}"), x: nodes[at.index()].x, y: nodes[at.index()].y - p.spur, kind: NodeKind::Charger });
+            let (x, y) = (nodes[at.index()].x + dx * p.spur, nodes[at.index()].y + dy * p.spur);
+            nodes.push(Node { name: format!("CH{i}"), x, y, kind: NodeKind::Charger });
             chargers.push(id);
             spurs.push((id, at));
         }

@@ -255,12 +255,17 @@ impl Scenario {
         if !ch.level.is_finite() {
             return Err(Error::scenario("charging.level", ch.level, "must be a finite number"));
         }
-        if ch.policy == ChargingPolicy::Opportunistic && !(ch.level > r.threshold && ch.level <= r.energy_full) {
+        if ch.policy != ChargingPolicy::Threshold && !(ch.level > r.threshold && ch.level <= r.energy_full) {
             return Err(Error::scenario(
                 "charging.level",
                 ch.level,
                 format!("must be above robot.threshold ({}) and at most robot.energy_full ({})", r.threshold, r.energy_full),
             ));
+        }
+        if let Some(reach) = ch.reach {
+            if !(reach.is_finite() && reach > 0.0) {
+                return Err(Error::scenario("charging.reach", reach, "must be greater than 0 px"));
+            }
         }
         for (field, w) in [("cost.distance", self.cost.distance), ("cost.time", self.cost.time), ("cost.collision", self.cost.collision)] {
             if !(w.is_finite() && w >= 0.0) {

@@ -250,6 +250,11 @@ pub enum ChargingPolicy {
     Threshold,
     /// Also: an idle robot below `charging.level` goes to charge.
     Opportunistic,
+    /// Also: an idle robot below its own level goes to charge when a charger is free for it
+    /// (it never queues for one above the threshold). The levels are spread evenly between
+    /// `robot.threshold` and `charging.level` over the fleet, so that a fleet that drains
+    /// together does not go to charge together.
+    Staggered,
 }
 
 /// Which charger a robot uses.
@@ -274,21 +279,29 @@ impl ChargerUse {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Charging {
-    /// `"threshold"` (the paper's rule) or `"opportunistic"`. Default: `"threshold"`.
+    /// `"threshold"` (the paper's rule), `"opportunistic"` or `"staggered"` (docs/charging.md).
+    /// Default: `"threshold"`.
     pub policy: ChargingPolicy,
-    /// With `"opportunistic"`: an idle robot below this energy goes to charge (threshold <
-    /// level ≤ energy_full). Default: 7.
+    /// With `"opportunistic"`: an idle robot below this energy goes to charge; with
+    /// `"staggered"`: the highest of the robots' own levels (threshold < level ≤
+    /// energy_full). Default: 7.
     pub level: f64,
     /// `"home"` (the paper) or `"shared"` (nearest free charger, queue when none). Default:
     /// `"home"`.
     #[serde(skip_serializing_if = "ChargerUse::is_home")]
     #[schemars(extend("default" = "home"))]
     pub chargers: ChargerUse,
+    /// With `"staggered"` and shared chargers: a robot above the threshold goes only to a free
+    /// charger at most this far by route, px (> 0), so that the chargers' time is spent
+    /// charging rather than waiting for robots driving across the warehouse. Default: no
+    /// limit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reach: Option<f64>,
 }
 
 impl Default for Charging {
     fn default() -> Self {
-        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home }
+        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home, reach: None }
     }
 }
 

@@ -44,7 +44,8 @@ pub fn check(s: &Scenario) -> Result<Vec<u32>> {
         return refuse("charging.chargers", "\"shared\"".into(), "the original rules charge every robot at its own charger");
     }
     if s.charging.policy != ChargingPolicy::Threshold {
-        return refuse("charging.policy", "\"opportunistic\"".into(), "the original rules charge by the threshold rule only");
+        let policy = if s.charging.policy == ChargingPolicy::Staggered { "\"staggered\"" } else { "\"opportunistic\"" };
+        return refuse("charging.policy", policy.into(), "the original rules charge by the threshold rule only");
     }
     if s.robots > MAX_ROBOTS {
         return refuse("robots", s.robots.to_string(), "the original rules run at most 6 robots (one per start A..F)");

@@ -6,6 +6,10 @@
 //!   puts the goods back at the front of the queue first; otherwise it is marked and goes
 //!   after unloading.
 //! - **Opportunistic charging** (extension): an idle robot below `charging.level` also goes.
+//! - **Staggered charging** (extension): an idle robot below its own level, spread between
+//!   the threshold and `charging.level` over the fleet, goes when a charger is free for it
+//!   (within `charging.reach`); it never queues above the threshold (docs/charging.md says
+//!   why).
 //! - **Stranding.** A robot whose energy reaches zero stops for good.
 //! - **C** counts arrivals at a charger to charge.
 //! - **Chargers.** In the paper every robot charges at its own home charger. Shared chargers
@@ -40,6 +44,10 @@ pub(crate) struct Chargers {
     claim: Vec<u32>,
     /// Robots waiting for a charger, in the order they came, with the step each began to wait.
     queue: VecDeque<(u32, u64)>,
+    /// Chargers nobody holds.
+    free: usize,
+    /// Staggered charging: how far a robot above the threshold drives to a free charger, px.
+    reach: f64,
     /// `to_charger[k * nodes + u]`: path length from node `u` to charger `k`, for O(1)
     /// nearest-charger choices inside the step loop.
     to_charger: Vec<f64>,
@@ -54,7 +62,23 @@ impl Chargers {
         }
         let shared = scenario.charging.chargers == ChargerUse::Shared;
         let to_charger = if shared { layout.chargers.iter().flat_map(|&c| world.graph.lengths_to(c)).collect() } else { Vec::new() };
-        Chargers { shared, slot_of_node, claim: vec![NONE; layout.chargers.len()], queue: VecDeque::new(), to_charger }
+        let free = layout.chargers.len();
+        let reach = scenario.charging.reach.unwrap_or(f64::INFINITY);
+        Chargers { shared, slot_of_node, claim: vec![NONE; free], queue: VecDeque::new(), free, reach, to_charger }
+    }
+
+    /// Whether a robot sent to charge now would find a charger free: its home charger, or a
+    /// shared one nobody holds.
+    fn one_free(&self) -> bool {
+        !self.shared || self.free > 0
+    }
+
+    /// Whether a free charger lies within `reach` px of `from` by route.
+    fn nearest_free_within(&self, world: &World, from: Place, reach: f64) -> bool {
+        self.nearest_free(world, from).is_some_and(|k| {
+            let nodes = world.layout.nodes.len();
+            route::length_via_row(&world.graph, from, world.layout.chargers[k], &self.to_charger[k * nodes..(k + 1) * nodes]) <= reach
+        })
     }
 
     /// The nearest free charger from `from` by route (ties: the first in the layout).
@@ -97,6 +121,16 @@ impl Paper {
         if let Some(level) = self.p.opportunistic {
             if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], level) {
                 self.send_to_charge(i);
+            }
+        }
+        if let Some(level) = self.p.staggered {
+            if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], own_level(self.p.threshold, level, i)) && self.chargers.one_free() {
+                let near = !self.chargers.shared
+                    || self.chargers.reach.is_infinite()
+                    || self.chargers.nearest_free_within(&self.world, Place::of(&self.robots, i), self.chargers.reach);
+                if near {
+                    self.send_to_charge(i);
+                }
             }
         }
         if energy::exhausted(self.robots.energy[i]) && self.robots.state[i] != State::Stranded {
@@ -148,7 +182,9 @@ impl Paper {
     }
 
     fn claim_charger(&mut self, i: usize, k: usize) {
+        debug_assert!(self.chargers.claim[k] == NONE, "charger {k} claimed twice");
         self.chargers.claim[k] = i as u32;
+        self.chargers.free -= 1;
         let charger = self.world.layout.chargers[k];
         self.head_for_charger(i, charger);
     }
@@ -162,6 +198,9 @@ impl Paper {
         let k = self.chargers.slot_of_node[charger as usize];
         if k == NONE {
             return;
+        }
+        if self.chargers.claim[k as usize] != NONE {
+            self.chargers.free += 1;
         }
         self.chargers.claim[k as usize] = NONE;
         let state = &self.robots.state;
@@ -199,6 +238,18 @@ impl Paper {
             self.release_charger(self.robots.charger[i]);
         }
     }
+}
+
+/// Robot `i`'s own level under staggered charging: between `threshold` (excluded) and
+/// `level`, spread over the fleet by the golden-ratio sequence, so that any run of robot
+/// numbers (robots placed side by side) holds levels from the whole range, and a fleet of any
+/// size covers it evenly.
+#[must_use]
+pub(crate) fn own_level(threshold: f64, level: f64, i: usize) -> f64 {
+    // 1/φ; frac(0.5 + i/φ) for i = 0, 1, 2, …: 0.5, 0.118, 0.736, 0.354, …
+    const INV_PHI: f64 = 0.618_033_988_749_894_9;
+    let u = (0.5 + i as f64 * INV_PHI).fract();
+    threshold + (level - threshold) * (1.0 - u)
 }
 
 /// A cell a scenario can ask for, and how to name it in an error.

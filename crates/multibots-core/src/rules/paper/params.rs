@@ -24,6 +24,8 @@ pub(crate) struct Params {
     pub step_limit: u64,
     /// Opportunistic charging: idle robots below this level go to charge.
     pub opportunistic: Option<f64>,
+    /// Staggered charging: the highest of the robots' own levels (`charging::own_level`).
+    pub staggered: Option<f64>,
 }
 
 impl Params {
@@ -47,10 +49,12 @@ impl Params {
         }
     }
 
-    /// Stranding, or opportunistic charging, for a robot with energy `e`.
+    /// Stranding, or opportunistic charging, for a robot with energy `e`; with staggered
+    /// charging, an idle robot below the highest level (whether it goes depends on its own
+    /// level and on a free charger: phase 7 decides).
     #[inline]
     fn energy_acts(&self, state: State, e: f64) -> bool {
-        energy::exhausted(e) || self.opportunistic.is_some_and(|level| state == State::Idle && energy::below(e, level))
+        energy::exhausted(e) || self.opportunistic.or(self.staggered).is_some_and(|level| state == State::Idle && energy::below(e, level))
     }
 
     /// Whether phase 7 would change anything for a robot (`marked` by the threshold rule):
@@ -105,6 +109,7 @@ impl Params {
             angle: scenario.collision.angle.to_radians(),
             step_limit: scenario.step_limit,
             opportunistic: (scenario.charging.policy == ChargingPolicy::Opportunistic).then_some(scenario.charging.level),
+            staggered: (scenario.charging.policy == ChargingPolicy::Staggered).then_some(scenario.charging.level),
         }
     }
 }
