@@ -80,8 +80,8 @@ mod tests {
         let costs = highway_costs(&map);
         let east = |cell: u32| costs[cell as usize][0] == WITH && costs[cell as usize][2] == AGAINST;
         let west = |cell: u32| costs[cell as usize][2] == WITH && costs[cell as usize][0] == AGAINST;
-        assert!((0..9).all(|c| east(c)) && (9..18).all(|c| west(c)));
-        assert!((27..36).all(|c| east(c)), "the third corridor runs east though its row is odd");
+        assert!((0..9).all(&east) && (9..18).all(&west));
+        assert!((27..36).all(&east), "the third corridor runs east though its row is odd");
         let north: Vec<bool> = (0..9).map(|c| costs[c][3] == WITH).collect();
         assert_eq!(north, [true, false, true, false, false, true, false, true, true]);
         for cell in (0..36).filter(|&c| map.free[c]) {
