@@ -138,7 +138,8 @@ impl Distances {
             self.start(goal)
         };
         self.used[s as usize] = self.clock;
-        if !self.complete[s as usize] {
+        // Without budget an unfinished search waits: resuming would only reshuffle its frontier.
+        if !self.complete[s as usize] && *budget > 0 {
             self.expand(s as usize, budget);
         }
         self.complete[s as usize].then_some(s)

@@ -31,7 +31,9 @@
 //! default planner does, since choosing again would undo the turn. Any robot that planned
 //! to enter the cell of a robot that stays must then wait too, and so on down the chain
 //! (`settle`), so that the joint action is always valid. A robot in a dead end gets 10
-//! steps of priority (it can only leave the way others come in). A robot without an errand
+//! more of priority (ten cells without highways, one move along a lane with them; it can
+//! only leave the way others come in: scaled to ten lane moves, the measured scores did not
+//! change beyond 0.3 %). A robot without an errand
 //! keeps its cell unless pushed.
 //!
 //! ## When to use it
@@ -141,7 +143,10 @@ impl Pibt {
         if goal == NO_GOAL {
             0
         } else if self.slot[a] == NONE {
-            // No table yet (its search is not complete): the grid distance for now.
+            // No table yet (its search is not complete): the grid distance for now. It counts
+            // cells, not the highways' tenths of a cell, so these robots (their errand is
+            // new) plan before the others; scaled to the tables' unit, MR24-WAREHOUSE
+            // finished 15,987 by step 1,000 against 18,354.
             let (r0, c0) = (cell / self.cols, cell % self.cols);
             let (r1, c1) = (goal / self.cols, goal % self.cols);
             (r0.abs_diff(r1) + c0.abs_diff(c1)).min(u32::from(FAR - 1)) as u16
