@@ -20,7 +20,7 @@
 //!
 //! ## What it changes
 //! Measured with `benchmarks/lorr.py` (docs/benchmarks.md): on the archive's warehouse and
-//! sortation maps, one to two thirds more tasks; on the small random maps (32×32), 5-15 %
+//! sortation maps, two thirds more tasks to twice as many; on the small random maps (32×32), 5-15 %
 //! fewer, since their short corridors gain nothing from a direction and lose the detours.
 //! The planner `pibt-no-highways` is PIBT without them.
 //!
