@@ -2,7 +2,7 @@
 
     python3 benchmarks/lorr.py --instances DIR [--only NAME ...] [--domain warehouse ...]
                                [--steps N] [--startkit PATH/lifelong] [--startkit-2023 PATH/lifelong]
-                               [--startkit-steps N] [--scheduler nearest] [--seed 0]
+                               [--startkit-steps N] [--scheduler spread] [--seed 0]
                                [--rows ROWS.json] [--no-check] [--no-ours] [--no-write]
 
 ``DIR`` is a folder the user fetched from MAPF-Competition/Benchmark-Archive (the instance
@@ -246,7 +246,7 @@ def main() -> None:
     ap.add_argument("--startkit-2023", type=Path, help="the 2023 Start-Kit's lifelong binary")
     ap.add_argument("--startkit-steps", type=int, help="default: as --steps")
     ap.add_argument("--startkit-time-limit", type=int, default=1000, help="ms per planning round (its default)")
-    ap.add_argument("--scheduler", default="nearest")
+    ap.add_argument("--scheduler", default="spread")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--rows", type=Path, help="a JSON file keeping the rows across invocations")
     ap.add_argument("--no-check", action="store_true")

@@ -75,7 +75,7 @@ class LorrRun:
         cls,
         problem: str | PathLike[str],
         planner: str = "pibt",
-        scheduler: str = "nearest",
+        scheduler: str = "spread",
         seed: int = 0,
         plan_time_limit_ms: int | None = None,
         team_size: int | None = None,

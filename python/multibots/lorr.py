@@ -24,7 +24,7 @@ __all__ = ["PLANNERS", "SCHEDULERS", "LorrResult", "run"]
 #: The built-in planners; the first is the default.
 PLANNERS: tuple[str, ...] = ("pibt", "pibt-no-highways")
 #: The built-in schedulers (2024 rules); the first is the default.
-SCHEDULERS: tuple[str, ...] = ("nearest", "greedy", "hungarian", "auction")
+SCHEDULERS: tuple[str, ...] = ("spread", "nearest", "greedy", "hungarian", "auction")
 
 #: Steps between two calls of ``progress``.
 PROGRESS_EVERY = 50
@@ -57,7 +57,7 @@ def run(
     steps: int = 5000,
     out: Optional[Union[str, os.PathLike[str]]] = None,
     planner: str = "pibt",
-    scheduler: str = "nearest",
+    scheduler: str = "spread",
     seed: int = 0,
     plan_time_limit_ms: Optional[int] = None,
     progress: Optional[Callable[[int, int], None]] = None,

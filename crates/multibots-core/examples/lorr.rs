@@ -1,5 +1,5 @@
 //! Runs a League of Robot Runners problem and writes the competition's result file:
-//! `cargo run --release -p multibots-core --example lorr -- PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER]]`.
+//! `cargo run --release -p multibots-core --example lorr -- PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER [SEED]]]`.
 //! Prints the score and MultiBots' figures.
 
 use multibots_core::input::lorr::Problem;
@@ -9,7 +9,7 @@ use std::sync::Arc;
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.len() < 4 {
-        eprintln!("usage: lorr PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER]]");
+        eprintln!("usage: lorr PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER [SEED]]]");
         std::process::exit(2);
     }
     let problem = match Problem::load(args[1].as_ref()) {
@@ -26,6 +26,9 @@ fn main() {
     }
     if let Some(p) = args.get(5) {
         options.planner.clone_from(p);
+    }
+    if let Some(s) = args.get(6) {
+        options.seed = s.parse().expect("SEED is a whole number");
     }
     let mut run = LorrRun::new(problem, options).expect("built-in options");
     let began = std::time::Instant::now();

@@ -22,7 +22,7 @@ pub(crate) struct PyLorrRun {
 #[pymethods]
 impl PyLorrRun {
     #[new]
-    #[pyo3(signature = (problem, planner="pibt", scheduler="nearest", seed=0, plan_time_limit_ms=None, team_size=None, record=None))]
+    #[pyo3(signature = (problem, planner="pibt", scheduler="spread", seed=0, plan_time_limit_ms=None, team_size=None, record=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,

@@ -25,7 +25,7 @@ def lorr(
     ),
     planner: str = typer.Option("pibt", "--planner", help="Planner: pibt (on highways), pibt-no-highways."),
     scheduler: str = typer.Option(
-        "nearest", "--scheduler", help="Scheduler (2024): nearest, greedy, hungarian, auction.",
+        "spread", "--scheduler", help="Scheduler (2024): spread, nearest, greedy, hungarian, auction.",
     ),
     plan_time_limit: Optional[str] = typer.Option(
         None, "--plan-time-limit", show_default=False,

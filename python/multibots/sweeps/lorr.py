@@ -47,7 +47,7 @@ class LorrBase:
     problem: str
     steps: int = 5000
     planner: str = "pibt"
-    scheduler: str = "nearest"
+    scheduler: str = "spread"
     seed: int = 0
     robots: Optional[int] = None
     plan_time_limit_ms: Optional[int] = None

@@ -41,7 +41,7 @@ use std::time::{Duration, Instant};
 pub struct LorrOptions {
     /// The planner's name (`pibt`, the default).
     pub planner: String,
-    /// The scheduler's name (2024 rules; `nearest`, the default).
+    /// The scheduler's name (2024 rules; `spread`, the default).
     pub scheduler: String,
     /// The seed of the planner's tie-breaks (default 0).
     pub seed: u64,
@@ -52,7 +52,7 @@ pub struct LorrOptions {
 
 impl Default for LorrOptions {
     fn default() -> Self {
-        LorrOptions { planner: "pibt".into(), scheduler: "nearest".into(), seed: 0, plan_time_limit_ms: None }
+        LorrOptions { planner: "pibt".into(), scheduler: "spread".into(), seed: 0, plan_time_limit_ms: None }
     }
 }
 
