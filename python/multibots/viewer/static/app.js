@@ -31,14 +31,16 @@ function status(msg) { setText("status", msg || ""); }
  * final}. A replay has its run's report and each queue frame by frame; a live run sends the
  * report so far and the queues now with every frame. Null where the run reports none. */
 function queuesOf(f) {
+  // Grid replays and the original rules report no resources: nothing to show.
+  const none = (r) => !r.resources || (!r.resources.length && !r.bottleneck);
   if (app.mode === "replay") {
     const m = app.meta;
-    if (!m.resources || (!m.resources.length && !m.bottleneck)) return null;
+    if (none(m)) return null;
     return { resources: m.resources, counts: queuesAt(m.queues, f), bottleneck: m.bottleneck,
       line: m.bottleneck_line, final: true };
   }
   const L = app.source.latest;
-  if (!L || !L.msg.resources) return null;
+  if (!L || none(L.msg)) return null;
   return { resources: L.msg.resources, counts: L.msg.queue, bottleneck: L.msg.bottleneck,
     line: L.msg.bottleneck_line, final: !!L.msg.done };
 }
