@@ -245,11 +245,13 @@ impl Usage {
 pub struct QueueLog {
     /// The nodes' names, which the report's resources go by.
     names: Vec<String>,
+    /// Each node's queue in the frame last recorded.
     now: Vec<u32>,
     /// Per node, `[frame, robots, frame, robots, ...]`: from that frame on, that queue.
     changes: Vec<Vec<u64>>,
-    /// The nodes with a queue in the frame last recorded, and the last frame (+ 1) each was.
+    /// The nodes with a queue in the frame last recorded.
     queued: Vec<u32>,
+    /// Per node, the last frame (+ 1) it had a queue in.
     seen: Vec<u64>,
     pool: u32,
     pool_changes: Vec<u64>,
