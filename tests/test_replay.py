@@ -181,7 +181,9 @@ def test_a_chunk_that_inflates_past_its_size_is_refused(paper_run, tmp_path):
         assert len(bomb) < 100_000
         data = bytearray(path.read_bytes())
         head = bytes(data[:info["offset"]])
-        footer = dict(rp.footer)
+        # The footer of a replay of the first chunk alone: without the whole run's queues.
+        footer = {k: v for k, v in rp.footer.items() if k != "queues"}
+        footer["queues"] = [[] for _ in rp.resources]
         footer["chunks"] = [{**rp.footer["chunks"][0], "length": len(bomb)}]
         footer["frames"] = info["frames"]
         fb = __import__("json").dumps(footer).encode()

@@ -23,6 +23,7 @@ from multibots import _core
 from multibots._io import regular_file
 from multibots._text import shown
 from multibots.exceptions import MultibotsError, ReplayError
+from multibots.replay_resources import ResourceLog
 from multibots.replay_state import EVENT_NAMES, MOVING_STATES, STATE_NAMES, ReplayState
 
 __all__ = ["Replay", "ReplayError", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES"]
@@ -52,7 +53,8 @@ class Replay(ReplayState):
 
     Attributes: ``header`` (dict), ``layout`` (layout JSON dict), ``robots`` (N),
     ``frames`` (steps run + 1), ``summary`` (footer indicators: T, S, C, outcome,
-    delivered), ``chunk_count``, ``chunk_steps``, ``path``.
+    delivered), ``resources`` and ``bottleneck`` (as in ``Result``; empty and None in
+    replays that predate them), ``chunk_count``, ``chunk_steps``, ``path``.
     """
 
     def __init__(self, path: "os.PathLike[str] | str", cache_chunks: int = 8,
@@ -195,6 +197,10 @@ class Replay(ReplayState):
             "windows": [self._int({"windows": w}, "windows", "footer", 0, 1 << 62) for w in windows],
             "frames": self.frames,
         }
+        # The run's report of its resources and bottleneck, and their queues frame by frame.
+        self._resources = ResourceLog(footer, self.frames, self._fail)
+        self.resources = self._resources.resources
+        self.bottleneck = self._resources.bottleneck
 
     # Checked reads of header and footer values: a file from elsewhere may hold text, lists,
     # 1e400 (inf once parsed) or ragged arrays where numbers belong; each gets one line.
@@ -238,6 +244,16 @@ class Replay(ReplayState):
         if length is not None and len(a) != length:
             raise self._fail(f"header {key!r} lists {len(a)} values; expected one per robot ({length})")
         return a.astype(dtype)
+
+    def queues_at(self, frame: int) -> List[int]:
+        """The robots queued at each of ``resources`` in ``frame`` (after its step), counted
+        as the run's report counts them (docs/metrics.md)."""
+        return self._resources.queues_at(self._check_frame(frame))
+
+    def queue_changes(self) -> List[List[int]]:
+        """Each of ``resources``' queue as ``[frame, robots, ...]``: the frames where it
+        changed and its length from then on (the footer's ``queues``)."""
+        return self._resources.changes()
 
     @property
     def file_size(self) -> int:

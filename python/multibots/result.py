@@ -8,7 +8,9 @@ import numpy as np
 
 from multibots._core import STATE_NAMES as _STATE_NAMES
 
-__all__ = ["FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "PEOPLE_KEYS", "Result", "STATE_NAMES", "people_costs"]
+__all__ = [
+    "FLOW_KEYS", "LIFELONG_KEYS", "OUTCOMES", "PEOPLE_KEYS", "Result", "STATE_NAMES", "bottleneck_line", "people_costs",
+]
 
 #: Robot state names, indexed by the state codes of ``Simulation.states`` and replays (the
 #: engine's own names).
@@ -74,6 +76,16 @@ def people_costs(people: dict[str, Any]) -> dict[str, Optional[float]]:
     mine = rates(people)
     other = rates(alone) if alone else dict.fromkeys(mine)
     return {**mine, **{f"alone_{k}": v for k, v in other.items()}}
+
+def bottleneck_line(b: dict[str, Any]) -> str:
+    """A run's bottleneck (``Result.bottleneck``, docs/metrics.md) in one line: the resource,
+    its busy share, its mean and longest queue, and what would relieve it. ``multibots run``
+    prints it, and the viewer shows it."""
+    return (
+        f"{b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue {b['mean_queue']:.1f} on average"
+        f" ({b['longest_queue']} at most); relieve it with {b['relieve']}"
+    )
+
 
 #: The figures of a lifelong run (``Result.lifelong``), in the order the engine gives them.
 LIFELONG_KEYS: tuple[str, ...] = (

@@ -243,6 +243,13 @@ class Simulation:
         numbered by the step, ``docs/replay-format.md``), encoded by the engine."""
         return self._sim.frame_chunk()
 
+    def queues(self) -> tuple[dict[int, int], int]:
+        """The robots queued in the last step, counted as the result's ``resources`` count them
+        (docs/metrics.md): ``{node: robots}`` for each node with a queue (node ids index
+        ``layout["nodes"]``), and the robots queued for a shared charger."""
+        nodes, chargers = self._sim.queues()
+        return dict(nodes), chargers
+
     def viewer_header(self) -> dict[str, Any]:
         """What a viewer needs before the first frame: the replay header's fields (fleet,
         energy scale, stock, layout, scenario, state and event names), from the engine."""

@@ -39,6 +39,9 @@ fn one_unloading_zone_for_a_busy_fleet_is_the_bottleneck_and_its_figures_hold() 
                 .filter(|&i| if r.at_node[i] == u32::MAX { r.edge_v[i] == zone.0 } else { r.at_node[i] == zone.0 })
                 .count() as u32;
             waited.clone_from(now);
+            // What viewers draw (Simulation::queues) is this same count, step by step.
+            let shown = sim.queues().nodes.iter().find(|&&(n, _)| n == zone).map_or(0, |&(_, c)| c);
+            assert_eq!(shown, q, "{traffic:?}: step {steps}");
             queued += u64::from(q);
             longest = longest.max(q);
         }

@@ -190,6 +190,12 @@ impl PySimulation {
     fn viewer_header(&self, scenario_toml: &str) -> String {
         multibots_core::output::replay::header(&self.sim, scenario_toml).to_string()
     }
+    /// The robots queued in the last step: (node, robots) for each node with a queue, and
+    /// the robots queued for a shared charger.
+    fn queues(&self) -> (Vec<(u32, u32)>, u32) {
+        let q = self.sim.queues();
+        (q.nodes.iter().map(|&(n, c)| (n.0, c)).collect(), q.chargers)
+    }
     /// Robot `i`'s remaining route as (K, 2) waypoints, starting at its position.
     fn route<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if i >= self.sim.robots().len() {

@@ -118,6 +118,7 @@ def overload_lines(result: Any, scenario: Optional[Path]) -> list[str]:
 
 def flow_lines(result: Any) -> list[str]:
     """How the fleet flowed: throughput by window, waiting, working, contacts, gridlock."""
+    from multibots.result import bottleneck_line
 
     def opt(v: Any, fmt: str) -> str:
         return "-" if v is None else fmt.format(v)
@@ -141,11 +142,7 @@ def flow_lines(result: Any) -> list[str]:
         lines.append(f"gridlock     at step {g['step']}: {len(g['waiting'])} robots waiting, at {where}")
     b = getattr(result, "bottleneck", None)
     if b is not None:
-        lines.append(
-            f"bottleneck   {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, "
-            f"queue {b['mean_queue']:.1f} on average"
-            f" ({b['longest_queue']} at most); relieve it with {b['relieve']}"
-        )
+        lines.append(f"bottleneck   {bottleneck_line(b)}")
     c = getattr(result, "collapse", None)
     if c is not None:
         where = ", ".join(f"{name} ({k})" for name, k in c["crossings"][:5]) or "-"

@@ -7,9 +7,11 @@ import json
 import math
 import threading
 import time
-from typing import Any, Dict, Optional
+from typing import Any, Dict, List, Optional
 
 import numpy as np
+
+from multibots.result import bottleneck_line
 
 #: Simulation steps per second of wall time at speed 1x (the page and `render` agree on it).
 STEPS_PER_SECOND = 30.0
@@ -25,10 +27,24 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
-def _flow(sim: Any) -> Dict[str, Any]:
+def _flow(raw: Dict[str, Any]) -> Dict[str, Any]:
     """Deliveries per window so far, for the viewer's throughput bars."""
-    raw = sim._sim.result()
     return {"window": int(raw["window"]), "windows": [int(w) for w in raw["windows"]]}
+
+
+def _resources(sim: Any, raw: Dict[str, Any], names: List[str]) -> Dict[str, Any]:
+    """The resources reported so far (``Result.resources``), the robots queued at each now,
+    and the bottleneck so far with its line as ``multibots run`` prints it."""
+    nodes, chargers = sim.queues()
+    by_name = {names[k]: c for k, c in nodes.items()}
+    resources = list(raw["resources"])
+    b = raw["bottleneck"]
+    return {
+        "resources": resources,
+        "queue": [chargers if u["kind"] == "charger-queue" else by_name.get(u["node"], 0) for u in resources],
+        "bottleneck": b,
+        "bottleneck_line": None if b is None else bottleneck_line(b),
+    }
 
 
 class LiveRunner:
@@ -56,6 +72,7 @@ class LiveRunner:
         self.error: Optional[str] = None
         with self.lock:
             self.meta = self._meta()
+            self._names = [str(n["name"]) for n in self.meta["layout"].get("nodes", [])]
             self._publish_locked()
 
     # ------------------------------------------------------------------ state
@@ -70,6 +87,7 @@ class LiveRunner:
         replay codec, encoded by the engine."""
         sim = self.sim
         raw = sim.frame_chunk()
+        result = sim._sim.result()
         t = int(sim.t)
         S, C, D = int(sim.S), int(sim.C), int(sim.delivered)
         cells = np.asarray(sim.cells, dtype=np.uint8).tobytes()
@@ -84,7 +102,8 @@ class LiveRunner:
             "T": None if T is None else int(T),
             "outcome": str(sim.outcome) if sim.done else None,
             "frame": base64.b64encode(raw).decode("ascii"),
-            **_flow(sim),
+            **_flow(result),
+            **_resources(sim, result, self._names),
             "cells": base64.b64encode(cells).decode("ascii"),
         }
         with self.cond:

@@ -11,6 +11,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 from multibots import _core
 from multibots.replay import Replay
+from multibots.result import bottleneck_line
 from multibots.viewer.handler import ViewerHTTPServer, load_assets
 
 __all__ = ["LiveSource", "ReplaySource", "Viewer"]
@@ -69,6 +70,12 @@ class ReplaySource:
             "humans": None if not r.humans else {
                 "count": r.humans, "radius": r.human_radius, "zones": _zones(r.header),
             },
+            # The run's report of its resources (docs/metrics.md), each one's queue as the
+            # frames where it changed, and the bottleneck as `multibots run` prints it.
+            "resources": r.resources,
+            "queues": r.queue_changes(),
+            "bottleneck": r.bottleneck,
+            "bottleneck_line": None if r.bottleneck is None else bottleneck_line(r.bottleneck),
         }
 
     def start_index(self) -> None:

@@ -9,6 +9,7 @@ use crate::fleet::robot::State;
 use crate::output::codec::{Frames, BYTES_PER_ROBOT_STEP, MAGIC, VERSION};
 use crate::output::events::EventKind;
 use crate::output::metrics::RunResult;
+use crate::output::resources::{Bottleneck, QueueLog, ResourceUse};
 use crate::rules::Simulation;
 use flate2::write::ZlibEncoder;
 use flate2::Compression;
@@ -77,12 +78,15 @@ pub struct ReplayWriter {
     chunks: Vec<ChunkInfo>,
     buf: Frames,
     raw: Vec<u8>,
+    /// The queues frame by frame, for a run of [`Simulation`] (its footer's `queues`).
+    queues: Option<QueueLog>,
 }
 
 impl ReplayWriter {
     /// Opens the replay and records frame 0 (the state before step 1).
     pub fn create(path: &Path, sim: &Simulation, scenario_toml: &str) -> Result<ReplayWriter> {
         let mut rw = ReplayWriter::open(path, header(sim, scenario_toml), sim.robots().len())?;
+        rw.queues = Some(QueueLog::new(&sim.world().layout));
         rw.frame(sim)?;
         Ok(rw)
     }
@@ -116,6 +120,7 @@ impl ReplayWriter {
             chunks: Vec::new(),
             buf: Frames::with_capacity(robots, chunk_frames),
             raw: Vec::new(),
+            queues: None,
         };
         // On an error the writer is dropped here, and its temporary file with it.
         written.map(|()| rw)
@@ -123,6 +128,9 @@ impl ReplayWriter {
 
     /// Records the state after the step just run, with its events.
     pub fn frame(&mut self, sim: &Simulation) -> Result<()> {
+        if let Some(log) = &mut self.queues {
+            log.record(self.frames, &sim.queues());
+        }
         self.buf.push(sim, self.frames, self.frames > 0);
         self.frames += 1;
         if self.buf.len() == self.chunk_frames {
@@ -175,6 +183,7 @@ impl ReplayWriter {
 
     /// Writes the last chunk and the footer, and moves the file into place.
     pub fn finish(self, result: &RunResult) -> Result<()> {
+        let queues = self.queues.as_ref().map_or(Value::Null, |log| log.to_json(&result.resources));
         let fields = json!({
             "T": result.t,
             "S": result.s,
@@ -183,6 +192,9 @@ impl ReplayWriter {
             "delivered": result.delivered,
             "window": result.window,
             "windows": result.windows,
+            "resources": result.resources.iter().map(ResourceUse::to_json).collect::<Vec<_>>(),
+            "bottleneck": result.bottleneck.as_ref().map_or(Value::Null, Bottleneck::to_json),
+            "queues": queues,
         });
         self.finish_with(fields)
     }

@@ -11,10 +11,14 @@
 //! the steps, with a mean queue of at least half a robot), or the only unloading zone in use
 //! where it has such a queue: the queues at crossings upstream of it are its symptoms. Without one, it is the crossing
 //! with the longest mean queue (at least half a robot). It names what would relieve it.
+//!
+//! The queues of the last step ([`Queues`]) are what viewers draw; a replay keeps them, for
+//! the resources its run reported, as the frames where they changed ([`QueueLog`]).
 
 use crate::fleet::robot::{Robots, State};
-use crate::ids::NONE;
+use crate::ids::{NodeId, NONE};
 use crate::world::layout::Layout;
+use serde_json::{json, Value};
 
 /// What kind of place a resource is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -55,12 +59,41 @@ pub struct ResourceUse {
     pub longest_queue: u32,
 }
 
+impl ResourceUse {
+    /// As JSON: `kind`, `node`, `busy`, `mean_queue`, `longest_queue` (the keys of the
+    /// Python result's `resources`).
+    #[must_use]
+    pub fn to_json(&self) -> Value {
+        json!({"kind": self.kind.as_str(), "node": self.node, "busy": self.busy, "mean_queue": self.mean_queue, "longest_queue": self.longest_queue})
+    }
+}
+
 /// The resource that limits the fleet, and what would relieve it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Bottleneck {
     pub resource: ResourceUse,
     /// One line: the scenario keys that would relieve it.
     pub relieve: String,
+}
+
+impl Bottleneck {
+    /// As JSON: the resource's keys and `relieve`.
+    #[must_use]
+    pub fn to_json(&self) -> Value {
+        let mut v = self.resource.to_json();
+        v["relieve"] = json!(self.relieve);
+        v
+    }
+}
+
+/// The robots queued in the last step, counted as for the report: at each node with a
+/// queue, and for a shared charger.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Queues {
+    /// Each node with a queue and its robots, in no particular order.
+    pub nodes: Vec<(NodeId, u32)>,
+    /// Robots queued for a shared charger (WAIT_CHARGER): the charger queue's.
+    pub chargers: u32,
 }
 
 /// The shortest mean queue that makes a bottleneck: half a robot waiting, on average, at
@@ -86,6 +119,9 @@ pub(crate) struct Usage {
     touched: Vec<u32>,
     pool_queued: u64,
     pool_longest: u32,
+    /// The last observation's queues (node, robots), and the charger queue's.
+    last: Vec<(u32, u32)>,
+    last_pool: u32,
 }
 
 impl Usage {
@@ -101,6 +137,7 @@ impl Usage {
         }
         self.steps += times;
         self.stamp += 1;
+        self.last.clear();
         let t = self.stamp;
         let mut pool = 0u32;
         for (i, &held) in waits[..r.len()].iter().enumerate() {
@@ -131,6 +168,7 @@ impl Usage {
             let q = self.now[k];
             self.queued[k] += u64::from(q) * times;
             self.longest[k] = self.longest[k].max(q);
+            self.last.push((node, q));
             if !unloading_or_charger[k] && self.busy_at[k] != t {
                 // A crossing is busy while robots wait to enter it.
                 self.busy_at[k] = t;
@@ -141,6 +179,12 @@ impl Usage {
         self.touched.clear();
         self.pool_queued += u64::from(pool) * times;
         self.pool_longest = self.pool_longest.max(pool);
+        self.last_pool = pool;
+    }
+
+    /// The queues of the last step observed.
+    pub fn queues(&self) -> Queues {
+        Queues { nodes: self.last.iter().map(|&(n, q)| (NodeId(n), q)).collect(), chargers: self.last_pool }
     }
 
     /// Every unloading zone and charger, the charger queue where robots queued, and the ten
@@ -192,6 +236,79 @@ impl Usage {
             .or_else(|| out.iter().filter(queued).max_by(|a, b| a.mean_queue.total_cmp(&b.mean_queue).then_with(|| b.node.cmp(&a.node))))
             .map(|u| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, shared_chargers, unload_nearest, reserve) });
         (out, bottleneck)
+    }
+}
+
+/// Every node's queue and the charger queue, frame by frame, kept as the frames where they
+/// changed: what a replay's footer holds for the resources its run reported.
+#[derive(Clone, Debug, Default)]
+pub struct QueueLog {
+    /// The nodes' names, which the report's resources go by.
+    names: Vec<String>,
+    /// Each node's queue in the frame last recorded.
+    now: Vec<u32>,
+    /// Per node, `[frame, robots, frame, robots, ...]`: from that frame on, that queue.
+    changes: Vec<Vec<u64>>,
+    /// The nodes with a queue in the frame last recorded.
+    queued: Vec<u32>,
+    /// Per node, the last frame (+ 1) it had a queue in.
+    seen: Vec<u64>,
+    pool: u32,
+    pool_changes: Vec<u64>,
+}
+
+impl QueueLog {
+    /// A log for `layout`'s nodes; every queue is empty until recorded otherwise.
+    #[must_use]
+    pub fn new(layout: &Layout) -> QueueLog {
+        let nodes = layout.nodes.len();
+        let names = layout.nodes.iter().map(|n| n.name.clone()).collect();
+        QueueLog { names, now: vec![0; nodes], changes: vec![Vec::new(); nodes], seen: vec![0; nodes], ..QueueLog::default() }
+    }
+
+    /// The queues of `frame` (recorded in order).
+    pub fn record(&mut self, frame: u64, q: &Queues) {
+        let mark = frame + 1;
+        for &(node, count) in &q.nodes {
+            let k = node.index();
+            self.seen[k] = mark;
+            if self.now[k] != count {
+                self.now[k] = count;
+                self.changes[k].extend([frame, u64::from(count)]);
+            }
+        }
+        // A node queued in the last frame and not in this one has emptied.
+        for &k in &self.queued {
+            let k = k as usize;
+            if self.seen[k] != mark {
+                self.now[k] = 0;
+                self.changes[k].extend([frame, 0]);
+            }
+        }
+        self.queued.clear();
+        self.queued.extend(q.nodes.iter().map(|&(n, _)| n.0));
+        if q.chargers != self.pool {
+            self.pool = q.chargers;
+            self.pool_changes.extend([frame, u64::from(q.chargers)]);
+        }
+    }
+
+    /// For each of `resources` (a run's report), the frames where its queue changed, as
+    /// `[frame, robots, ...]`.
+    #[must_use]
+    pub fn to_json(&self, resources: &[ResourceUse]) -> Value {
+        let none: Vec<u64> = Vec::new();
+        resources
+            .iter()
+            .map(|u| {
+                let changes = if u.kind == ResourceKind::ChargerQueue {
+                    &self.pool_changes
+                } else {
+                    self.names.iter().position(|n| *n == u.node).map_or(&none, |k| &self.changes[k])
+                };
+                json!(changes)
+            })
+            .collect()
     }
 }
 
@@ -250,6 +367,31 @@ fn few_westward_rows(layout: &Layout) -> bool {
 mod tests {
     use super::*;
     use crate::world::layout::{Aisles, LayoutParams};
+
+    #[test]
+    fn a_queue_log_keeps_the_frames_where_each_queue_changed() {
+        let layout = Layout::generate(&LayoutParams { group_rows: 2, group_cols: 2, chargers: 3, ..LayoutParams::paper() }, "g").unwrap();
+        let (a, b) = (NodeId(1), NodeId(2));
+        let mut log = QueueLog::new(&layout);
+        let frames = [
+            Queues::default(),
+            Queues { nodes: vec![(a, 2)], chargers: 0 },
+            Queues { nodes: vec![(a, 2), (b, 1)], chargers: 3 },
+            Queues { nodes: vec![(b, 4)], chargers: 3 },
+            Queues::default(),
+        ];
+        for (f, q) in frames.iter().enumerate() {
+            log.record(f as u64, q);
+        }
+        let use_of = |kind, node: &str| ResourceUse { kind, node: node.into(), busy: 0.0, mean_queue: 0.0, longest_queue: 0 };
+        let resources = [
+            use_of(ResourceKind::Crossing, &layout.nodes[1].name),
+            use_of(ResourceKind::Crossing, &layout.nodes[2].name),
+            use_of(ResourceKind::ChargerQueue, "chargers"),
+            use_of(ResourceKind::Crossing, &layout.nodes[3].name),
+        ];
+        assert_eq!(log.to_json(&resources), json!([[1, 2, 3, 0], [2, 1, 3, 4, 4, 0], [2, 3, 4, 0], []]));
+    }
 
     #[test]
     fn crossing_advice_names_only_what_the_run_does_not_do() {

@@ -18,6 +18,7 @@ use crate::input::csv::Tables;
 use crate::input::scenario::{Rules, Scenario};
 use crate::output::events::Event;
 use crate::output::metrics::{Outcome, RobotStats, RunResult};
+use crate::output::resources::Queues;
 use crate::people::People;
 use crate::world::World;
 use original::measured::OriginalRun;
@@ -71,6 +72,11 @@ pub(crate) trait Engine {
     fn allocator_name(&self) -> &str;
     /// Robot `i`'s remaining route as waypoints, starting at its position.
     fn route_of(&self, i: usize) -> Vec<(f64, f64)>;
+    /// The queues of the last step, as the resources report counts them (none where the
+    /// rules report no resources).
+    fn queues(&self) -> Queues {
+        Queues::default()
+    }
 }
 
 /// A run in progress.
@@ -266,5 +272,11 @@ impl Simulation {
     #[must_use]
     pub fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
         self.engine().route_of(i)
+    }
+    /// The robots queued in the last step, at each node and for a shared charger, counted as
+    /// the result's `resources` count them (`output/resources.rs`): what viewers draw.
+    #[must_use]
+    pub fn queues(&self) -> Queues {
+        self.engine().queues()
     }
 }

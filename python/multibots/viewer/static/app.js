@@ -1,7 +1,7 @@
 // MultiBots viewer: the page. Replay mode plays chunks fetched on demand; live mode shows
 // the frames the server streams and sends it pause / resume / step / speed.
 import { Renderer, stateName, formatT, setNames } from "./draw.js";
-import { ReplaySource, LiveSource, setCodec, setEventNames, stateCode, isMarked, headingAngle } from "./data.js";
+import { ReplaySource, LiveSource, setCodec, setEventNames, stateCode, isMarked, headingAngle, queuesAt } from "./data.js";
 
 const params = new URLSearchParams(location.search);
 const RENDER = params.get("render") === "1";
@@ -27,6 +27,24 @@ function setText(id, value) {
 function status(msg) { setText("status", msg || ""); }
 
 // ------------------------------------------------------------------ frame selection
+/** The resources' queues in frame f (docs/viewer.md): {resources, counts, bottleneck, line,
+ * final}. A replay has its run's report and each queue frame by frame; a live run sends the
+ * report so far and the queues now with every frame. Null where the run reports none. */
+function queuesOf(f) {
+  // Grid replays and the original rules report no resources: nothing to show.
+  const none = (r) => !r.resources || (!r.resources.length && !r.bottleneck);
+  if (app.mode === "replay") {
+    const m = app.meta;
+    if (none(m)) return null;
+    return { resources: m.resources, counts: queuesAt(m.queues, f), bottleneck: m.bottleneck,
+      line: m.bottleneck_line, final: true };
+  }
+  const L = app.source.latest;
+  if (!L || none(L.msg)) return null;
+  return { resources: L.msg.resources, counts: L.msg.queue, bottleneck: L.msg.bottleneck,
+    line: L.msg.bottleneck_line, final: !!L.msg.done };
+}
+
 function currentView() {
   const r = app.renderer;
   if (app.mode === "replay") {
@@ -44,7 +62,7 @@ function currentView() {
       info: {
         cells: app.source.cells(f), goals: app.source.goals(f), last: app.last, T: s.T, done: f === app.last,
         outcome: s.outcome, goodsTotal: app.meta.goods_total, selected: app.selected,
-        route: app.route, blinkOn: app.blink, next, alpha, zones: app.zones,
+        route: app.route, blinkOn: app.blink, next, alpha, zones: app.zones, queues: queuesOf(f),
       },
     };
   }
@@ -55,7 +73,7 @@ function currentView() {
     info: {
       cells: L.cells, last: null, T: L.msg.T, done: L.msg.done, outcome: L.msg.outcome,
       goodsTotal: L.msg.goods_total, selected: app.selected, route: app.route, blinkOn: app.blink,
-      zones: app.zones,
+      zones: app.zones, queues: queuesOf(L.frame.step),
     },
   };
 }
@@ -101,8 +119,34 @@ function drawFlow(windows, window, step) {
   }).join("");
 }
 
+/** The bottleneck line and the queues now, beside the map. */
+function drawQueues(q) {
+  const box = $("queues-box");
+  if (!q) { box.hidden = true; return; }
+  box.hidden = false;
+  setText("bottleneck-head", q.final ? "bottleneck" : "bottleneck so far");
+  setText("bottleneck-line", q.line || (q.final ? "none: no resource held the fleet up"
+    : "none yet"));
+  const rows = q.resources.map((u, j) => [u, q.counts[j]]).filter(([, c]) => c > 0)
+    .sort((a, b) => b[1] - a[1] || a[0].node.localeCompare(b[0].node));
+  const key = rows.map(([u, c]) => `${u.kind} ${u.node} ${c}`).join("|");
+  const list = $("queue-list");
+  if (list.dataset.key === key) return;
+  list.dataset.key = key;
+  list.replaceChildren(...rows.map(([u, c]) => {
+    const dt = document.createElement("dt");
+    dt.textContent = `${u.kind} ${u.node}`;
+    const dd = document.createElement("dd");
+    dd.textContent = String(c);
+    dd.dataset.node = u.node; dd.dataset.kind = u.kind;
+    return [dt, dd];
+  }).flat());
+  setText("queue-none", rows.length ? "" : "no robot queued now");
+}
+
 function updateDom(v) {
   const { frame, info } = v;
+  drawQueues(info.queues);
   if (app.mode === "replay") {
     const s = app.meta.summary || {};
     drawFlow(s.windows, s.window || 1000, frame.step);
@@ -322,6 +366,7 @@ async function renderFrame(f, blinkOn) {
   const info = {
     cells: app.source.cells(f), goals: app.source.goals(f), last: app.last, T: s.T, done: f === app.last,
     outcome: s.outcome, goodsTotal: app.meta.goods_total, selected: -1, route: null, blinkOn: blinkOn !== false,
+    queues: queuesOf(f),
   };
   app.renderer.draw(frame, info);
   app.shown = { frame, info };
@@ -346,6 +391,11 @@ function exposeHooks() {
         paused: app.mode === "live" ? !!(app.source.latest && app.source.latest.msg.paused) : !app.playing,
         version: app.mode === "live" && app.source.latest ? app.source.latest.msg.version : null,
       };
+    },
+    // The queue badges drawn last, in client px: {node, kind, count, x, y, w, h}.
+    badges: () => {
+      const rect = $("view").getBoundingClientRect();
+      return app.renderer.badges.map((b) => ({ ...b, x: rect.left + b.x, y: rect.top + b.y }));
     },
     robot: (i) => {
       const v = app.shown;

@@ -238,3 +238,16 @@ export class LiveSource {
 
   close() { this.es.close(); }
 }
+
+/** The robots queued at each resource in frame f, from each one's queue as the replay's
+ * footer keeps it: [frame, robots, frame, robots, ...] where it changed (docs/replay-format.md). */
+export function queuesAt(changes, f) {
+  return (changes || []).map((c) => {
+    let lo = 0, hi = c.length / 2 - 1, k = -1;
+    while (lo <= hi) {
+      const mid = (lo + hi) >> 1;
+      if (c[2 * mid] <= f) { k = mid; lo = mid + 1; } else hi = mid - 1;
+    }
+    return k < 0 ? 0 : c[2 * k + 1];
+  });
+}

@@ -34,6 +34,9 @@ export const COLOURS = {
   personEdge: "#10243e",
   zoneProtective: "#c81e1e",  // a robot's zones around people (the z key)
   zoneWarning: "#e6a000",
+  queue: "#e65100",           // a resource's queue: a badge with its robots
+  queueText: "#ffffff",
+  bottleneck: "#e6007e",      // the run's bottleneck: a ring around it
 };
 
 const GROUP_COLOURS = [COLOURS.blue, COLOURS.red, COLOURS.green, COLOURS.grey, COLOURS.other];
@@ -92,6 +95,9 @@ export class Renderer {
     this._indexCells();
     this.groups = new Int32Array(this.n);
     this.groupCount = new Int32Array(GROUP_COLOURS.length);
+    // Resources go by their node's name (docs/metrics.md); the chargers' queue by "chargers".
+    this.nodeOf = new Map((meta.layout.nodes || []).map((nd, k) => [nd.name, k]));
+    this.badges = [];  // the queue badges drawn last: {node, count, x, y, w, h} in css px
   }
 
   // --------------------------------------------------------------- geometry
@@ -252,6 +258,9 @@ export class Renderer {
       // People only when the run has them (docs/people.md); their zones are drawn with z.
       ...(this.humans ? [["person", COLOURS.person, "person"],
                          ["zones", null, "robot's protective, warning zone (z)"]] : []),
+      // Queues and the bottleneck where the run reports resources (a live run always does).
+      ...(this.meta.mode === "live" || (this.meta.resources || []).length
+        ? [["queue", COLOURS.queue, "robots queued"], ["bottleneck", COLOURS.bottleneck, "bottleneck"]] : []),
     ];
   }
 
@@ -311,6 +320,11 @@ export class Renderer {
         ctx.strokeStyle = COLOURS.zoneProtective;
         ctx.beginPath(); ctx.arc(cx, cy, 4 * ui, 0, TAU); ctx.stroke();
         ctx.setLineDash([]);
+      } else if (kind === "queue") {
+        this._badge(ctx, cx - 7 * ui, cy - 7.5 * ui, "3", ui);
+      } else if (kind === "bottleneck") {
+        ctx.strokeStyle = colour; ctx.lineWidth = 2.5 * ui;
+        ctx.beginPath(); ctx.arc(cx, cy, 6 * ui, 0, TAU); ctx.stroke();
       } else if (kind === "battery") {
         const w = 5 * ui;
         [COLOURS.batteryOk, COLOURS.batteryLow, COLOURS.batteryCritical].forEach((c, k) => {
@@ -639,7 +653,57 @@ export class Renderer {
     if (info.selected >= 0 && info.route && info.route.length > 1) this._drawRoute(ctx, frame, info);
     this._drawRobots(ctx, frame, info);
     if (this.humans && frame.hx && frame.hx.length) this._drawPeople(ctx, frame, info);
+    this.badges = [];
+    if (info.queues && !this.grid) this._drawQueues(ctx, info.queues);
     ctx.restore();
+  }
+
+  /** A badge of the robots queued, with its top-left corner at css point (x, y). */
+  _badge(ctx, x, y, label, ui) {
+    ctx.save();
+    ctx.font = `bold ${11 * ui}px ${FONT}`;
+    const w = Math.max(15 * ui, ctx.measureText(label).width + 8 * ui), h = 15 * ui;
+    ctx.fillStyle = COLOURS.queue;
+    ctx.beginPath();
+    if (ctx.roundRect) ctx.roundRect(x, y, w, h, 4 * ui); else ctx.rect(x, y, w, h);
+    ctx.fill();
+    ctx.fillStyle = COLOURS.queueText;
+    ctx.textAlign = "center"; ctx.textBaseline = "middle";
+    ctx.fillText(label, x + w / 2, y + h / 2 + 0.5 * ui);
+    ctx.restore();
+    return [w, h];
+  }
+
+  /** The resources' queues (docs/viewer.md): a ring around the bottleneck (every charger when
+   * it is the chargers' queue), and at each resource with robots queued a badge with their
+   * number, beside its node. queues: {resources, counts, bottleneck}; the charger queue has
+   * no node of its own and is listed beside the map only. */
+  _drawQueues(ctx, queues) {
+    const ui = this.ui, d = this.dpr, nodes = this.layout.nodes;
+    const b = queues.bottleneck;
+    ctx.setTransform(d, 0, 0, d, 0, 0);
+    if (b) {
+      const ring = b.kind === "charger-queue" ? (this.layout.chargers || []) : [this.nodeOf.get(b.node)];
+      ctx.strokeStyle = COLOURS.bottleneck; ctx.lineWidth = 3 * ui;
+      ctx.beginPath();
+      for (const k of ring) {
+        if (k === undefined) continue;
+        const [sx, sy] = this.toScreen(nodes[k].x, nodes[k].y);
+        const r = Math.max(9 * ui, this.aisle * 0.5 * this.scale);
+        ctx.moveTo(sx + r, sy); ctx.arc(sx, sy, r, 0, TAU);
+      }
+      ctx.stroke();
+    }
+    const off = Math.max(6 * ui, this.aisle * 0.3 * this.scale);
+    queues.resources.forEach((u, j) => {
+      const count = queues.counts[j];
+      const k = this.nodeOf.get(u.node);
+      if (!count || u.kind === "charger-queue" || k === undefined) return;
+      const [sx, sy] = this.toScreen(nodes[k].x, nodes[k].y);
+      const x = sx + off, y = sy - off - 15 * ui;
+      const [w, h] = this._badge(ctx, x, y, String(count), ui);
+      this.badges.push({ node: u.node, kind: u.kind, count, x, y, w, h });
+    });
   }
 
   /** People as seen from above (shoulders and head), and on demand (info.zones) the

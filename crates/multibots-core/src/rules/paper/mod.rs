@@ -352,6 +352,9 @@ impl Engine for Paper {
     fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
         route::remaining(&self.robots, &self.world.graph, i)
     }
+    fn queues(&self) -> crate::output::resources::Queues {
+        self.usage.queues()
+    }
 }
 
 #[cfg(test)]
