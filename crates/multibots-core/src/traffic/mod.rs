@@ -51,6 +51,13 @@ fn straight(g: &HighwayGraph, a: u32, b: u32) -> bool {
     ux * wx + uy * wy > 1.0 - 1e-9 && (ux * wy - uy * wx).abs() < 1e-9
 }
 
+/// Whether node `w`, reached from `v`, is a dead end: every way on from it leads back to `v`
+/// (a charger at the end of its spur). A crossing with one way out (at the warehouse's edge,
+/// where a one-way aisle meets the wall's) is not: a detour through it goes on.
+fn dead_end(g: &HighwayGraph, v: u32, w: u32) -> bool {
+    g.out(w as usize).iter().all(|&x| x == v)
+}
+
 /// Phase 3 for the fleet: who waits, and how far each robot that wants to move may travel.
 /// Without a policy (`wait`), the paper's collision waiting decides; `gate` keeps its
 /// decisions and adds crossings taken one at a time; `reserve` decides alone, then sorts the
@@ -375,7 +382,7 @@ impl TrafficState {
         }
         for e in g.out_edges(a.v) {
             let (_, w, _) = g.edge(e);
-            if e == a.e2 || g.out(w as usize).len() < 2 && w != r.goal[i] {
+            if e == a.e2 || dead_end(g, a.v, w) && w != r.goal[i] {
                 continue;
             }
             if self.room_on(r, g, i, e) {
@@ -410,7 +417,7 @@ impl TrafficState {
             let current = self.lanes.edge_of[i];
             for e in g.out_edges(v) {
                 let (_, w, _) = g.edge(e);
-                if e == current || g.out(w as usize).len() < 2 && w != r.goal[i] {
+                if e == current || dead_end(g, v, w) && w != r.goal[i] {
                     continue;
                 }
                 if self.room_on(r, g, i, e) {
