@@ -58,7 +58,7 @@ CASES: dict[str, dict[str, Any]] = {
     "one-row": {"robots": 600, "rate": 1.0, "rows": 6, "cols": 30, "width": 2, "height": 6, "aisles": None,
                 "unloading": 1, "chargers": 20, "seed": 11, "restock": 300},
     "dense": {"robots": 3000, "rate": 3.0, "rows": 16, "cols": 36, "width": 2, "height": 8, "aisles": None,
-              "unloading": 6, "chargers": 73, "walls": "top-bottom", "seed": 5, "allocator": "min-cost"},
+              "unloading": 6, "chargers": 73, "walls": "top-bottom", "seed": 5, "restock": 50},
 }
 
 MOVING = tuple(STATE_NAMES.index(s) for s in ("TO_PICKUP", "TO_DROP", "TO_CHARGER", "TO_HOME"))
