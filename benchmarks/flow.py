@@ -108,8 +108,6 @@ class Where:
             self.kind[k] = "unloading"
         for k in layout["chargers"]:
             self.kind[k] = "charger"
-        for u, w in layout["spurs"]:
-            self.kind[u] = "charger"
         self.rows: dict[int, tuple[list[float], list[int]]] = {}
         self.cols: dict[int, tuple[list[float], list[int]]] = {}
         for lines, key, along in ((self.rows, 1, 0), (self.cols, 0, 1)):
