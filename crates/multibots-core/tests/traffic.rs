@@ -136,9 +136,11 @@ fn reserve_lets_no_ring_of_full_lanes_freeze() {
     // Six rows of groups, one unloading row, a long restock: robots bound north from the
     // bottom row circle a block at the west wall, where the crossings have one way out. The
     // four lanes round the block fill and each head waits for the next lane. A detour through
-    // a crossing with one way out (at the wall, or on the unloading row) breaks the ring; when
-    // detours avoided every such crossing as if it were a charger's dead end, 103 robots stood
-    // frozen in such rings from step 12,000 (and more every few thousand steps after).
+    // a crossing with one way out (at the wall, or on the unloading row), as a last resort,
+    // breaks the ring; when detours avoided every such crossing as if it were a charger's dead
+    // end, 103 robots stood frozen in such rings from step 12,000 (and more every few thousand
+    // steps after). (Taken as soon as any detour, it cost a single busy unloading zone a
+    // quarter of its deliveries: `tests/bottleneck.rs`.)
     let mut s = common::lifelong(6, 30, 1, 20, Aisles::Auto, 600, 1.0, 20_000, Traffic::Reserve);
     let params = s.layout_generate.as_mut().unwrap();
     (params.group_width, params.group_height) = (2, 6);
