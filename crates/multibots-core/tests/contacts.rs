@@ -146,9 +146,9 @@ fn reserve_lets_no_two_robots_touch_on_random_warehouses() {
         let rows = robots / (4 * cols) + 2 + pick(3) as u32;
         let mut s = generated(&mut pick, robots, rows, cols, Traffic::Reserve);
         let (aisles, unloading_rows, chargers) = s.layout_generate.as_ref().map(|p| (p.aisles, p.unloading_rows, p.chargers)).unwrap();
-        // Small fleets charge within the horizon (a battery cycle of 1,300 steps); a big
+        // Small fleets charge within the horizon (a battery cycle of 810 steps of driving); a big
         // warehouse's longest trip needs a battery that lasts longer.
-        s.robot.consumption = if robots <= 500 { [0.0002, 0.005][pick(2) as usize] } else { [0.0002, 0.0008][pick(2) as usize] };
+        s.robot.consumption = if robots <= 500 { [0.0002, 0.008][pick(2) as usize] } else { [0.0002, 0.0008][pick(2) as usize] };
         s.collision.margin = [0.0, 3.0][pick(2) as usize];
         if seed % 2 == 0 {
             s.humans = Some(multibots_core::input::scenario::Humans { count: robots / 20, seed, ..Default::default() });

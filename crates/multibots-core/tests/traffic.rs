@@ -113,3 +113,42 @@ fn the_original_rules_refuse_a_traffic_policy() {
     s.traffic = Traffic::Reserve;
     assert_eq!(Simulation::new(&s).err().unwrap().to_string(), "traffic = \"reserve\": the original rules have their own collision rule");
 }
+
+/// Robots under way that stood still over the last `steps` steps of a run of `sim`, counted
+/// from positions.
+fn frozen(sim: &mut Simulation, steps: u64) -> usize {
+    let r = sim.robots();
+    let before: Vec<(f64, f64)> = r.x.iter().copied().zip(r.y.iter().copied()).collect();
+    let mut moved = vec![false; before.len()];
+    for _ in 0..steps {
+        sim.step().unwrap();
+        let r = sim.robots();
+        for (i, m) in moved.iter_mut().enumerate() {
+            *m |= (r.x[i], r.y[i]) != before[i];
+        }
+    }
+    let r = sim.robots();
+    (0..before.len()).filter(|&i| !moved[i] && r.state[i].travels()).count()
+}
+
+#[test]
+fn reserve_lets_no_ring_of_full_lanes_freeze() {
+    // Six rows of groups, one unloading row, a long restock: robots bound north from the
+    // bottom row circle a block at the west wall, where the crossings have one way out. The
+    // four lanes round the block fill and each head waits for the next lane. A detour through
+    // a crossing with one way out (at the wall, or on the unloading row), as a last resort,
+    // breaks the ring; when detours avoided every such crossing as if it were a charger's dead
+    // end, 103 robots stood frozen in such rings from step 12,000 (and more every few thousand
+    // steps after). (Taken as soon as any detour, it cost a single busy unloading zone a
+    // quarter of its deliveries: `tests/bottleneck.rs`.)
+    let mut s = common::lifelong(6, 30, 1, 20, Aisles::Auto, 600, 1.0, 20_000, Traffic::Reserve);
+    let params = s.layout_generate.as_mut().unwrap();
+    (params.group_width, params.group_height) = (2, 6);
+    s.robot.consumption = 0.00002;
+    s.orders.as_mut().unwrap().restock = 300;
+    s.orders.as_mut().unwrap().seed = 11;
+    let mut sim = Simulation::new(&s).unwrap();
+    sim.steps(12_000).unwrap();
+    let stuck = frozen(&mut sim, 500);
+    assert!(stuck < 20, "{stuck} robots under way stood still for 500 steps");
+}

@@ -82,9 +82,11 @@ pub struct Dispatcher {
     decisions: u64,
 }
 
-/// The world of `scenario`, the one given when it is on the same layout.
+/// The world of `scenario`, the one given when it is on the same layout with the same routes
+/// (`reserve` has its own, `World::of`).
 pub(crate) fn world_for(world: &Arc<World>, old: &Scenario, new: &Scenario) -> Result<Arc<World>> {
-    if new.layout == old.layout && new.layout_generate == old.layout_generate {
+    let reserve = |s: &Scenario| s.traffic == crate::input::scenario::Traffic::Reserve;
+    if new.layout == old.layout && new.layout_generate == old.layout_generate && reserve(new) == reserve(old) {
         Ok(Arc::clone(world))
     } else {
         World::of(new)

@@ -27,9 +27,11 @@ pub fn worker_count(workers: usize, runs: usize) -> usize {
 
 /// What a layout is built from: scenarios with equal keys share a world.
 fn layout_key(s: &Scenario) -> String {
+    // `reserve` routes round the unloading zones (`World::of`): its own world.
+    let routes = if s.traffic == crate::input::scenario::Traffic::Reserve { "reserve:" } else { "" };
     match &s.layout_generate {
-        Some(p) => format!("generate:{}", serde_json::to_string(p).expect("parameters serialise")),
-        None => format!("layout:{}", s.layout),
+        Some(p) => format!("{routes}generate:{}", serde_json::to_string(p).expect("parameters serialise")),
+        None => format!("{routes}layout:{}", s.layout),
     }
 }
 

@@ -51,6 +51,20 @@ fn straight(g: &HighwayGraph, a: u32, b: u32) -> bool {
     ux * wx + uy * wy > 1.0 - 1e-9 && (ux * wy - uy * wx).abs() < 1e-9
 }
 
+/// Steps a robot waits for room before a detour may go through a crossing with one way out.
+pub const LAST_RESORT_AFTER: u32 = 4 * DETOUR_AFTER;
+
+/// Whether a robot refused `refusals` steps may detour from `v` through `w`. Never into a
+/// dead end, where every way on leads back to `v` (a charger at the end of its spur). A
+/// crossing with one way out (at the warehouse's walls, on the bottom row) goes on, but a
+/// detour through it only comes after [`LAST_RESORT_AFTER`] steps: sooner, robots queued
+/// for a busy place leave their queue for long loops; never, and the four full lanes round
+/// a block at a wall wait for each other for good.
+fn may_detour_to(g: &HighwayGraph, v: u32, w: u32, refusals: u32) -> bool {
+    let out = g.out(w as usize);
+    out.len() > 1 || refusals >= LAST_RESORT_AFTER && out.iter().any(|&x| x != v)
+}
+
 /// Phase 3 for the fleet: who waits, and how far each robot that wants to move may travel.
 /// Without a policy (`wait`), the paper's collision waiting decides; `gate` keeps its
 /// decisions and adds crossings taken one at a time; `reserve` decides alone, then sorts the
@@ -375,7 +389,7 @@ impl TrafficState {
         }
         for e in g.out_edges(a.v) {
             let (_, w, _) = g.edge(e);
-            if e == a.e2 || g.out(w as usize).len() < 2 && w != r.goal[i] {
+            if e == a.e2 || !may_detour_to(g, a.v, w, self.exit_refusals[i]) && w != r.goal[i] {
                 continue;
             }
             if self.room_on(r, g, i, e) {
@@ -410,7 +424,7 @@ impl TrafficState {
             let current = self.lanes.edge_of[i];
             for e in g.out_edges(v) {
                 let (_, w, _) = g.edge(e);
-                if e == current || g.out(w as usize).len() < 2 && w != r.goal[i] {
+                if e == current || !may_detour_to(g, v, w, self.exit_refusals[i]) && w != r.goal[i] {
                     continue;
                 }
                 if self.room_on(r, g, i, e) {

@@ -81,11 +81,27 @@ impl HighwayGraph {
             }
         }
         let mut g = HighwayGraph { n, out_start, out_to, next: vec![NO_HOP; n * n], length: vec![0.0; lengths], x, y, edge_from, edge_len };
-        g.build_tables();
+        g.build_tables(&[]);
         g
     }
 
-    fn build_tables(&mut self) {
+    /// The same graph, routed so that among the shortest paths (fewest hops) each route takes
+    /// the one through the fewest nodes marked in `avoid` (its target not counted) that is no
+    /// longer in px than the spec's, then the first in the search's order. Routes keep their
+    /// hops and get no longer; only ties change. Used
+    /// under `traffic = "reserve"` to keep through traffic off unloading zones, where robots
+    /// stand for the unloading time (docs/traffic.md, rule 7).
+    #[must_use]
+    pub fn routed_around(mut self, avoid: &[bool]) -> HighwayGraph {
+        assert_eq!(avoid.len(), self.n, "one mark per node");
+        self.next.fill(NO_HOP);
+        self.build_tables(avoid);
+        self
+    }
+
+    /// The next-hop (and length) tables; `avoid` empty: the spec's BFS choice, else see
+    /// [`HighwayGraph::routed_around`].
+    fn build_tables(&mut self, avoid: &[bool]) {
         let n = self.n;
         // Reverse adjacency for the distance-to-target searches.
         let mut rev: Vec<Vec<u32>> = vec![Vec::new(); n];
@@ -98,8 +114,14 @@ impl HighwayGraph {
         let mut dist = vec![u32::MAX; n];
         let mut order = Vec::with_capacity(n);
         let mut queue = VecDeque::with_capacity(n);
+        // Per node, the avoided nodes its chosen path to the current target passes through,
+        // and its length.
+        let mut around = vec![(0u32, 0.0f64); if avoid.is_empty() { 0 } else { n }];
         for t in 0..n {
             dist.fill(u32::MAX);
+            if !avoid.is_empty() {
+                around[t] = (0, 0.0);
+            }
             order.clear();
             dist[t] = 0;
             queue.push_back(t as u32);
@@ -120,7 +142,32 @@ impl HighwayGraph {
                     continue;
                 }
                 let want = dist[u] - 1;
-                let k = self.out(u).iter().position(|&v| dist[v as usize] == want).expect("a node one hop closer exists");
+                let k = if avoid.is_empty() {
+                    self.out(u).iter().position(|&v| dist[v as usize] == want).expect("a node one hop closer exists")
+                } else {
+                    // Among the out-neighbours one hop closer (their paths known), the first
+                    // whose path passes the fewest avoided nodes, itself included, and is no
+                    // longer than the first one's (the spec's choice).
+                    let mut best: Option<(u32, f64, usize)> = None;
+                    let mut limit = f64::INFINITY;
+                    for (k, &v) in self.out(u).iter().enumerate() {
+                        let v = v as usize;
+                        if dist[v] != want {
+                            continue;
+                        }
+                        let length = self.segment(u, v) + around[v].1;
+                        if best.is_none() {
+                            limit = length + 1e-9;
+                        }
+                        let passes = around[v].0 + u32::from(v != t && avoid[v]);
+                        if length <= limit && best.map_or(true, |(p, _, _)| passes < p) {
+                            best = Some((passes, length, k));
+                        }
+                    }
+                    let (passes, length, k) = best.expect("a node one hop closer exists");
+                    around[u] = (passes, length);
+                    k
+                };
                 self.next[t * n + u] = k as u8;
                 if with_length {
                     let v = self.out(u)[k] as usize;
@@ -452,6 +499,44 @@ mod tests {
                 assert_eq!(g.walk_length(NodeId(u), NodeId(t)), g.path_length(NodeId(u), NodeId(t)));
             }
         }
+    }
+
+    #[test]
+    fn routes_round_unloading_zones_are_as_short_and_pass_fewer() {
+        // A warehouse with unloading zones on three rows of crossings: every route keeps its
+        // hops, is no longer, passes no more unloading zones than the spec's route (its target
+        // not counted), and many pass fewer.
+        let p = crate::world::layout::LayoutParams {
+            group_rows: 9,
+            group_cols: 8,
+            chargers: 9,
+            unloading_rows: 3,
+            aisles: crate::world::layout::Aisles::Alternate,
+            ..crate::world::layout::LayoutParams::paper()
+        };
+        let l = Layout::generate(&p, "g").unwrap();
+        let plain = HighwayGraph::new(&l);
+        let mut unloading = vec![false; l.nodes.len()];
+        for &u in &l.unloading {
+            unloading[u.index()] = true;
+        }
+        let around = plain.clone().routed_around(&unloading);
+        validate(&l, &around).unwrap();
+        let passes = |path: &[NodeId]| path.iter().skip(1).take(path.len().saturating_sub(2)).filter(|v| unloading[v.index()]).count();
+        let (mut fewer, mut before, mut after) = (0, 0, 0);
+        for u in 0..l.nodes.len() as u32 {
+            for t in 0..l.nodes.len() as u32 {
+                let (a, b) = (plain.node_path(NodeId(u), NodeId(t)).unwrap(), around.node_path(NodeId(u), NodeId(t)).unwrap());
+                assert_eq!(a.len(), b.len(), "{u} -> {t}: as many hops");
+                assert_eq!(a.first(), b.first());
+                assert_eq!(a.last(), b.last());
+                assert!(around.path_length(NodeId(u), NodeId(t)) <= plain.path_length(NodeId(u), NodeId(t)) + 1e-6, "{u} -> {t}: no longer");
+                assert!(passes(&b) <= passes(&a), "{u} -> {t}: {} through {}", names(&l, &b), names(&l, &a));
+                fewer += usize::from(passes(&b) < passes(&a));
+                (before, after) = (before + passes(&a), after + passes(&b));
+            }
+        }
+        assert!(fewer > 1000 && after * 4 < before * 3, "{fewer} routes pass fewer; {before} passes before, {after} after");
     }
 
     #[test]

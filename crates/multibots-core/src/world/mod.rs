@@ -7,7 +7,7 @@ pub mod layout;
 pub(crate) mod placement;
 
 use crate::error::Result;
-use crate::input::scenario::Scenario;
+use crate::input::scenario::{Scenario, Traffic};
 use crate::world::layout::{Layout, NodeKind};
 use graph::HighwayGraph;
 use std::sync::Arc;
@@ -28,9 +28,23 @@ impl World {
         Ok(Arc::new(World { layout, graph }))
     }
 
-    /// The world a scenario names: `"paper"`, a layout file, or `[layout_generate]`.
+    /// The world a scenario names: `"paper"`, a layout file, or `[layout_generate]`. Under
+    /// `traffic = "reserve"` routes keep through traffic off the unloading zones where a route
+    /// as short does ([`HighwayGraph::routed_around`]); under the other policies they are the
+    /// paper's.
     pub fn of(scenario: &Scenario) -> Result<Arc<World>> {
-        World::new(scenario.resolve_layout()?)
+        let layout = scenario.resolve_layout()?;
+        layout.check_size()?;
+        let mut graph = HighwayGraph::new(&layout);
+        graph::validate(&layout, &graph)?;
+        if scenario.traffic == Traffic::Reserve {
+            let mut unloading = vec![false; graph.len()];
+            for &u in &layout.unloading {
+                unloading[u.index()] = true;
+            }
+            graph = graph.routed_around(&unloading);
+        }
+        Ok(Arc::new(World { layout, graph }))
     }
 
     /// Whether a node is a charger.
@@ -51,5 +65,28 @@ impl World {
             b[3] = b[3].max(node.y);
         }
         b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ids::NodeId;
+
+    #[test]
+    fn reserve_routes_round_unloading_zones_and_the_other_policies_keep_the_spec_routes() {
+        let mut s = Scenario::from_toml(include_str!("../../../../scenarios/warehouse-1000.toml"), "w.toml").unwrap();
+        let spec = |w: &World| {
+            let fresh = HighwayGraph::new(&w.layout);
+            (0..w.graph.len() as u32)
+                .step_by(7)
+                .all(|u| (0..w.graph.len() as u32).all(|t| w.graph.node_path(NodeId(u), NodeId(t)) == fresh.node_path(NodeId(u), NodeId(t))))
+        };
+        for traffic in [Traffic::Wait, Traffic::Gate] {
+            s.traffic = traffic;
+            assert!(spec(&World::of(&s).unwrap()), "{traffic:?}");
+        }
+        s.traffic = Traffic::Reserve;
+        assert!(!spec(&World::of(&s).unwrap()));
     }
 }
