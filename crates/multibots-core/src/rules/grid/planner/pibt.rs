@@ -11,21 +11,24 @@
 //! and a crowded warehouse then jams (measured on `warehouse_large` with 5,000 robots: 20,695
 //! tasks against 73,257). A robot takes the free neighbouring cell (or its own) nearest its
 //! errand by exact distance on the highways (`guidance.rs`), or by grid distance for
-//! `pibt-no-highways`; ties go to the lane with fewer robots on its next 8 cells, then to
-//! the cell straight ahead (no turn needed), then to a seeded random order.
+//! `pibt-no-highways`; ties go to the lane with fewer robots on its next 8 cells (not for
+//! `pibt-no-lanes`), then to the cell straight ahead (no turn needed), then to a seeded
+//! random order. If another robot stands there, that robot is asked to move first and
+//! inherits the priority; if it cannot, the next cell is tried (backtracking). The
+//! result has no vertex conflict and no swap.
 //!
 //! The lane count matters on shelf maps. A robot bound for a shelf across the map has many
 //! equally short routes (along the open band by the stations, then down; or down first,
 //! then along a shelf corridor), and preferring the cell ahead keeps every such robot on
-//! the band, which fills: on `MR24-WAREHOUSE` (10,000 robots) the band in front of the
-//! stations jammed and the finished tasks fell from 18,354 in the first 1,000 steps to
-//! 11,711 and 8,784 in the next. Taking the emptier lane spreads them over the shelf
-//! corridors: 59,326 tasks in 3,000 steps against 38,849 (seeds 1 and 2 of the tie-breaks:
-//! 51,858 and 49,177 against 35,011). It only breaks ties: ranking a crowded lane below
-//! a longer route, or below waiting, made robots wait for each other in a circle and the
-//! fleet stopped within 1,000 steps (measured, then left out). If another robot stands there, that robot is asked to move first and
-//! inherits the priority; if it cannot, the next cell is tried (backtracking). The
-//! result has no vertex conflict and no swap.
+//! the band, which fills: on `MR24-WAREHOUSE` (10,000 robots, scheduler `nearest`) the band
+//! in front of the stations jammed and the finished tasks fell from 18,354 in the first
+//! 1,000 steps to 11,711 and 8,784 in the next. Taking the emptier lane spreads them over the
+//! shelf corridors: 59,326 tasks in 3,000 steps against 38,849 (tie-break seeds 1 and 2:
+//! 51,858 and 49,177; seed 1 without it: 35,011); with `spread`, 78,269 against 52,915. It
+//! only breaks ties: ranking a crowded lane below a longer route, or below waiting, made
+//! robots wait for each other in a circle and the fleet stopped within 1,000 steps
+//! (measured, then left out). On the 2023 instances, whose errands come in a fixed order, it
+//! costs (MR23-I-10: 83,981 against 95,115), hence `pibt-no-lanes`.
 //!
 //! Plain PIBT deadlocks where two robots meet head-on in a corridor that ends (a dead end of
 //! the random maps): the one of higher priority wants in, the other can only leave through
@@ -90,6 +93,8 @@ pub struct Pibt {
     /// it), or `NONE`.
     bound: Vec<u32>,
     bonus: Vec<u32>,
+    /// Whether ties go to the emptier lane (`pibt`) or straight to the cell ahead.
+    lanes: bool,
 }
 
 struct Frame {
@@ -119,9 +124,10 @@ const TABLE_BUDGET: usize = 2 << 30;
 
 impl Pibt {
     /// A planner for `robots` robots on `map`, seeded by `seed`, whose distances follow
-    /// the highways (`guidance.rs`) if `highways`.
+    /// the highways (`guidance.rs`) if `highways`, and whose ties go to the emptier lane if
+    /// `lanes`.
     #[must_use]
-    pub fn new(map: &GridMap, robots: usize, seed: u64, highways: bool) -> Pibt {
+    pub fn new(map: &GridMap, robots: usize, seed: u64, highways: bool, lanes: bool) -> Pibt {
         let free = map.free.iter().filter(|&&f| f).count().max(1);
         let capacity = (TABLE_BUDGET / (2 * free)).max(robots + 1);
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -146,6 +152,7 @@ impl Pibt {
             queue: Vec::new(),
             bound: vec![NONE; robots],
             bonus: vec![0; robots],
+            lanes,
         }
     }
 
@@ -190,7 +197,8 @@ impl Pibt {
                 if d == FAR {
                     continue;
                 }
-                keyed[n] = (d, self.crowd_ahead(view, q, h), u8::from(h != view.heading[a]), self.rng.random::<u32>(), q);
+                let crowd = if self.lanes { self.crowd_ahead(view, q, h) } else { 0 };
+                keyed[n] = (d, crowd, u8::from(h != view.heading[a]), self.rng.random::<u32>(), q);
                 n += 1;
             }
         }
@@ -515,8 +523,12 @@ mod tests {
     use super::*;
 
     fn plan(map: &str, loc: &[u32], heading: &[u8], goals: &[u32]) -> Vec<Action> {
+        plan_with(map, loc, heading, goals, true)
+    }
+
+    fn plan_with(map: &str, loc: &[u32], heading: &[u8], goals: &[u32], lanes: bool) -> Vec<Action> {
         let map = GridMap::parse(map).unwrap();
-        let mut p = Pibt::new(&map, loc.len(), 7, false);
+        let mut p = Pibt::new(&map, loc.len(), 7, false, lanes);
         let mut actions = vec![Action::W; loc.len()];
         p.plan(&PlanView { map: &map, loc, heading, goals, t: 0 }, &mut actions);
         actions
@@ -539,6 +551,9 @@ mod tests {
         // With the lane empty, it goes straight ahead.
         let a = plan(map, &[0, 32, 33, 34], &[0, 0, 0, 0], &[21, 32, 33, 34]);
         assert_eq!(a[0], Action::F);
+        // Without the lane count (`pibt-no-lanes`) it goes straight ahead, robots or not.
+        let a = plan_with(map, &[0, 2, 3, 4], &[0, 0, 0, 0], &[21, 2, 3, 4], false);
+        assert_eq!(a, vec![Action::F, Action::W, Action::W, Action::W]);
     }
 
     #[test]

@@ -7,8 +7,9 @@
 //! one always finishes. `nearest` scores a task by its first errand only.
 //!
 //! ## When to use it
-//! `nearest` is the default: it finishes the most tasks. `greedy` to play the Start-Kit's
-//! default scheduler's rule; it prefers short tasks, so long ones pile up in the pool.
+//! `spread` (the default) is `nearest` counting the robots already bound for an errand.
+//! `greedy` to play the Start-Kit's default scheduler's rule; it prefers short tasks, so long
+//! ones pile up in the pool.
 //!
 //! ## Cost
 //! O(free robots × free tasks) per step: 50 million pairs at step 0 of 5,000 robots and a
@@ -77,7 +78,7 @@ fn by_scan(at: &[(u32, u32)], shape: &[(u32, u32, u32)]) -> Vec<Option<u32>> {
 }
 
 /// Robot-task pairs above which `nearest` searches in rings (the first steps of a big fleet).
-const RINGS_FROM: usize = 1_000_000;
+pub(super) const RINGS_FROM: usize = 1_000_000;
 
 /// [`by_scan`] without legs for many pairs: tasks bucketed by their first errand's cell, each
 /// robot takes the lowest untaken index in the cells of the first ring (grid distance 0, 1,
