@@ -118,18 +118,15 @@ class Where:
 
     def next_node(self, x: float, y: float, heading: float) -> int:
         dx, dy = round(np.cos(heading)), round(np.sin(heading))
-        if dx != 0 and dy == 0:
-            line = self.rows.get(round(y))
+        # Along a row (moving in x) or a column (moving in y): the line, the position on it,
+        # and the direction along it.
+        for lines, key, pos, step in ((self.rows, y, x, dx), (self.cols, x, y, dy)):
+            if step == 0 or (dx != 0 and dy != 0):
+                continue
+            line = lines.get(round(key))
             if line is not None:
                 coords, ids = line
-                k = bisect.bisect_left(coords, x - 1e-6) if dx > 0 else bisect.bisect_right(coords, x + 1e-6) - 1
-                if 0 <= k < len(ids):
-                    return ids[k]
-        if dy != 0 and dx == 0:
-            line = self.cols.get(round(x))
-            if line is not None:
-                coords, ids = line
-                k = bisect.bisect_left(coords, y - 1e-6) if dy > 0 else bisect.bisect_right(coords, y + 1e-6) - 1
+                k = bisect.bisect_left(coords, pos - 1e-6) if step > 0 else bisect.bisect_right(coords, pos + 1e-6) - 1
                 if 0 <= k < len(ids):
                     return ids[k]
         rel = self.xy - (x, y)
