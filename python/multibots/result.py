@@ -20,7 +20,7 @@ STATE_NAMES: tuple[str, ...] = tuple(_STATE_NAMES)
 #: ``horizon``: a lifelong run reached its horizon; ``incomplete``: the step limit came first;
 #: ``gridlock``: nothing moved for ``metrics.gridlock`` steps while robots waited at
 #: collisions; ``stranded``: robots ran out of energy and the rest could do nothing, or (at
-#: the horizon) robots stranded while throughput collapsed; ``stalled``: nothing happened
+#: the horizon, orders waiting) any robot is out of energy; ``stalled``: nothing happened
 #: while robots stood idle with work left; ``collapse``: a lifelong run reached its horizon
 #: with its last windows each under a tenth of the best while orders waited; ``livelock``:
 #: robots moved but nothing was picked up or delivered for two battery cycles.
@@ -148,7 +148,8 @@ class Result:
             robots closer than r_i + r_j after each step and the closest approach, for a
             gridlock the step, the waiting robots and the crossings where they wait, and
             for a collapse (outcomes ``collapse`` and ``stranded`` at the horizon) the step
-            it began, the best and last windows, the stranded robots and where robots stood;
+            it began (for robots stranded while the windows held, the step the first ran
+            out), the best and last windows, the stranded robots and where robots stood;
             resources: each unloading zone, charger, the charger queue and the busiest
             crossings with kind, node, busy share, mean and longest queue; bottleneck: the
             one that limits the fleet, with ``relieve`` (what would relieve it), or None.

@@ -232,3 +232,28 @@ def test_a_lifelong_run_past_its_fleet_says_how_to_find_the_rate_it_carries(cli,
     f.write_text(OVERLOADED.replace("rate = 0.5", "rate = 0.01"))
     out = cli("run", f)
     assert out.returncode == 0 and "backlog" not in out.stdout, out.stdout
+
+
+def test_robots_stranding_while_the_rest_deliver_exit_3_with_when_and_where(cli, tmp_path):
+    # A layout nobody tuned whose threshold charging strands robots one by one from step
+    # ~6,700 while the rest keep delivering (crates/multibots-core/tests/outcomes.rs has the
+    # engine's side): the run is not a normal `horizon`.
+    scenario = tmp_path / "untuned.toml"
+    scenario.write_text(
+        'robots = 900\ntasks = []\nplacement = "spread"\nunload = "nearest"\nallocator = "nearest"\n'
+        'traffic = "reserve"\n[layout_generate]\ngroup_rows = 14\ngroup_cols = 18\ngroup_width = 1\n'
+        'group_height = 5\nchargers = 60\ncharger_walls = "top-bottom"\n[charging]\nchargers = "shared"\n'
+        "[robot]\nconsumption = 0.0015\n[orders]\nrate = 1.2\nhorizon = 12000\nrestock = 150\nseed = 13\n"
+    )
+    p = cli("run", scenario, "--json")
+    assert p.returncode == 3, p.stderr
+    out = json.loads(p.stdout)
+    c = out["collapse"]
+    assert out["outcome"] == "stranded" and c["stranded"] == len(out["stranded"]) > 0
+    assert "the run ended stranded" in p.stderr
+    table = cli("run", scenario)
+    assert table.returncode == 3
+    line = next(x for x in table.stdout.splitlines() if x.startswith("stranded "))
+    assert f"from step {c['step']:,}: {c['stranded']} robots out of energy" in line
+    assert f"windows best {c['best']}, last {c['last']}" in line
+    assert f"{c['crossings'][0][0]} ({c['crossings'][0][1]})" in line

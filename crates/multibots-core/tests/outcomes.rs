@@ -7,6 +7,7 @@ mod common;
 
 use common::lifelong;
 use multibots_core::fleet::robot::State;
+use multibots_core::input::scenario::Scenario;
 use multibots_core::output::metrics::{Outcome, RunResult};
 use multibots_core::world::layout::Aisles;
 use multibots_core::{Simulation, Traffic};
@@ -67,6 +68,66 @@ fn a_fleet_stranding_robot_by_robot_ends_stranded() {
     assert!(stranded > 0 && stranded < 150);
     assert_eq!(r.outcome, Some(Outcome::Stranded));
     assert_eq!(r.collapse.as_ref().unwrap().stranded as usize, stranded);
+}
+
+#[test]
+fn robots_stranding_while_the_throughput_holds_end_stranded_with_when_and_where() {
+    // A layout nobody tuned (the generator's own aisles and unloading rows, chargers on two
+    // walls) whose threshold charging strands robots one by one from step ~6,700, while the
+    // rest keep delivering: the windows never fall to a tenth of the best for the last
+    // quarter, so only the stranded robots say that the fleet is failing.
+    let text = r#"
+        robots = 900
+        tasks = []
+        placement = "spread"
+        unload = "nearest"
+        allocator = "nearest"
+        traffic = "reserve"
+        [layout_generate]
+        group_rows = 14
+        group_cols = 18
+        group_width = 1
+        group_height = 5
+        chargers = 60
+        charger_walls = "top-bottom"
+        [charging]
+        chargers = "shared"
+        [robot]
+        consumption = 0.0015
+        [orders]
+        rate = 1.2
+        horizon = 12000
+        restock = 150
+        seed = 13
+    "#;
+    let s = Scenario::from_toml(text, "untuned.toml").unwrap();
+    let mut sim = Simulation::new(&s).unwrap();
+    let mut first = None;
+    while !sim.done() {
+        sim.step().unwrap();
+        if first.is_none() && sim.robots().state.contains(&State::Stranded) {
+            first = Some(sim.t());
+        }
+    }
+    let r = sim.result();
+    assert!(collapsed_from_windows(&r).is_none(), "{:?}", r.windows);
+    assert_eq!(r.outcome, Some(Outcome::Stranded), "{:?}", r.windows);
+    let robots = sim.robots();
+    let stranded: Vec<usize> = (0..robots.len()).filter(|&i| robots.state[i] == State::Stranded).collect();
+    let c = r.collapse.as_ref().unwrap();
+    assert_eq!(c.stranded as usize, stranded.len());
+    assert!(stranded.len() > 100 && stranded.len() < 900, "{}", stranded.len());
+    // When: the step the first robot ran out; and the windows as they are.
+    assert_eq!(Some(c.step), first);
+    assert_eq!((c.best, c.last), (*r.windows.iter().max().unwrap(), *r.windows.last().unwrap()));
+    // Where: the crossings the stranded robots stand at or drive towards, and no others.
+    let nodes = &sim.world().layout.nodes;
+    let at = |i: usize| if robots.at_node[i] == u32::MAX { robots.edge_v[i] } else { robots.at_node[i] };
+    for (name, k) in &c.crossings {
+        let node = nodes.iter().position(|n| &n.name == name).unwrap() as u32;
+        assert_eq!(stranded.iter().filter(|&&i| at(i) == node).count(), *k as usize, "{name}");
+    }
+    assert!(c.crossings.len() == 10 && c.crossings.windows(2).all(|p| p[0].1 >= p[1].1), "{:?}", c.crossings);
 }
 
 #[test]

@@ -191,11 +191,12 @@ pub struct Gridlock {
     pub crossings: Vec<(String, u32)>,
 }
 
-/// When and where a lifelong run's throughput collapsed.
+/// When and where a lifelong run's throughput collapsed, or its robots stranded.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Collapse {
     /// The first step of the first window of the run of last windows that each delivered
-    /// under a tenth of the best window.
+    /// under a tenth of the best window; if the throughput held but robots stranded, the step
+    /// the first of them ran out of energy.
     pub step: u64,
     /// Deliveries in the best window, and in the last one.
     pub best: u64,
@@ -203,7 +204,8 @@ pub struct Collapse {
     /// Robots out of energy at the end.
     pub stranded: u32,
     /// Where robots stood still at the end: the crossings that waiting or stranded robots
-    /// stand at or drive towards, with how many robots each, most first (at most ten).
+    /// (only stranded ones if the throughput held) stand at or drive towards, with how many
+    /// robots each, most first (at most ten).
     pub crossings: Vec<(String, u32)>,
 }
 
@@ -257,6 +259,8 @@ pub(crate) struct Tally {
     pub closest: f64,
     pub gridlock: Option<Gridlock>,
     pub collapse: Option<Collapse>,
+    /// The step the first robot ran out of energy.
+    pub first_stranded: Option<u64>,
     /// The last step a robot picked up or delivered goods.
     pub last_work: u64,
     /// Steps without a pickup or delivery (while work remains) that make a livelock; 0: never.
@@ -284,6 +288,7 @@ impl Tally {
             closest: f64::INFINITY,
             gridlock: None,
             collapse: None,
+            first_stranded: None,
             last_work: 0,
             livelock_after: 0,
         };
@@ -408,6 +413,12 @@ impl Tally {
     #[must_use]
     pub fn window(&self) -> u64 {
         self.window
+    }
+
+    /// Deliveries in each complete window so far.
+    #[must_use]
+    pub fn windows(&self) -> &[u64] {
+        &self.windows
     }
 
     /// Deliveries per 1,000 steps over the last half of the complete windows after the

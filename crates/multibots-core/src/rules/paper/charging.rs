@@ -140,6 +140,7 @@ impl Paper {
             self.robots.state[i] = State::Stranded;
             self.robots.energy[i] = 0.0;
             self.robots.routing[i] = false;
+            self.tally.first_stranded.get_or_insert(self.tally.t);
             self.event(EventKind::Strand, i, NONE);
         }
     }

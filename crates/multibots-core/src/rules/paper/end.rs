@@ -65,21 +65,28 @@ impl Paper {
         self.usage.observe(&self.robots, waits, &self.service_nodes, times);
     }
 
-    /// How a lifelong run that reached its horizon ended: `horizon`, or, if its throughput
-    /// collapsed while orders waited ([`crate::output::metrics::Tally::collapsed`]),
-    /// `stranded` when robots ran out of energy and `collapse` otherwise, with when and where
-    /// in the result.
+    /// How a lifelong run that reached its horizon ended: `horizon`, or, while orders waited,
+    /// `stranded` if robots ran out of energy (one by one while the rest still moved: the
+    /// fleet is shrinking, whatever its throughput), else `collapse` if its throughput
+    /// collapsed ([`crate::output::metrics::Tally::collapsed`]), with when and where in the
+    /// result.
     fn at_horizon(&mut self, work_remains: bool) -> Outcome {
-        let Some((first, best, last)) = self.tally.collapsed().filter(|_| work_remains) else {
-            return Outcome::Horizon;
-        };
         let r = &self.robots;
         let n = r.len();
-        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
-        let still = |i: usize| waits[i] || r.state[i] == State::Stranded;
         let stranded = (0..n).filter(|&i| r.state[i] == State::Stranded).count() as u32;
+        let collapsed = self.tally.collapsed();
+        if !work_remains || (collapsed.is_none() && stranded == 0) {
+            return Outcome::Horizon;
+        }
+        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        let still = |i: usize| (collapsed.is_some() && waits[i]) || r.state[i] == State::Stranded;
         let crossings = self.busiest_nodes((0..n).filter(|&i| still(i)));
-        self.tally.collapse = Some(Collapse { step: first as u64 * self.tally.window() + 1, best, last, stranded, crossings });
+        let windows = self.tally.windows();
+        let (step, best, last) = match collapsed {
+            Some((first, best, last)) => (first as u64 * self.tally.window() + 1, best, last),
+            None => (self.tally.first_stranded.unwrap_or(self.tally.t), windows.iter().copied().max().unwrap_or(0), windows.last().copied().unwrap_or(0)),
+        };
+        self.tally.collapse = Some(Collapse { step, best, last, stranded, crossings });
         if stranded > 0 {
             Outcome::Stranded
         } else {
