@@ -40,10 +40,12 @@ def test_the_footer_holds_the_runs_report_and_each_queue_step_by_step(one_zone):
             sim.step()
             nodes, chargers = sim.queues()
             by_name = {names[k]: c for k, c in nodes.items()}
+            by_name.update({f"{names[u]}->{names[v]}": c for (u, v), c in sim.lane_queues().items()})
             live = [chargers if u["kind"] == "charger-queue" else by_name.get(u["node"], 0) for u in rp.resources]
             assert rp.queues_at(f) == live, f
             queued += sum(live)
         assert queued > 0
+        assert any(u["kind"] == "lane" for u in rp.resources), rp.resources
         # The longest queue the report names is the longest the frames hold.
         for j, u in enumerate(rp.resources):
             assert max(rp.queue_changes()[j][1::2], default=0) == u["longest_queue"], u

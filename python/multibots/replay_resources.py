@@ -1,5 +1,5 @@
 """A replay footer's resources (docs/replay-format.md): the run's report of each unloading
-zone, charger and crossing, its bottleneck, and each reported resource's queue frame by
+zone, charger, crossing and lane, its bottleneck, and each reported resource's queue frame by
 frame. Replays written before the engine kept them have none."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from multibots._text import shown
 __all__ = ["ResourceLog"]
 
 _MAX_COUNT = 1 << 32
-_KINDS = ("unloading", "charger", "charger-queue", "crossing")
+_KINDS = ("unloading", "charger", "charger-queue", "crossing", "lane")
 
 
 class ResourceLog:

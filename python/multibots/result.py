@@ -151,7 +151,7 @@ class Result:
             it began (for robots stranded while the windows held, the step the first ran
             out), the best and last windows, the stranded robots and where robots stood;
             resources: each unloading zone, charger, the charger queue and the busiest
-            crossings with kind, node, busy share, mean and longest queue; bottleneck: the
+            crossings and lanes with kind, node, busy share, mean and longest queue; bottleneck: the
             one that limits the fleet, with ``relieve`` (what would relieve it), or None.
         lifelong: for lifelong runs (``[orders]``), latency_p50/p95/p99/mean (steps),
             energy_per_delivery and the order counts (ordered = delivered + in_flight +

@@ -247,8 +247,14 @@ class Simulation:
         """The robots queued in the last step, counted as the result's ``resources`` count them
         (docs/metrics.md): ``{node: robots}`` for each node with a queue (node ids index
         ``layout["nodes"]``), and the robots queued for a shared charger."""
-        nodes, chargers = self._sim.queues()
+        nodes, chargers, _ = self._sim.queues()
         return dict(nodes), chargers
+
+    def lane_queues(self) -> dict[tuple[int, int], int]:
+        """The robots held in the last step on each lane with a queue, ``{(from, to): robots}``
+        (node ids index ``layout["nodes"]``): the part of a crossing's queue that stands on
+        the lane leading to it, as the result's ``resources`` count lanes."""
+        return {(u, v): c for u, v, c in self._sim.queues()[2]}
 
     def viewer_header(self) -> dict[str, Any]:
         """What a viewer needs before the first frame: the replay header's fields (fleet,

@@ -122,6 +122,8 @@ def test_a_replay_shows_each_queue_on_the_map_and_names_the_bottleneck(page, one
         badges = page.evaluate("() => window.mbViewer.badges()")
         assert sorted([b["kind"], b["node"], b["count"]] for b in badges) == sorted(
             w for w in want if w[0] != "charger-queue")
+        # Queues reach back along the lanes into the zone: their badges sit by the lanes.
+        assert any(b["kind"] == "lane" for b in badges), badges
         zone = next(b for b in badges if b["node"] == name)
         assert zone["count"] == counts[j] >= 2
         shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")
@@ -146,10 +148,12 @@ def test_a_live_run_shows_the_queues_now_and_at_its_end_the_clis_bottleneck(page
             runner.sim.step(700)
             names = [n["name"] for n in runner.sim.layout["nodes"]]
             nodes, chargers = runner.sim.queues()
+            lanes = runner.sim.lane_queues()
             result = runner.sim.result()
             runner._publish_locked()
         page.wait_for_function("() => window.mbViewer.state().frame === 700")
         now = {names[k]: c for k, c in nodes.items()}
+        now.update({f"{names[u]}->{names[v]}": c for (u, v), c in lanes.items()})
         want = sorted([u["kind"], u["node"], chargers if u["kind"] == "charger-queue" else now.get(u["node"], 0)]
                       for u in result.resources)
         want = [w for w in want if w[2] > 0]

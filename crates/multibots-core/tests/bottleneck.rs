@@ -103,3 +103,56 @@ fn the_default_warehouse_with_600_robots_is_held_up_by_its_one_unloading_zone() 
     assert_eq!((b.resource.kind, &b.resource.node), (ResourceKind::Unloading, first), "{:?}", r.resources);
     assert!(b.relieve.contains("unloading_rows") && b.relieve.contains("nearest"), "{}", b.relieve);
 }
+
+#[test]
+fn lanes_report_where_the_queues_stand_and_their_figures_hold() {
+    // The one-zone warehouse of the first test under collision waiting: queues reach back
+    // along the lanes into the zone. Each lane's figures, recomputed from outside: the
+    // robots that waited this step standing on that edge (not at a node).
+    let mut s = lifelong(6, 8, 1, 9, 200, 2.0, 3000, Traffic::Wait);
+    s.unload = Unload::First;
+    let mut sim = Simulation::new(&s).unwrap();
+    let layout = sim.world().layout.clone();
+    let lanes = layout.edges.len();
+    let (mut busy, mut queued, mut longest, mut steps) = (vec![0u64; lanes], vec![0u64; lanes], vec![0u32; lanes], 0u64);
+    let mut waited = sim.stats().wait_steps.clone();
+    while !sim.done() {
+        sim.step().unwrap();
+        steps += 1;
+        let r = sim.robots();
+        let now = &sim.stats().wait_steps;
+        let mut q = vec![0u32; lanes];
+        for i in (0..r.len()).filter(|&i| now[i] > waited[i] && r.at_node[i] == u32::MAX) {
+            let e = layout.edges.iter().position(|&(u, v)| (u.0, v.0) == (r.edge_u[i], r.edge_v[i])).unwrap();
+            q[e] += 1;
+        }
+        waited.clone_from(now);
+        // What viewers draw is this same count.
+        let mut shown: Vec<(u32, u32, u32)> = sim.queues().lanes.iter().map(|&(u, v, c)| (u.0, v.0, c)).collect();
+        shown.sort_unstable();
+        let mut want: Vec<(u32, u32, u32)> = (0..lanes).filter(|&e| q[e] > 0).map(|e| (layout.edges[e].0 .0, layout.edges[e].1 .0, q[e])).collect();
+        want.sort_unstable();
+        assert_eq!(shown, want, "step {steps}");
+        for e in 0..lanes {
+            busy[e] += u64::from(q[e] > 0);
+            queued[e] += u64::from(q[e]);
+            longest[e] = longest[e].max(q[e]);
+        }
+    }
+    let r = sim.result();
+    let reported: Vec<_> = r.resources.iter().filter(|u| u.kind == ResourceKind::Lane).collect();
+    assert_eq!(reported.len(), 10.min(queued.iter().filter(|&&q| q > 0).count()));
+    // The ten with the longest mean queue, longest first.
+    let mut means: Vec<u64> = queued.clone();
+    means.sort_unstable_by(|a, b| b.cmp(a));
+    for (k, u) in reported.iter().enumerate() {
+        let e = layout.edges.iter().position(|&(a, b)| format!("{}->{}", layout.nodes[a.index()].name, layout.nodes[b.index()].name) == u.node).unwrap();
+        assert!((u.mean_queue - queued[e] as f64 / steps as f64).abs() < 1e-12, "{}", u.node);
+        assert!((u.busy - busy[e] as f64 / steps as f64).abs() < 1e-12, "{}", u.node);
+        assert_eq!(u.longest_queue, longest[e], "{}", u.node);
+        assert_eq!(queued[e], means[k], "{}: not among the longest", u.node);
+    }
+    assert!(reported[0].longest_queue > 2, "{reported:?}");
+    // A lane's queue is part of its crossing's: never the bottleneck itself.
+    assert_ne!(r.bottleneck.unwrap().resource.kind, ResourceKind::Lane);
+}

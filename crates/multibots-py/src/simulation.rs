@@ -9,6 +9,9 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
+/// (node, robots) per node with a queue, robots queued for a charger, (from, to, robots) per lane.
+type QueuesNow = (Vec<(u32, u32)>, u32, Vec<(u32, u32, u32)>);
+
 /// A run that Python steps and inspects.
 #[pyclass(module = "multibots._core", name = "Simulation")]
 pub(crate) struct PySimulation {
@@ -190,11 +193,11 @@ impl PySimulation {
     fn viewer_header(&self, scenario_toml: &str) -> String {
         multibots_core::output::replay::header(&self.sim, scenario_toml).to_string()
     }
-    /// The robots queued in the last step: (node, robots) for each node with a queue, and
-    /// the robots queued for a shared charger.
-    fn queues(&self) -> (Vec<(u32, u32)>, u32) {
+    /// The robots queued in the last step: (node, robots) for each node with a queue, the
+    /// robots queued for a shared charger, and (from, to, robots) for each lane with a queue.
+    fn queues(&self) -> QueuesNow {
         let q = self.sim.queues();
-        (q.nodes.iter().map(|&(n, c)| (n.0, c)).collect(), q.chargers)
+        (q.nodes.iter().map(|&(n, c)| (n.0, c)).collect(), q.chargers, q.lanes.iter().map(|&(u, v, c)| (u.0, v.0, c)).collect())
     }
     /// Robot `i`'s remaining route as (K, 2) waypoints, starting at its position.
     fn route<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {

@@ -37,6 +37,7 @@ def _resources(sim: Any, raw: Dict[str, Any], names: List[str]) -> Dict[str, Any
     and the bottleneck so far with its line as ``multibots run`` prints it."""
     nodes, chargers = sim.queues()
     by_name = {names[k]: c for k, c in nodes.items()}
+    by_name.update({f"{names[u]}->{names[v]}": c for (u, v), c in sim.lane_queues().items()})
     resources = list(raw["resources"])
     b = raw["bottleneck"]
     return {

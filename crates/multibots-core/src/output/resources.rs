@@ -1,12 +1,15 @@
-//! Resources and the bottleneck (docs/metrics.md): how busy each unloading zone, charger and
-//! crossing was, how long the queue before it grew, and which one limits the fleet.
+//! Resources and the bottleneck (docs/metrics.md): how busy each unloading zone, charger,
+//! crossing and lane was, how long the queue before it grew, and which one limits the fleet.
 //!
 //! Each step (phase 8) a node is **busy** while a robot unloads or charges at it (unloading
 //! zones, chargers), or while a robot waits to enter it (crossings: congestion, as a
 //! crossing serves robots in a step). Its **queue** is the robots waiting at collisions (or
 //! held by a traffic policy) whose next node it is: the node they stand at or drive
 //! towards. Robots queued for a shared charger (WAIT_CHARGER) form one more queue, the
-//! charger pool's. Unloading zones nobody unloaded at count as crossings. The **bottleneck**
+//! charger pool's. A **lane** (an edge of the highway graph, one aisle between two crossings)
+//! is busy while robots stand held on it, and its queue is those robots: the part of the
+//! crossing's queue that stands on that lane, which says which way the queue reaches back.
+//! Unloading zones nobody unloaded at count as crossings. The **bottleneck**
 //! is the busiest saturated service (an unloading zone or the chargers, busy at least half
 //! the steps, with a mean queue of at least half a robot), or the only unloading zone in use
 //! where it has such a queue: the queues at crossings upstream of it are its symptoms. Without one, it is the crossing
@@ -31,10 +34,12 @@ pub enum ResourceKind {
     ChargerQueue,
     /// Any other node of the highway graph.
     Crossing,
+    /// An edge of the highway graph: the lane from one crossing to the next.
+    Lane,
 }
 
 impl ResourceKind {
-    /// `"unloading"`, `"charger"`, `"charger-queue"` or `"crossing"`.
+    /// `"unloading"`, `"charger"`, `"charger-queue"`, `"crossing"` or `"lane"`.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
@@ -42,6 +47,7 @@ impl ResourceKind {
             ResourceKind::Charger => "charger",
             ResourceKind::ChargerQueue => "charger-queue",
             ResourceKind::Crossing => "crossing",
+            ResourceKind::Lane => "lane",
         }
     }
 }
@@ -50,7 +56,8 @@ impl ResourceKind {
 #[derive(Clone, Debug, PartialEq)]
 pub struct ResourceUse {
     pub kind: ResourceKind,
-    /// The node's name (`"chargers"` for the charger queue).
+    /// The node's name (`"chargers"` for the charger queue, `"U->V"` for the lane from node
+    /// U to node V).
     pub node: String,
     /// Share of steps busy (see the module doc).
     pub busy: f64,
@@ -94,6 +101,8 @@ pub struct Queues {
     pub nodes: Vec<(NodeId, u32)>,
     /// Robots queued for a shared charger (WAIT_CHARGER): the charger queue's.
     pub chargers: u32,
+    /// Each lane with a queue, as (from, to) and the robots held on it.
+    pub lanes: Vec<(NodeId, NodeId, u32)>,
 }
 
 /// The shortest mean queue that makes a bottleneck: half a robot waiting, on average, at
@@ -104,9 +113,13 @@ const MIN_QUEUE: f64 = 0.5;
 /// The busy share from which a service with a queue is saturated.
 const SATURATED: f64 = 0.5;
 
-/// The running sums, per node and for the charger queue.
+/// The running sums, per node, per lane (slots after the nodes', one per edge of the layout)
+/// and for the charger queue.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Usage {
+    nodes: usize,
+    /// Per node, its outgoing lanes as (to, slot).
+    lanes_from: Vec<Vec<(u32, u32)>>,
     steps: u64,
     /// Observations so far, and the one each node was last counted busy in, so a node
     /// counts once per observation.
@@ -125,8 +138,28 @@ pub(crate) struct Usage {
 }
 
 impl Usage {
-    pub fn new(nodes: usize) -> Usage {
-        Usage { busy: vec![0; nodes], busy_at: vec![u64::MAX; nodes], queued: vec![0; nodes], longest: vec![0; nodes], now: vec![0; nodes], ..Usage::default() }
+    pub fn new(layout: &Layout) -> Usage {
+        let nodes = layout.nodes.len();
+        let mut lanes_from = vec![Vec::new(); nodes];
+        for (e, &(u, v)) in layout.edges.iter().enumerate() {
+            lanes_from[u.index()].push((v.0, (nodes + e) as u32));
+        }
+        let slots = nodes + layout.edges.len();
+        Usage {
+            nodes,
+            lanes_from,
+            busy: vec![0; slots],
+            busy_at: vec![u64::MAX; slots],
+            queued: vec![0; slots],
+            longest: vec![0; slots],
+            now: vec![0; slots],
+            ..Usage::default()
+        }
+    }
+
+    /// The slot of the lane from `u` to `v`, if the layout has one.
+    fn lane(&self, u: u32, v: u32) -> Option<u32> {
+        self.lanes_from.get(u as usize)?.iter().find(|&&(to, _)| to == v).map(|&(_, slot)| slot)
     }
 
     /// One step, `times` times over (the same state for each: runs of quiet steps), with
@@ -155,12 +188,15 @@ impl Usage {
             if node == NONE {
                 continue;
             }
-            let k = node as usize;
             if held {
-                if self.now[k] == 0 {
-                    self.touched.push(node);
+                let lane = if r.at_node[i] == NONE { self.lane(r.edge_u[i], r.edge_v[i]) } else { None };
+                for slot in std::iter::once(node).chain(lane) {
+                    let k = slot as usize;
+                    if self.now[k] == 0 {
+                        self.touched.push(slot);
+                    }
+                    self.now[k] += 1;
                 }
-                self.now[k] += 1;
             }
         }
         for &node in &self.touched {
@@ -169,8 +205,9 @@ impl Usage {
             self.queued[k] += u64::from(q) * times;
             self.longest[k] = self.longest[k].max(q);
             self.last.push((node, q));
-            if !unloading_or_charger[k] && self.busy_at[k] != t {
-                // A crossing is busy while robots wait to enter it.
+            if (k >= self.nodes || !unloading_or_charger[k]) && self.busy_at[k] != t {
+                // A crossing is busy while robots wait to enter it, a lane while robots
+                // stand held on it.
                 self.busy_at[k] = t;
                 self.busy[k] += times;
             }
@@ -183,17 +220,30 @@ impl Usage {
     }
 
     /// The queues of the last step observed.
-    pub fn queues(&self) -> Queues {
-        Queues { nodes: self.last.iter().map(|&(n, q)| (NodeId(n), q)).collect(), chargers: self.last_pool }
+    pub fn queues(&self, layout: &Layout) -> Queues {
+        let mut queues = Queues { chargers: self.last_pool, ..Queues::default() };
+        for &(slot, q) in &self.last {
+            match (slot as usize).checked_sub(self.nodes) {
+                None => queues.nodes.push((NodeId(slot), q)),
+                Some(e) => queues.lanes.push((layout.edges[e].0, layout.edges[e].1, q)),
+            }
+        }
+        queues
     }
 
     /// Every unloading zone and charger, the charger queue where robots queued, and the ten
-    /// crossings with the longest mean queue (of those with any); then the bottleneck.
+    /// crossings and the ten lanes with the longest mean queue (of those with any); then the
+    /// bottleneck.
     pub fn report(&self, layout: &Layout, shared_chargers: bool, unload_nearest: bool, reserve: bool) -> (Vec<ResourceUse>, Option<Bottleneck>) {
         let steps = self.steps.max(1) as f64;
         let of = |kind, k: usize| ResourceUse {
             kind,
-            node: layout.nodes[k].name.clone(),
+            node: if k < self.nodes {
+                layout.nodes[k].name.clone()
+            } else {
+                let (u, v) = layout.edges[k - self.nodes];
+                lane_name(layout, u, v)
+            },
             busy: self.busy.get(k).map_or(0.0, |&b| b as f64 / steps),
             mean_queue: self.queued.get(k).map_or(0.0, |&q| q as f64 / steps),
             longest_queue: self.longest.get(k).copied().unwrap_or(0),
@@ -217,15 +267,19 @@ impl Usage {
             out[last].busy = layout.chargers.iter().map(|n| self.busy.get(n.index()).map_or(0.0, |&b| b as f64 / steps)).sum::<f64>() / chargers;
         }
         let special: std::collections::HashSet<usize> = layout.unloading.iter().filter(|n| used(n)).chain(&layout.chargers).map(|n| n.index()).collect();
-        let mut crossings: Vec<ResourceUse> =
-            (0..self.queued.len()).filter(|k| !special.contains(k) && self.queued[*k] > 0).map(|k| of(ResourceKind::Crossing, k)).collect();
-        crossings.sort_by(|a, b| b.mean_queue.total_cmp(&a.mean_queue).then_with(|| a.node.cmp(&b.node)));
-        crossings.truncate(10);
-        out.extend(crossings);
+        let longest_ten = |kind, slots: std::ops::Range<usize>| {
+            let mut v: Vec<ResourceUse> = slots.filter(|k| !special.contains(k) && self.queued[*k] > 0).map(|k| of(kind, k)).collect();
+            v.sort_by(|a, b| b.mean_queue.total_cmp(&a.mean_queue).then_with(|| a.node.cmp(&b.node)));
+            v.truncate(10);
+            v
+        };
+        out.extend(longest_ten(ResourceKind::Crossing, 0..self.nodes));
+        let lanes = longest_ten(ResourceKind::Lane, self.nodes..self.queued.len());
         // A saturated service (an unloading zone or the chargers, busy at least half the
         // steps, with a queue), or the one unloading zone every goods goes to (with a queue),
         // is the cause: the queues at crossings upstream of it are its symptoms. Without
-        // one, the crossing with the longest mean queue.
+        // one, the crossing with the longest mean queue. A lane's queue is part of the queue
+        // of the crossing it leads to, so the lanes only say where that queue stands.
         let queued = |u: &&ResourceUse| u.mean_queue >= MIN_QUEUE;
         let service = out
             .iter()
@@ -235,6 +289,7 @@ impl Usage {
         let bottleneck = service
             .or_else(|| out.iter().filter(queued).max_by(|a, b| a.mean_queue.total_cmp(&b.mean_queue).then_with(|| b.node.cmp(&a.node))))
             .map(|u| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, shared_chargers, unload_nearest, reserve) });
+        out.extend(lanes);
         (out, bottleneck)
     }
 }
@@ -243,8 +298,10 @@ impl Usage {
 /// changed: what a replay's footer holds for the resources its run reported.
 #[derive(Clone, Debug, Default)]
 pub struct QueueLog {
-    /// The nodes' names, which the report's resources go by.
+    /// The nodes' names, then the lanes', which the report's resources go by.
     names: Vec<String>,
+    /// Each lane's (from, to) and its slot (after the nodes').
+    lane_slot: std::collections::HashMap<(u32, u32), usize>,
     /// Each node's queue in the frame last recorded.
     now: Vec<u32>,
     /// Per node, `[frame, robots, frame, robots, ...]`: from that frame on, that queue.
@@ -262,15 +319,18 @@ impl QueueLog {
     #[must_use]
     pub fn new(layout: &Layout) -> QueueLog {
         let nodes = layout.nodes.len();
-        let names = layout.nodes.iter().map(|n| n.name.clone()).collect();
-        QueueLog { names, now: vec![0; nodes], changes: vec![Vec::new(); nodes], seen: vec![0; nodes], ..QueueLog::default() }
+        let names = layout.nodes.iter().map(|n| n.name.clone()).chain(layout.edges.iter().map(|&(u, v)| lane_name(layout, u, v))).collect();
+        let lane_slot = layout.edges.iter().enumerate().map(|(e, &(u, v))| ((u.0, v.0), nodes + e)).collect();
+        let slots = nodes + layout.edges.len();
+        QueueLog { names, lane_slot, now: vec![0; slots], changes: vec![Vec::new(); slots], seen: vec![0; slots], ..QueueLog::default() }
     }
 
     /// The queues of `frame` (recorded in order).
     pub fn record(&mut self, frame: u64, q: &Queues) {
         let mark = frame + 1;
-        for &(node, count) in &q.nodes {
-            let k = node.index();
+        let lanes = q.lanes.iter().filter_map(|&(u, v, count)| Some((*self.lane_slot.get(&(u.0, v.0))?, count)));
+        let queued: Vec<(usize, u32)> = q.nodes.iter().map(|&(n, count)| (n.index(), count)).chain(lanes).collect();
+        for &(k, count) in &queued {
             self.seen[k] = mark;
             if self.now[k] != count {
                 self.now[k] = count;
@@ -286,7 +346,7 @@ impl QueueLog {
             }
         }
         self.queued.clear();
-        self.queued.extend(q.nodes.iter().map(|&(n, _)| n.0));
+        self.queued.extend(queued.iter().map(|&(k, _)| k as u32));
         if q.chargers != self.pool {
             self.pool = q.chargers;
             self.pool_changes.extend([frame, u64::from(q.chargers)]);
@@ -325,7 +385,7 @@ fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_ne
         ResourceKind::Charger | ResourceKind::ChargerQueue => {
             "more chargers, near every part of the warehouse (layout_generate.chargers with charger_walls = \"all\"), or robots that charge early a few at a time (charging.policy = \"staggered\"; docs/charging.md)".into()
         }
-        ResourceKind::Crossing => {
+        ResourceKind::Crossing | ResourceKind::Lane => {
             // Only what the run does not do already: a layout whose westward traffic shares
             // few aisles, collision waiting where reservations would keep crossings clear.
             let mut advice = Vec::new();
@@ -342,6 +402,12 @@ fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_ne
             }
         }
     }
+}
+
+/// The name of the lane from `u` to `v`: `"U->V"`.
+#[must_use]
+pub fn lane_name(layout: &Layout, u: NodeId, v: NodeId) -> String {
+    format!("{}->{}", layout.nodes[u.index()].name, layout.nodes[v.index()].name)
 }
 
 /// Whether the layout's horizontal aisles run west on fewer rows than half of those running
@@ -372,12 +438,13 @@ mod tests {
     fn a_queue_log_keeps_the_frames_where_each_queue_changed() {
         let layout = Layout::generate(&LayoutParams { group_rows: 2, group_cols: 2, chargers: 3, ..LayoutParams::paper() }, "g").unwrap();
         let (a, b) = (NodeId(1), NodeId(2));
+        let (u, v) = layout.edges[0];
         let mut log = QueueLog::new(&layout);
         let frames = [
             Queues::default(),
-            Queues { nodes: vec![(a, 2)], chargers: 0 },
-            Queues { nodes: vec![(a, 2), (b, 1)], chargers: 3 },
-            Queues { nodes: vec![(b, 4)], chargers: 3 },
+            Queues { nodes: vec![(a, 2)], chargers: 0, lanes: vec![(u, v, 1)] },
+            Queues { nodes: vec![(a, 2), (b, 1)], chargers: 3, lanes: vec![(u, v, 1)] },
+            Queues { nodes: vec![(b, 4)], chargers: 3, lanes: vec![(u, v, 2)] },
             Queues::default(),
         ];
         for (f, q) in frames.iter().enumerate() {
@@ -389,8 +456,9 @@ mod tests {
             use_of(ResourceKind::Crossing, &layout.nodes[2].name),
             use_of(ResourceKind::ChargerQueue, "chargers"),
             use_of(ResourceKind::Crossing, &layout.nodes[3].name),
+            use_of(ResourceKind::Lane, &lane_name(&layout, u, v)),
         ];
-        assert_eq!(log.to_json(&resources), json!([[1, 2, 3, 0], [2, 1, 3, 4, 4, 0], [2, 3, 4, 0], []]));
+        assert_eq!(log.to_json(&resources), json!([[1, 2, 3, 0], [2, 1, 3, 4, 4, 0], [2, 3, 4, 0], [], [1, 1, 3, 2, 4, 0]]));
     }
 
     #[test]

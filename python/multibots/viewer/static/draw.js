@@ -695,11 +695,20 @@ export class Renderer {
       ctx.stroke();
     }
     const off = Math.max(6 * ui, this.aisle * 0.3 * this.scale);
+    // A node's badge sits beside it; a lane's ("U->V"), beside the middle of the lane.
+    const at = (u) => {
+      const ends = u.kind === "lane" ? u.node.split("->") : [u.node];
+      const ks = ends.map((name) => this.nodeOf.get(name));
+      if (ks.some((k) => k === undefined)) return null;
+      const x = ks.reduce((a, k) => a + nodes[k].x, 0) / ks.length;
+      const y = ks.reduce((a, k) => a + nodes[k].y, 0) / ks.length;
+      return this.toScreen(x, y);
+    };
     queues.resources.forEach((u, j) => {
       const count = queues.counts[j];
-      const k = this.nodeOf.get(u.node);
-      if (!count || u.kind === "charger-queue" || k === undefined) return;
-      const [sx, sy] = this.toScreen(nodes[k].x, nodes[k].y);
+      const p = u.kind === "charger-queue" ? null : at(u);
+      if (!count || !p) return;
+      const [sx, sy] = p;
       const x = sx + off, y = sy - off - 15 * ui;
       const [w, h] = this._badge(ctx, x, y, String(count), ui);
       this.badges.push({ node: u.node, kind: u.kind, count, x, y, w, h });

@@ -170,7 +170,7 @@ impl Paper {
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
             last_contacts: None,
-            usage: crate::output::resources::Usage::new(world.layout.nodes.len()),
+            usage: crate::output::resources::Usage::new(&world.layout),
             shared_and_nearest: (
                 scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
                 scenario.unload == crate::input::scenario::Unload::Nearest,
@@ -353,7 +353,7 @@ impl Engine for Paper {
         route::remaining(&self.robots, &self.world.graph, i)
     }
     fn queues(&self) -> crate::output::resources::Queues {
-        self.usage.queues()
+        self.usage.queues(&self.world.layout)
     }
 }
 
