@@ -40,6 +40,7 @@
 //! `lookahead`, whose rollouts shrink with the fleet to keep to [`ROBOT_STEPS`].
 //! Deterministic for a seed.
 
+use super::window::Window;
 use super::{PlanView, Planner, NO_GOAL};
 use crate::input::lorr::GridMap;
 use crate::rules::grid::action::{ahead, Action};
@@ -62,9 +63,9 @@ pub const ROBOT_STEPS: usize = 400_000;
 const TABLE_BUDGET: usize = 1 << 30;
 
 /// Distances in actions to each errand cell, over (cell, heading) states.
-struct Tables {
+pub(super) struct Tables {
     /// Per cell and heading, the cell ahead if free, or `NONE`.
-    next: Vec<[u32; 4]>,
+    pub(super) next: Vec<[u32; 4]>,
     cells: usize,
     by_goal: HashMap<u32, Vec<u16>>,
     queue: Vec<u32>,
@@ -117,7 +118,7 @@ impl Tables {
         self.by_goal.insert(goal, t);
     }
 
-    fn get(&self, goal: u32) -> &[u16] {
+    pub(super) fn get(&self, goal: u32) -> &[u16] {
         &self.by_goal[&goal]
     }
 }
@@ -151,6 +152,9 @@ struct Step<'a> {
     loc: &'a [u32],
     heading: &'a [u8],
     goals: &'a [u32],
+    /// Per robot, the cell the windowed paths (`window.rs`) lead it to, or `NONE`, and the
+    /// action it makes if that is its own cell.
+    guide: Option<(&'a [u32], &'a [Action])>,
 }
 
 impl Step<'_> {
@@ -198,6 +202,14 @@ impl Step<'_> {
             }
             keyed[n] = (c, if turns == 0 { 0 } else { turns + 1 }, u);
             n += 1;
+        }
+        if let Some((guide, _)) = self.guide {
+            for k in &mut keyed[..n] {
+                if k.2 == guide[a] {
+                    k.0 = 0;
+                    k.1 = 0;
+                }
+            }
         }
         keyed[..n].sort_unstable();
         let mut out = [NONE; 5];
@@ -262,7 +274,10 @@ impl Step<'_> {
         for a in 0..n {
             let (p, h, q) = (self.loc[a], self.heading[a], w.next[a]);
             acts[a] = if q == p {
-                self.best_stay(a).1
+                match self.guide {
+                    Some((guide, turn)) if guide[a] == p => turn[a],
+                    _ => self.best_stay(a).1,
+                }
             } else if self.tables.next[p as usize][h as usize] == q {
                 Action::F
             } else if self.tables.next[p as usize][((h + 3) % 4) as usize] == q {
@@ -308,6 +323,10 @@ pub struct Lookahead {
     acts: Vec<Action>,
     first: Vec<Action>,
     cand: Vec<u32>,
+    /// Windowed paths guiding `rpibt` (`rpibt-pp`), and what they give.
+    window: Option<Window>,
+    guide: Vec<u32>,
+    turn: Vec<Action>,
 }
 
 impl Lookahead {
@@ -330,7 +349,18 @@ impl Lookahead {
             acts: vec![Action::W; robots],
             first: vec![Action::W; robots],
             cand: vec![0; robots],
+            window: None,
+            guide: vec![NONE; robots],
+            turn: vec![Action::W; robots],
         }
+    }
+
+    /// The same planner guided by windowed paths (`rpibt-pp`, `window.rs`).
+    #[must_use]
+    pub fn guided(mut self, cells: usize) -> Lookahead {
+        self.window = Some(Window::new(cells));
+        self.name = "rpibt-pp";
+        self
     }
 
     /// Plays `WINDOW` steps from the view with tie-break numbers `tie`; the first step's
@@ -342,7 +372,7 @@ impl Lookahead {
         self.goals.copy_from_slice(view.goals);
         let mut score = 0i64;
         for t in 0..WINDOW {
-            let step = Step { tables: &self.tables, loc: &self.loc, heading: &self.heading, goals: &self.goals };
+            let step = Step { tables: &self.tables, loc: &self.loc, heading: &self.heading, goals: &self.goals, guide: None };
             step.run(&mut self.work, tie, &mut self.acts);
             if t == 0 {
                 first.copy_from_slice(&self.acts);
@@ -386,7 +416,20 @@ impl Planner for Lookahead {
             }
         }
         if self.rollouts == 0 {
-            let step = Step { tables: &self.tables, loc: view.loc, heading: view.heading, goals: view.goals };
+            let mut guide = None;
+            if let Some(window) = &mut self.window {
+                let mut order: Vec<u32> = (0..n as u32).collect();
+                let key = |a: u32| {
+                    let a = a as usize;
+                    let g = view.goals[a];
+                    let d = if g == NO_GOAL { u64::from(u32::MAX) } else { u64::from(self.tables.get(g)[view.loc[a] as usize * 4 + view.heading[a] as usize]) };
+                    ((d << 32) | u64::from(self.tie[a]), a)
+                };
+                order.sort_unstable_by_key(|&a| key(a));
+                window.plan(&self.tables, view.loc, view.heading, view.goals, NO_GOAL, &order, &mut self.guide, &mut self.turn);
+                guide = Some((&self.guide[..], &self.turn[..]));
+            }
+            let step = Step { tables: &self.tables, loc: view.loc, heading: view.heading, goals: view.goals, guide };
             step.run(&mut self.work, &self.tie, actions);
             return;
         }

@@ -10,12 +10,14 @@
 //! | `pibt-no-lanes` | the same PIBT on highways, ties going straight ahead, not to the emptier lane |
 //! | `pibt-no-highways` | the same PIBT, every move costing the same |
 //! | `rpibt` | PIBT on actions, distances counting turns (`lookahead.rs`) |
+//! | `rpibt-pp` | `rpibt`, each robot first trying the next cell of a path planned a few steps ahead round the robots before it in priority (`window.rs`) |
 //! | `lookahead` | `rpibt` played several times a few steps ahead, the best first step kept (`lookahead.rs`) |
 
 mod dist;
 mod guidance;
 mod lookahead;
 mod pibt;
+mod window;
 
 pub use dist::Distances;
 pub use guidance::{highway_costs, AGAINST, WITH};
@@ -52,7 +54,7 @@ pub trait Planner: Send + Sync {
 }
 
 /// The built-in planners, by name.
-pub const BUILT_INS: &[&str] = &["pibt", "pibt-no-lanes", "pibt-no-highways", "rpibt", "lookahead"];
+pub const BUILT_INS: &[&str] = &["pibt", "pibt-no-lanes", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead"];
 
 /// A built-in planner by name, for `map`, seeded by `seed`.
 pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
@@ -61,6 +63,7 @@ pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<B
         "pibt-no-lanes" => Ok(Box::new(Pibt::new(map, robots, seed, true, false))),
         "pibt-no-highways" => Ok(Box::new(Pibt::new(map, robots, seed, false, true))),
         "rpibt" => Ok(Box::new(Lookahead::new(map, robots, seed, 0))),
+        "rpibt-pp" => Ok(Box::new(Lookahead::new(map, robots, seed, 0).guided(map.cells()))),
         "lookahead" => Ok(Box::new(Lookahead::new(map, robots, seed, lookahead::ROLLOUTS))),
         _ => Err(Error::scenario("planner", name, format!("is not a planner; the built-in ones are {}", BUILT_INS.join(", ")))),
     }
