@@ -1,7 +1,8 @@
 //! Windowed prioritized planning, as guidance for `rpibt` (planner `rpibt-pp`): robots in
 //! order of priority each search a path over (cell, heading, step) for the next
 //! [`HORIZON`] steps that avoids the cells and moves of the robots searched before them
-//! (a space-time reservation table), by A* on the turn-counting distances. Only the first
+//! (a space-time reservation table), by A* on the turn-counting distances (costs on the
+//! highways when the tables have them). Only the first
 //! step of each path is used: it is the cell PIBT tries first for that robot (and the turn
 //! or wait it makes if that cell is its own). PIBT still plans everyone, so the joint action
 //! is valid whatever the paths; they only steer robots round the ones ahead of them in
@@ -30,7 +31,7 @@ pub struct Window {
     seen: Vec<u32>,
     parent: Vec<u32>,
     stamp: u32,
-    heap: BinaryHeap<(Reverse<u32>, u32, u32)>,
+    heap: BinaryHeap<(Reverse<u32>, u32, u32, u32)>,
     path: Vec<u32>,
 }
 
@@ -123,10 +124,10 @@ impl Window {
         let start = p * 4 + u32::from(h);
         self.seen[start as usize] = self.stamp;
         self.parent[start as usize] = NONE;
-        // Key: f, then the later step first; the state index (step · cells · 4 + cell · 4 + heading).
-        self.heap.push((Reverse(u32::from(dist[start as usize])), 0, start));
+        // Key: f, then the later step first, the cost so far; the state index (step · cells · 4 + cell · 4 + heading).
+        self.heap.push((Reverse(u32::from(dist[start as usize])), 0, 0, start));
         let mut expanded = 0;
-        while let Some((_, t, s)) = self.heap.pop() {
+        while let Some((_, t, g, s)) = self.heap.pop() {
             let (t, local) = (t as usize, s % cells4 as u32);
             let (c, hd) = (local / 4, (local % 4) as u8);
             if c == goal || t == HORIZON {
@@ -174,7 +175,8 @@ impl Window {
                 self.seen[ns as usize] = self.stamp;
                 self.parent[ns as usize] = (t * cells4) as u32 + c * 4 + u32::from(hd);
                 // Reaching the goal ends the path; at the horizon the rest counts as its distance.
-                self.heap.push((Reverse(t1 as u32 + u32::from(hv)), t1 as u32, ns));
+                let g1 = g + if v == c { tables.unit } else { tables.forward(c, hd) };
+                self.heap.push((Reverse(g1 + u32::from(hv)), t1 as u32, g1, ns));
             }
         }
         false
