@@ -103,13 +103,18 @@ impl Tables {
         self.weight.as_ref().map_or(1, |w| u32::from(w[cell as usize][h as usize]))
     }
 
+    /// Clears the cache if `needed` more tables would not fit in [`TABLE_BUDGET`]: called
+    /// before a step's tables are made, never between, so that none of them is dropped.
+    fn make_room(&mut self, needed: usize) {
+        if (self.by_goal.len() + needed) * self.cells * 8 > TABLE_BUDGET {
+            self.by_goal.clear();
+        }
+    }
+
     /// Makes sure `goal`'s table exists.
     fn ensure(&mut self, goal: u32) {
         if self.by_goal.contains_key(&goal) {
             return;
-        }
-        if (self.by_goal.len() + 1) * self.cells * 8 > TABLE_BUDGET {
-            self.by_goal.clear();
         }
         if self.weight.is_some() {
             self.ensure_weighted(goal);
@@ -491,6 +496,8 @@ impl Planner for Lookahead {
 
     fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
         let n = view.loc.len();
+        let new = view.goals.iter().filter(|&&g| g != NO_GOAL && !self.tables.by_goal.contains_key(&g)).count();
+        self.tables.make_room(new);
         for &g in view.goals {
             if g != NO_GOAL {
                 self.tables.ensure(g);
