@@ -217,3 +217,31 @@ fn on_highways_robots_mostly_move_with_the_lane_and_every_run_is_valid() {
     let (a, b) = (along_share(&lanes), along_share(&open));
     assert!(a > 0.8 && b < 0.7, "moves along the lane: {a:.2} on highways, {b:.2} without");
 }
+
+/// The map of `pibt_run` with 8 robots (sparse) or 30 (crowded, on highways under
+/// `rpibt-pp`), under `planner`; the run after 300 steps.
+fn new_planner_run(planner: &str, robots: u32, seed: u64) -> LorrRun {
+    let map = "type octile\nheight 6\nwidth 8\nmap\n........\n.@@..@@.\n........\n.@@..@@.\n........\n........\n";
+    let free: Vec<u32> = GridMap::parse(map).unwrap().free.iter().enumerate().filter(|x| *x.1).map(|x| x.0 as u32).collect();
+    let starts: Vec<u32> = free.iter().copied().step_by(free.len() / robots as usize).take(robots as usize).collect();
+    let tasks: Vec<Vec<u32>> = (0..100usize).map(|k| vec![free[(k * 7) % free.len()], free[(k * 13 + 5) % free.len()]]).collect();
+    let tasks: Vec<&[u32]> = tasks.iter().map(Vec::as_slice).collect();
+    let p = problem(map, &starts, &tasks, Version::Y2024, 1.5);
+    let options = LorrOptions { planner: planner.into(), seed, ..LorrOptions::default() };
+    let mut run = LorrRun::new(p, options).unwrap();
+    run.run_to(300);
+    run
+}
+
+#[test]
+fn turn_counting_planners_are_valid_and_the_same_for_a_seed() {
+    for planner in ["rpibt", "rpibt-pp", "lookahead"] {
+        for robots in [8, 30] {
+            let a = new_planner_run(planner, robots, 3);
+            assert!(a.record().errors.is_empty(), "{planner}, {robots} robots: {:?}", a.record().errors.first());
+            assert!(a.finished() > 10, "{planner}, {robots} robots: finished {}", a.finished());
+            let b = new_planner_run(planner, robots, 3);
+            assert_eq!(letters(&a, true), letters(&b, true), "{planner}, {robots} robots");
+        }
+    }
+}
