@@ -2,14 +2,14 @@
 
     python3 benchmarks/lorr.py --instances DIR [--only NAME ...] [--domain warehouse ...]
                                [--steps N] [--startkit PATH/lifelong] [--startkit-2023 PATH/lifelong]
-                               [--startkit-steps N] [--scheduler spread] [--seed 0]
+                               [--startkit-steps N] [--scheduler spread] [--planner pibt] [--seed 0]
                                [--rows ROWS.json] [--no-check] [--no-ours] [--no-write]
 
 ``DIR`` is a folder the user fetched from MAPF-Competition/Benchmark-Archive (the instance
 files have no licence and are never committed). Every problem JSON under it (or those named
 by ``--only``, shell patterns allowed) is run in a child process of its own:
 
-- with our default planner (``multibots.lorr.run``) for ``--steps`` steps, by default the
+- with our planner (``multibots.lorr.run``; ``--planner``, by default ``pibt``) for ``--steps`` steps, by default the
   instance's own simulation time (the steps its best-known count was made in);
 - with ``--startkit``, the Start-Kit's ``lifelong`` (its default planner and scheduler, built
   by the user; 2024 rules) for ``--startkit-steps`` steps (default: the same), and with
@@ -137,7 +137,8 @@ OURS = """
 import json, sys
 sys.path.insert(0, sys.argv[1])
 from multibots import lorr
-r = lorr.run(sys.argv[2], steps=int(sys.argv[3]), out=sys.argv[4], scheduler=sys.argv[5], seed=int(sys.argv[6]))
+r = lorr.run(sys.argv[2], steps=int(sys.argv[3]), out=sys.argv[4], scheduler=sys.argv[5], seed=int(sys.argv[6]),
+             planner=sys.argv[7])
 print(json.dumps({"finished": r.finished, "rules": r.version, "robots": r.team_size,
                   "by_1000": r.figures["finished_per_1000"][0] if r.steps >= 1000 else None}))
 """
@@ -182,7 +183,7 @@ def run_one(entry: str, argv: list[str], problem: Path, steps: int, do_check: bo
             tail = log.read_text(errors="replace").strip().splitlines()[-3:]
             return {**row, "failed": f"exit {code}: {' / '.join(tail)}"}
         row.update(result_figures(out))
-        if entry == "ours":
+        if entry.startswith("ours"):
             row.update(json.loads(log.read_text().strip().splitlines()[-1]))
         else:
             row["by_1000"] = row["finished"] if steps == 1000 else None
@@ -197,6 +198,11 @@ def share(row: dict[str, Any], name: str) -> str:
     return f"{100 * row['finished'] / known[0]:.0f} %"
 
 
+def planner_of(row: dict[str, Any]) -> str:
+    """Our planner in a row: entry ``ours`` is the default planner, ``ours:NAME`` another."""
+    return row["entry"].partition(":")[2] or "pibt"
+
+
 def table(rows: dict[str, dict[str, Any]]) -> list[str]:
     head = [
         "| instance | robots | entry | steps | finished | by step 1,000 | best known (steps) | share "
@@ -204,12 +210,13 @@ def table(rows: dict[str, dict[str, Any]]) -> list[str]:
         "| --- | ---: | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |",
     ]
     lines = []
-    for row in sorted(rows.values(), key=lambda r: (r["instance"], r["entry"] != "ours", r["steps"])):
+    order = lambda r: (r["instance"], not r["entry"].startswith("ours"), r["entry"], r["steps"])  # noqa: E731
+    for row in sorted(rows.values(), key=order):
         name = row["instance"]
         known = BEST_KNOWN.get(name)
         known_text = f"{known[0]:,} ({known[1]:,})" if known else ""
         year = " (2023)" if "23" in name.split("-")[0] else ""
-        who = "MultiBots `pibt`" if row["entry"] == "ours" else f"Start-Kit{year} default"
+        who = f"MultiBots `{planner_of(row)}`" if row["entry"].startswith("ours") else f"Start-Kit{year} default"
         if "failed" in row:
             lines.append(f"| {name} | | {who} | {row['steps']:,} | {row['failed']} | | {known_text} | | | | | | |")
             continue
@@ -247,6 +254,7 @@ def main() -> None:
     ap.add_argument("--startkit-steps", type=int, help="default: as --steps")
     ap.add_argument("--startkit-time-limit", type=int, default=1000, help="ms per planning round (its default)")
     ap.add_argument("--scheduler", default="spread")
+    ap.add_argument("--planner", default="pibt", help="ours: pibt (the default), rpibt-pp, ... (docs/lorr.md)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--rows", type=Path, help="a JSON file keeping the rows across invocations")
     ap.add_argument("--no-check", action="store_true")
@@ -271,7 +279,8 @@ def main() -> None:
         runs = []
         if not args.no_ours:
             py = [sys.executable, "-c", OURS, str(ROOT / "python"), str(problem), str(steps), "{out}"]
-            runs.append(("ours", [*py, args.scheduler, str(args.seed)], steps))
+            entry = "ours" if args.planner == "pibt" else f"ours:{args.planner}"
+            runs.append((entry, [*py, args.scheduler, str(args.seed), args.planner], steps))
         kit = args.startkit if y2024 else args.startkit_2023
         if kit:
             kit_steps = args.startkit_steps or steps
@@ -306,7 +315,8 @@ def main() -> None:
         "```",
         "",
         f"On {machine()}, shared with other jobs (ms/step is noisy, memory is not).",
-        f"MultiBots: planner `pibt`, scheduler `{args.scheduler}` (2024), seed {args.seed}, no time limit. "
+        f"MultiBots: the planner each row names (`pibt` is the default), scheduler `{args.scheduler}` (2024), "
+        f"seed {args.seed}, no time limit. "
         f"Start-Kit: its default planner and scheduler, {args.startkit_time_limit} ms per round. "
         f"Best known: {ARCHIVE}; a share only where the steps match.",
         "",

@@ -257,3 +257,4 @@ def test_robots_stranding_while_the_rest_deliver_exit_3_with_when_and_where(cli,
     assert f"from step {c['step']:,}: {c['stranded']} robots out of energy" in line
     assert f"windows best {c['best']}, last {c['last']}" in line
     assert f"{c['crossings'][0][0]} ({c['crossings'][0][1]})" in line
+    assert not c["collapsed"] and c["first_stranded"] == c["step"]

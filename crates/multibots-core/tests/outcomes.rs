@@ -41,7 +41,7 @@ fn a_jammed_fleet_ends_collapse_and_says_when_and_where() {
     let c = r.collapse.as_ref().unwrap();
     assert_eq!(c.step, first as u64 * r.window + 1);
     assert_eq!((c.best, c.last), (*r.windows.iter().max().unwrap(), *r.windows.last().unwrap()));
-    assert_eq!(c.stranded, 0);
+    assert_eq!((c.stranded, c.collapsed, c.first_stranded), (0, true, None));
     assert!(!c.crossings.is_empty() && c.crossings.windows(2).all(|p| p[0].1 >= p[1].1), "{:?}", c.crossings);
 }
 
@@ -62,12 +62,21 @@ fn a_fleet_stranding_robot_by_robot_ends_stranded() {
     // Queued robots draw what driving does (the scenario says so): they drain in the queue.
     s.robot.idle_consumption = Some(0.002);
     let mut sim = Simulation::new(&s).unwrap();
-    let r = sim.run().unwrap();
+    let mut first = None;
+    while !sim.done() {
+        sim.step().unwrap();
+        if first.is_none() && sim.robots().state.contains(&State::Stranded) {
+            first = Some(sim.t());
+        }
+    }
+    let r = sim.result();
     let stranded = sim.robots().state.iter().filter(|&&st| st == State::Stranded).count();
-    assert!(collapsed_from_windows(&r).is_some(), "{:?}", r.windows);
+    let low_from = collapsed_from_windows(&r).unwrap_or_else(|| panic!("{:?}", r.windows));
     assert!(stranded > 0 && stranded < 150);
     assert_eq!(r.outcome, Some(Outcome::Stranded));
-    assert_eq!(r.collapse.as_ref().unwrap().stranded as usize, stranded);
+    let c = r.collapse.as_ref().unwrap();
+    // When: the collapse's first step, and the step the first robot ran out.
+    assert_eq!((c.stranded as usize, c.collapsed, c.step, c.first_stranded), (stranded, true, low_from as u64 * r.window + 1, first));
 }
 
 #[test]
@@ -115,7 +124,7 @@ fn robots_stranding_while_the_throughput_holds_end_stranded_with_when_and_where(
     let robots = sim.robots();
     let stranded: Vec<usize> = (0..robots.len()).filter(|&i| robots.state[i] == State::Stranded).collect();
     let c = r.collapse.as_ref().unwrap();
-    assert_eq!(c.stranded as usize, stranded.len());
+    assert_eq!((c.stranded as usize, c.collapsed, c.first_stranded), (stranded.len(), false, first));
     assert!(stranded.len() > 100 && stranded.len() < 900, "{}", stranded.len());
     // When: the step the first robot ran out; and the windows as they are.
     assert_eq!(Some(c.step), first);

@@ -48,6 +48,8 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
             cd.set_item("best", c.best)?;
             cd.set_item("last", c.last)?;
             cd.set_item("stranded", c.stranded)?;
+            cd.set_item("collapsed", c.collapsed)?;
+            cd.set_item("first_stranded", c.first_stranded)?;
             cd.set_item("crossings", c.crossings.clone())?;
             d.set_item("collapse", cd)?;
         }

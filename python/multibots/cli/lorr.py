@@ -24,7 +24,9 @@ def lorr(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
     planner: str = typer.Option(
-        "pibt", "--planner", help="Planner: pibt (on highways), pibt-no-lanes, pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead."
+        "pibt",
+        "--planner",
+        help="Planner: pibt (on highways), pibt-no-lanes, pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead.",
     ),
     scheduler: str = typer.Option(
         "spread", "--scheduler", help="Scheduler (2024): spread, nearest, greedy, hungarian, auction.",

@@ -146,15 +146,16 @@ def flow_lines(result: Any) -> list[str]:
     c = getattr(result, "collapse", None)
     if c is not None:
         where = ", ".join(f"{name} ({k})" for name, k in c["crossings"][:5]) or "-"
-        if c["stranded"]:
+        if c["collapsed"]:
+            stranded = f", {c['stranded']} robots stranded from step {c['first_stranded']:,}" if c["stranded"] else ""
             lines.append(
-                f"stranded     from step {c['step']:,}: {c['stranded']} robots out of energy,"
-                f" windows best {c['best']}, last {c['last']}; robots stand still at {where}"
+                f"collapse     from step {c['step']:,}: windows fell from {c['best']} to {c['last']}{stranded};"
+                f" robots stand still at {where}"
             )
         else:
             lines.append(
-                f"collapse     from step {c['step']:,}: windows fell from {c['best']} to {c['last']};"
-                f" robots stand still at {where}"
+                f"stranded     from step {c['step']:,}: {c['stranded']} robots out of energy,"
+                f" windows best {c['best']}, last {c['last']}; they stand at {where}"
             )
     return lines
 

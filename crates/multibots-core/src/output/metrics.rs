@@ -203,6 +203,10 @@ pub struct Collapse {
     pub last: u64,
     /// Robots out of energy at the end.
     pub stranded: u32,
+    /// Whether the windows collapsed (else robots stranded while the throughput held).
+    pub collapsed: bool,
+    /// The step the first robot ran out of energy, if any did.
+    pub first_stranded: Option<u64>,
     /// Where robots stood still at the end: the crossings that waiting or stranded robots
     /// (only stranded ones if the throughput held) stand at or drive towards, with how many
     /// robots each, most first (at most ten).

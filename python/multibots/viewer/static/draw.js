@@ -676,7 +676,7 @@ export class Renderer {
 
   /** The resources' queues (docs/viewer.md): a ring around the bottleneck (every charger when
    * it is the chargers' queue), and at each resource with robots queued a badge with their
-   * number, beside its node. queues: {resources, counts, bottleneck}; the charger queue has
+   * number, beside its node (a lane's: along the lane). queues: {resources, counts, bottleneck}; the charger queue has
    * no node of its own and is listed beside the map only. */
   _drawQueues(ctx, queues) {
     const ui = this.ui, d = this.dpr, nodes = this.layout.nodes;
@@ -695,13 +695,15 @@ export class Renderer {
       ctx.stroke();
     }
     const off = Math.max(6 * ui, this.aisle * 0.3 * this.scale);
-    // A node's badge sits beside it; a lane's ("U->V"), beside the middle of the lane.
+    // A node's badge sits beside it; a lane's ("U->V") two thirds of the way to V, where its
+    // queue stands, so that the lanes U->V and V->U of a two-way aisle do not share a spot.
     const at = (u) => {
       const ends = u.kind === "lane" ? u.node.split("->") : [u.node];
       const ks = ends.map((name) => this.nodeOf.get(name));
       if (ks.some((k) => k === undefined)) return null;
-      const x = ks.reduce((a, k) => a + nodes[k].x, 0) / ks.length;
-      const y = ks.reduce((a, k) => a + nodes[k].y, 0) / ks.length;
+      const w = ks.length === 2 ? [1 / 3, 2 / 3] : [1];
+      const x = ks.reduce((a, k, j) => a + w[j] * nodes[k].x, 0);
+      const y = ks.reduce((a, k, j) => a + w[j] * nodes[k].y, 0);
       return this.toScreen(x, y);
     };
     queues.resources.forEach((u, j) => {

@@ -86,7 +86,8 @@ impl Paper {
             Some((first, best, last)) => (first as u64 * self.tally.window() + 1, best, last),
             None => (self.tally.first_stranded.unwrap_or(self.tally.t), windows.iter().copied().max().unwrap_or(0), windows.last().copied().unwrap_or(0)),
         };
-        self.tally.collapse = Some(Collapse { step, best, last, stranded, crossings });
+        let first_stranded = (stranded > 0).then(|| self.tally.first_stranded.unwrap_or(self.tally.t));
+        self.tally.collapse = Some(Collapse { step, best, last, stranded, collapsed: collapsed.is_some(), first_stranded, crossings });
         if stranded > 0 {
             Outcome::Stranded
         } else {
