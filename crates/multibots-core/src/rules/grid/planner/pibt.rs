@@ -30,16 +30,21 @@
 //! (measured, then left out). On the 2023 instances, whose errands come in a fixed order, it
 //! costs (MR23-I-10: 83,981 against 95,115), hence `pibt-no-lanes`.
 //!
-//! On the highways, a robot steps against the lane through a passage one cell wide (an
-//! aisle between shelves: no free 2×2 block holds both cells) only if the step brings it
-//! nearer its errand, never to make way or to wait elsewhere. Robots pushed aside into the
-//! wrong way of an aisle met the robots coming along it head-on, neither could give way in
-//! a full aisle, and on MR23-I-10 (10,000 robots, 2023 rules) the shelf rows near the
-//! stations froze solid: 115,222 tasks in 5,000 steps against 95,115 for `pibt-no-lanes`,
-//! 104,150 against 83,981 for `pibt`, the fleet no longer slowing down after step 2,000.
-//! MR24-WAREHOUSE (78,654 against 78,269 in 3,000 steps), MR24-SORTATION (73,462 against
-//! 72,775) and TR23-warehouse_large (19,929, the same) did not lose. Open areas keep both
-//! ways: there robots can pass each other.
+//! On the highways, a robot steps against the lane into a passage one cell wide and at
+//! least two long (an aisle between shelves: the entered cell and the next have walls on
+//! both sides) only if the step brings it nearer its errand, never to make way, unless it
+//! backs out for a swap (below). Robots pushed aside into the wrong way of an aisle met the
+//! robots coming along it head-on, neither could give way in a full aisle, and on MR23-I-10
+//! (10,000 robots, 2023 rules) the shelf rows near the stations froze solid. Measured over
+//! 5,000 steps: MR23-I-10 104,167 tasks against 83,981 (`pibt`), 115,779 against 95,115
+//! (`pibt-no-lanes`), the fleet no longer slowing down after step 2,000; TR23-warehouse_large
+//! 19,946 against 19,929; in 3,000 steps MR24-WAREHOUSE 78,918 against 78,269, and
+//! MR24-SORTATION (72,775) and MR24-CITY-01 (7,255) the same. Counting every passage
+//! without a free 2×2 block, one-cell gaps included, cost the small random maps 15-20 %;
+//! with passages of two cells or more they lose 0-5 % (MR24-RANDOM-03 to 05, four seeds).
+//! Keeping robots off the wrong way of open areas too gave MR23-I-10 more again (78,240 in
+//! 3,000 steps with `pibt-no-lanes`, against 71,122) but MR24-RANDOM-05 fell from 699 to 193:
+//! open areas keep both ways.
 //!
 //! Plain PIBT deadlocks where two robots meet head-on in a corridor that ends (a dead end of
 //! the random maps): the one of higher priority wants in, the other can only leave through
@@ -106,8 +111,8 @@ pub struct Pibt {
     bonus: Vec<u32>,
     /// Whether ties go to the emptier lane (`pibt`) or straight to the cell ahead.
     lanes: bool,
-    /// Per cell, bit `h` set if leaving it in heading `h` goes against its lane through a
-    /// passage one cell wide (no free 2×2 block holds both cells).
+    /// Per cell, bit `h` set if leaving it in heading `h` goes against its lane into a
+    /// passage one cell wide and at least two long.
     narrow_against: Vec<u8>,
 }
 
@@ -160,7 +165,10 @@ impl Pibt {
                     }
                     let side = |c: u32, s: u8| ahead(map, c, s).is_some_and(|u| map.free[u as usize]);
                     let (s1, s2) = ((h + 1) % 4, (h + 3) % 4);
-                    let open = (side(p, s1) && side(q, s1)) || (side(p, s2) && side(q, s2));
+                    // A passage: `q` and the cell after it have walls on both sides.
+                    let walled = |c: u32| !side(c, s1) && !side(c, s2);
+                    let beyond = ahead(map, q, h).filter(|&u| map.free[u as usize]);
+                    let open = !walled(q) || !beyond.is_some_and(walled);
                     if !open {
                         narrow_against[p as usize] |= 1 << h;
                     }
@@ -213,16 +221,17 @@ impl Pibt {
         }
     }
 
-    /// Candidate cells of robot `a`, best first.
-    fn candidates(&mut self, view: &PlanView<'_>, a: usize) -> ([u32; 5], u8) {
+    /// Candidate cells of robot `a`, best first, and which of them (a bit per rank) are a
+    /// step against the lane through a one-cell passage that does not bring it nearer.
+    fn candidates(&mut self, view: &PlanView<'_>, a: usize) -> ([u32; 5], u8, u8) {
         let p = view.loc[a];
         let goal = view.goals[a];
-        let mut keyed: [(u16, u8, u8, u32, u32); 5] = [(0, 0, 0, 0, NONE); 5];
+        let mut keyed: [(u16, u8, u8, u32, u32, bool); 5] = [(0, 0, 0, 0, NONE, false); 5];
         let mut n = 0;
         // The key: distance to the goal, then the emptier lane, then the cell straight ahead
         // first, then a seeded random draw. A robot without a goal stays first.
         let dp = self.cost(a, p, goal);
-        keyed[n] = (dp, 0, u8::from(goal != NO_GOAL), self.rng.random::<u32>(), p);
+        keyed[n] = (dp, 0, u8::from(goal != NO_GOAL), self.rng.random::<u32>(), p, false);
         n += 1;
         for h in 0..4u8 {
             if let Some(q) = ahead(view.map, p, h) {
@@ -233,24 +242,20 @@ impl Pibt {
                 if d == FAR {
                     continue;
                 }
-                // Against the lane through a one-cell passage only on the robot's own route:
-                // pushed robots stepping aside into the wrong way of an aisle met the robots
-                // coming along it head-on, and on MR23-I-10 those meetings froze the aisles
-                // between the stations and the shelves (95,115 tasks against 115,222 without).
-                if (self.narrow_against[p as usize] >> h) & 1 == 1 && d >= dp {
-                    continue;
-                }
+                let wrong = (self.narrow_against[p as usize] >> h) & 1 == 1 && d >= dp;
                 let crowd = if self.lanes { self.crowd_ahead(view, q, h) } else { 0 };
-                keyed[n] = (d, crowd, u8::from(h != view.heading[a]), self.rng.random::<u32>(), q);
+                keyed[n] = (d, crowd, u8::from(h != view.heading[a]), self.rng.random::<u32>(), q, wrong);
                 n += 1;
             }
         }
         keyed[..n].sort_unstable();
         let mut out = [NONE; 5];
-        for (o, k) in out.iter_mut().zip(&keyed[..n]) {
+        let mut wrong = 0u8;
+        for (i, (o, k)) in out.iter_mut().zip(&keyed[..n]).enumerate() {
             *o = k.4;
+            wrong |= u8::from(k.5) << i;
         }
-        (out, n as u8)
+        (out, n as u8, wrong)
     }
 
     /// Robots on the [`LANE_CELLS`] cells from `q` on in direction `h`, up to a wall.
@@ -267,9 +272,24 @@ impl Pibt {
 
     /// A robot's frame: its candidates, reversed when a swap is needed.
     fn frame(&mut self, view: &PlanView<'_>, a: u32) -> Frame {
-        let (mut cands, n) = self.candidates(view, a as usize);
+        let (mut cands, mut n, wrong) = self.candidates(view, a as usize);
         let swap = self.swap_partner(view, a, cands[0]);
-        if swap != NONE {
+        if swap == NONE {
+            // Against the lane through a one-cell passage only on the robot's own route:
+            // pushed robots stepping aside into the wrong way of an aisle met the robots
+            // coming along it head-on, and on MR23-I-10 those meetings froze the aisles
+            // between the stations and the shelves.
+            let mut kept = 0;
+            for i in 0..n as usize {
+                if (wrong >> i) & 1 == 0 {
+                    cands[kept] = cands[i];
+                    kept += 1;
+                }
+            }
+            cands[kept..].fill(NONE);
+            n = kept as u8;
+        } else {
+            // Backing out of a corridor to let a robot pass may go against the lane.
             cands[..n as usize].reverse();
         }
         Frame { agent: a, cands, n, i: 0, swap }
