@@ -24,7 +24,7 @@ def lorr(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
     planner: str = typer.Option(
-        "pibt", "--planner", help="Planner: pibt (on highways), pibt-no-lanes, pibt-no-highways."
+        "pibt", "--planner", help="Planner: pibt (on highways), pibt-no-lanes, pibt-one-way, pibt-no-highways."
     ),
     scheduler: str = typer.Option(
         "spread", "--scheduler", help="Scheduler (2024): spread, nearest, greedy, hungarian, auction.",
