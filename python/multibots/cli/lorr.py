@@ -26,7 +26,8 @@ def lorr(
     planner: str = typer.Option(
         "pibt",
         "--planner",
-        help="Planner: pibt (on highways), pibt-no-lanes, pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead.",
+        help="Planner: pibt (on highways), pibt-no-lanes, pibt-one-way (2023 warehouse, sortation),"
+        " pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead.",
     ),
     scheduler: str = typer.Option(
         "spread", "--scheduler", help="Scheduler (2024): spread, nearest, greedy, hungarian, auction.",

@@ -8,6 +8,7 @@
 //! | --- | --- |
 //! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs`, on highways (`guidance.rs`) |
 //! | `pibt-no-lanes` | the same PIBT on highways, ties going straight ahead, not to the emptier lane |
+//! | `pibt-one-way` | `pibt-no-lanes`, never against a lane unless that brings the robot nearer |
 //! | `pibt-no-highways` | the same PIBT, every move costing the same |
 //! | `rpibt` | PIBT on actions, distances counting turns (`lookahead.rs`) |
 //! | `rpibt-pp` | `rpibt`, each robot first trying the next cell of a path planned a few steps ahead round the robots before it in priority (`window.rs`); on highways whose against-the-lane cost grows with robots per free cell (`Lookahead::on_highways_by_density`) |
@@ -54,13 +55,14 @@ pub trait Planner: Send + Sync {
 }
 
 /// The built-in planners, by name.
-pub const BUILT_INS: &[&str] = &["pibt", "pibt-no-lanes", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead"];
+pub const BUILT_INS: &[&str] = &["pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead"];
 
 /// A built-in planner by name, for `map`, seeded by `seed`.
 pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
     match name {
         "pibt" => Ok(Box::new(Pibt::new(map, robots, seed, true, true))),
         "pibt-no-lanes" => Ok(Box::new(Pibt::new(map, robots, seed, true, false))),
+        "pibt-one-way" => Ok(Box::new(Pibt::new(map, robots, seed, true, false).one_way())),
         "pibt-no-highways" => Ok(Box::new(Pibt::new(map, robots, seed, false, true))),
         "rpibt" => Ok(Box::new(Lookahead::new(map, robots, seed, 0))),
         "rpibt-pp" => Ok(Box::new(Lookahead::new(map, robots, seed, 0).guided(map.cells()).on_highways_by_density(map, robots))),
