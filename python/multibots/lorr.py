@@ -22,7 +22,9 @@ from multibots import _core
 __all__ = ["PLANNERS", "SCHEDULERS", "LorrResult", "run"]
 
 #: The built-in planners; the first is the default.
-PLANNERS: tuple[str, ...] = ("pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead")
+PLANNERS: tuple[str, ...] = (
+    "pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead",
+)
 #: The built-in schedulers (2024 rules); the first is the default.
 SCHEDULERS: tuple[str, ...] = ("spread", "nearest", "greedy", "hungarian", "auction")
 
