@@ -29,6 +29,18 @@ fn collapsed_from_windows(r: &RunResult) -> Option<usize> {
     Some(first)
 }
 
+/// Runs `sim` to its end; the step after which a robot was first seen stranded.
+fn run_to_the_end(sim: &mut Simulation) -> Option<u64> {
+    let mut first = None;
+    while !sim.done() {
+        sim.step().unwrap();
+        if first.is_none() && sim.robots().state.contains(&State::Stranded) {
+            first = Some(sim.t());
+        }
+    }
+    first
+}
+
 #[test]
 fn a_jammed_fleet_ends_collapse_and_says_when_and_where() {
     // 600 robots under collision waiting, the paper's aisle directions: the fleet jams
@@ -62,13 +74,7 @@ fn a_fleet_stranding_robot_by_robot_ends_stranded() {
     // Queued robots draw what driving does (the scenario says so): they drain in the queue.
     s.robot.idle_consumption = Some(0.002);
     let mut sim = Simulation::new(&s).unwrap();
-    let mut first = None;
-    while !sim.done() {
-        sim.step().unwrap();
-        if first.is_none() && sim.robots().state.contains(&State::Stranded) {
-            first = Some(sim.t());
-        }
-    }
+    let first = run_to_the_end(&mut sim);
     let r = sim.result();
     let stranded = sim.robots().state.iter().filter(|&&st| st == State::Stranded).count();
     let low_from = collapsed_from_windows(&r).unwrap_or_else(|| panic!("{:?}", r.windows));
@@ -111,13 +117,7 @@ fn robots_stranding_while_the_throughput_holds_end_stranded_with_when_and_where(
     "#;
     let s = Scenario::from_toml(text, "untuned.toml").unwrap();
     let mut sim = Simulation::new(&s).unwrap();
-    let mut first = None;
-    while !sim.done() {
-        sim.step().unwrap();
-        if first.is_none() && sim.robots().state.contains(&State::Stranded) {
-            first = Some(sim.t());
-        }
-    }
+    let first = run_to_the_end(&mut sim);
     let r = sim.result();
     assert!(collapsed_from_windows(&r).is_none(), "{:?}", r.windows);
     assert_eq!(r.outcome, Some(Outcome::Stranded), "{:?}", r.windows);
