@@ -199,7 +199,8 @@ def run(label: str, case: dict[str, Any], traffic: str, steps: int, sample: int,
         print(f"  t={row['t']:>6} win={row['window']:>5} wait={row['wait']:.1%} still={row['still']:.0f} "
               f"queued={row['queued']} backlog={row['waiting']} {row['kinds']} top={row['top']} {row['states']}")
     if detail:
-        busiest = sorted(r.resources, key=lambda x: -x["mean_queue"])[:6]
+        # A lane's queue is part of its crossing's: the places themselves, not counted twice.
+        busiest = sorted((u for u in r.resources if u["kind"] != "lane"), key=lambda x: -x["mean_queue"])[:6]
         print(f"  bottleneck {r.bottleneck}")
         print(f"  longest mean queues {busiest}")
     sys.stdout.flush()
