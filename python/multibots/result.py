@@ -147,7 +147,7 @@ class Result:
             windows, the shares of robot-steps spent waiting and working on orders, pairs of
             robots closer than r_i + r_j after each step and the closest approach, for a
             gridlock the step, the waiting robots and the crossings where they wait, and
-            for a collapse (outcomes ``collapse`` and ``stranded`` at the horizon) the step
+            for a collapse or stranded robots (outcomes ``collapse`` and ``stranded``) the step
             it began (for robots stranded while the windows held, the step the first ran
             out), the best and last windows, the stranded robots and where robots stood;
             resources: each unloading zone, charger, the charger queue and the busiest

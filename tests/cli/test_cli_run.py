@@ -258,3 +258,18 @@ def test_robots_stranding_while_the_rest_deliver_exit_3_with_when_and_where(cli,
     assert f"windows best {c['best']}, last {c['last']}" in line
     assert f"{c['crossings'][0][0]} ({c['crossings'][0][1]})" in line
     assert not c["collapsed"] and c["first_stranded"] == c["step"]
+
+
+def test_a_task_list_run_whose_robot_strands_says_when_and_where(cli, tmp_path):
+    # One robot, the far unloading zone R and a threshold too low to get back: it runs flat
+    # at step 2,000 (10 energy at 0.005 a step) and the run ends there.
+    s = Scenario.paper(robots=1, goods=[11, 8, 39, 28, 53, 1, 69, 42, 79, 6])
+    s = s.replace(unload="R", step_limit=20000, robot={"threshold": 0.3})
+    path = tmp_path / "flat.toml"
+    path.write_text(s.to_toml())
+    p = cli("run", path)
+    assert p.returncode == 3, p.stderr
+    line = next(x for x in p.stdout.splitlines() if x.startswith("stranded     from"))
+    want = "stranded     from step 2,000: 1 robots out of energy, windows best 2, last 2; they stand at "
+    assert line.startswith(want), line
+    assert line.endswith(" (1)"), line

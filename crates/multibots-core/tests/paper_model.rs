@@ -94,6 +94,11 @@ fn a_robot_without_reserve_is_stranded_and_the_run_ends_so() {
     // step lasts 2,000 steps.
     assert_eq!(r.steps, 2000);
     assert!(r.robots.state_steps[0][multibots_core::State::Stranded as usize] == 1);
+    // When and where: the step it ran out, and the node it stood at or drove towards.
+    let c = r.collapse.as_ref().unwrap();
+    assert_eq!((c.step, c.first_stranded, c.stranded, c.collapsed), (2000, Some(2000), 1, false));
+    assert_eq!(c.crossings.len(), 1);
+    assert_eq!(c.crossings[0].1, 1);
 }
 
 #[test]

@@ -153,9 +153,10 @@ def flow_lines(result: Any) -> list[str]:
                 f" robots stand still at {where}"
             )
         else:
+            windows = f", windows best {c['best']}, last {c['last']}" if c["best"] else ""
             lines.append(
-                f"stranded     from step {c['step']:,}: {c['stranded']} robots out of energy,"
-                f" windows best {c['best']}, last {c['last']}; they stand at {where}"
+                f"stranded     from step {c['step']:,}: {c['stranded']} robots out of energy{windows};"
+                f" they stand at {where}"
             )
     return lines
 

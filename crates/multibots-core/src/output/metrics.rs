@@ -144,8 +144,8 @@ pub struct RunResult {
     pub closest: Option<f64>,
     /// Where the fleet jammed, for outcome `gridlock`.
     pub gridlock: Option<Gridlock>,
-    /// When and where throughput collapsed, for outcomes `collapse` and `stranded` at the
-    /// horizon.
+    /// When and where throughput collapsed, or robots stranded, for outcomes `collapse` and
+    /// `stranded`.
     pub collapse: Option<Collapse>,
     /// How busy each unloading zone, charger and the busiest crossings were, and their
     /// queues (paper rules; empty under the original rules).

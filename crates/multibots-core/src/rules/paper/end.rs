@@ -21,6 +21,7 @@ impl Paper {
         if complete {
             self.outcome = Some(Outcome::Complete);
         } else if work_remains && self.robots.state.iter().all(|&s| s == State::Stranded) {
+            self.report_strand(None);
             self.outcome = Some(Outcome::Stranded);
         } else if jammed {
             let waits = std::mem::take(&mut self.collisions.waits);
@@ -78,21 +79,32 @@ impl Paper {
         if !work_remains || (collapsed.is_none() && stranded == 0) {
             return Outcome::Horizon;
         }
-        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
-        let still = |i: usize| (collapsed.is_some() && waits[i]) || r.state[i] == State::Stranded;
-        let crossings = self.busiest_nodes((0..n).filter(|&i| still(i)));
-        let windows = self.tally.windows();
-        let (step, best, last) = match collapsed {
-            Some((first, best, last)) => (first as u64 * self.tally.window() + 1, best, last),
-            None => (self.tally.first_stranded.unwrap_or(self.tally.t), windows.iter().copied().max().unwrap_or(0), windows.last().copied().unwrap_or(0)),
-        };
-        let first_stranded = (stranded > 0).then(|| self.tally.first_stranded.unwrap_or(self.tally.t));
-        self.tally.collapse = Some(Collapse { step, best, last, stranded, collapsed: collapsed.is_some(), first_stranded, crossings });
+        self.report_strand(collapsed);
         if stranded > 0 {
             Outcome::Stranded
         } else {
             Outcome::Collapse
         }
+    }
+
+    /// Fills the result's `collapse` (when and where) for a run that ends `collapse` or
+    /// `stranded`: from the collapse's first window if the windows `collapsed` (first window,
+    /// best, last), else from the step the first robot ran out of energy; where the stranded
+    /// robots (and after a collapse the waiting ones) stand.
+    fn report_strand(&mut self, collapsed: Option<(usize, u64, u64)>) {
+        let r = &self.robots;
+        let n = r.len();
+        let stranded = (0..n).filter(|&i| r.state[i] == State::Stranded).count() as u32;
+        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        let still = |i: usize| (collapsed.is_some() && waits[i]) || r.state[i] == State::Stranded;
+        let crossings = self.busiest_nodes((0..n).filter(|&i| still(i)));
+        let windows = self.tally.windows();
+        let first_stranded = (stranded > 0).then(|| self.tally.first_stranded.unwrap_or(self.tally.t));
+        let (step, best, last) = match collapsed {
+            Some((first, best, last)) => (first as u64 * self.tally.window() + 1, best, last),
+            None => (first_stranded.unwrap_or(self.tally.t), windows.iter().copied().max().unwrap_or(0), windows.last().copied().unwrap_or(0)),
+        };
+        self.tally.collapse = Some(Collapse { step, best, last, stranded, collapsed: collapsed.is_some(), first_stranded, crossings });
     }
 
     /// The nodes `robots` stand at or drive towards, with how many robots each, most first
@@ -120,6 +132,9 @@ impl Paper {
         let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
         if waiting.is_empty() {
             let stranded = r.state.contains(&crate::fleet::robot::State::Stranded);
+            if stranded {
+                self.report_strand(None);
+            }
             self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
             return;
         }
