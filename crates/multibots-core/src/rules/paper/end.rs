@@ -95,9 +95,14 @@ impl Paper {
         let r = &self.robots;
         let n = r.len();
         let stranded = (0..n).filter(|&i| r.state[i] == State::Stranded).count() as u32;
-        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
-        let still = |i: usize| (collapsed.is_some() && waits[i]) || r.state[i] == State::Stranded;
-        let crossings = self.busiest_nodes((0..n).filter(|&i| still(i)));
+        let out = |i: usize| r.state[i] == State::Stranded;
+        let crossings = if collapsed.is_some() {
+            let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+            self.busiest_nodes((0..n).filter(|&i| waits[i] || out(i)))
+        } else {
+            // Not the waits: a stalled run's are taken out while it is declared.
+            self.busiest_nodes((0..n).filter(|&i| out(i)))
+        };
         let windows = self.tally.windows();
         let first_stranded = (stranded > 0).then(|| self.tally.first_stranded.unwrap_or(self.tally.t));
         let (step, best, last) = match collapsed {
