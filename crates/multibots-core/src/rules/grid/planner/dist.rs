@@ -16,6 +16,9 @@ use std::collections::HashMap;
 /// "Not reachable" in a table.
 pub const FAR: u16 = u16::MAX;
 
+/// A move weight meaning "no move": a weighted search never takes it.
+pub const BARRED: u8 = u8::MAX;
+
 /// Distance tables by goal cell.
 pub struct Distances {
     index: Vec<u32>,
@@ -82,7 +85,8 @@ impl Distances {
         }
     }
 
-    /// Tables whose moves cost `weight(cell, heading)` (at least 1) instead of 1.
+    /// Tables whose moves cost `weight(cell, heading)` (at least 1) instead of 1; a move
+    /// whose weight is [`BARRED`] is never taken.
     #[must_use]
     pub fn weighted(map: &GridMap, capacity: usize, weight: impl Fn(u32, u8) -> u8) -> Distances {
         let mut d = Distances::new(map, capacity);
@@ -92,7 +96,7 @@ impl Distances {
                 w.push(std::array::from_fn(|h| weight(c as u32, h as u8).max(1)));
             }
         }
-        let largest = w.iter().flatten().copied().max().unwrap_or(1);
+        let largest = w.iter().flatten().copied().filter(|&x| x != BARRED).max().unwrap_or(1);
         d.buckets = vec![Vec::new(); usize::from(largest) + 1];
         d.weight = Some(w);
         d
@@ -256,7 +260,11 @@ impl Distances {
                     continue;
                 }
                 // v moves onto u heading the opposite way of h.
-                let dv = cur.saturating_add(u16::from(weight[v as usize][(h + 2) % 4])).min(FAR - 1);
+                let w = weight[v as usize][(h + 2) % 4];
+                if w == BARRED {
+                    continue;
+                }
+                let dv = cur.saturating_add(u16::from(w)).min(FAR - 1);
                 if dv < table[v as usize] {
                     table[v as usize] = dv;
                     self.buckets[dv as usize % ring].push(v);
@@ -332,6 +340,9 @@ mod tests {
                 }
                 for h in 0..4 {
                     let Some(q) = crate::rules::grid::action::ahead(map, c, h) else { continue };
+                    if weight(c, h) == BARRED {
+                        continue;
+                    }
                     if map.free[q as usize] && d[q as usize] != FAR && d[q as usize] + u16::from(weight(c, h)) < d[c as usize] {
                         d[c as usize] = d[q as usize] + u16::from(weight(c, h));
                         changed = true;
@@ -347,8 +358,10 @@ mod tests {
     #[test]
     fn weighted_tables_match_a_relaxation_however_the_search_is_spread() {
         let map = GridMap::parse("type octile\nheight 5\nwidth 7\nmap\n.......\n.@@.@@.\n...@...\n.@.@.@.\n.......\n").unwrap();
-        let weight = |c: u32, h: u8| [3u8, 7, 1, 12][h as usize] + (c % 3) as u8;
-        for goal in [0, 16, 34] {
+        let plain: fn(u32, u8) -> u8 = |c, h| [3u8, 7, 1, 12][h as usize] + (c % 3) as u8;
+        // Some moves barred: every cell stays reachable, some only the long way round.
+        let barred: fn(u32, u8) -> u8 = |c, h| if c % 5 == 0 && h == 1 { BARRED } else { [3u8, 7, 1, 12][h as usize] };
+        for (weight, goal) in [plain, barred].into_iter().flat_map(|w| [(w, 0), (w, 16), (w, 34)]) {
             let want = relaxed(&map, goal, weight);
             for step in [1, 3, u64::MAX] {
                 let mut d = Distances::weighted(&map, 2, weight);

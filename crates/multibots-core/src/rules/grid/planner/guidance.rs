@@ -69,6 +69,128 @@ pub fn highway_costs(map: &GridMap) -> Vec<[u8; 4]> {
     out
 }
 
+/// The cost of a move along an open band: a tenth more than [`WITH`].
+pub const ALONG_BAND: u8 = WITH + 1;
+
+/// Raises to [`ALONG_BAND`] the cost of each move along the lane that runs the long way of
+/// an open band: from a cell whose eight neighbours are free, in the direction (row or
+/// column) in which the open cells around it run further.
+///
+/// A band of open floor in front of stations is crossed by every robot bound for them; a
+/// robot that also travels along it, when a corridor beside the shelves is as short, fills
+/// it. The tenth only breaks ties between routes of equal length, so that the travel along
+/// goes through the corridors and the band is only crossed (the 2023 League of Robot Runners
+/// entry of Team Pikachu weighted its warehouse map's bands by the same idea).
+pub fn open_band_costs(map: &GridMap, costs: &mut [[u8; 4]]) {
+    let (rows, cols) = (map.rows as usize, map.cols as usize);
+    let open: Vec<bool> = (0..rows * cols)
+        .map(|cell| {
+            let (r, c) = ((cell / cols) as i64, (cell % cols) as i64);
+            (-1..=1i64).all(|dr| {
+                (-1..=1i64).all(|dc| {
+                    let (rr, cc) = (r + dr, c + dc);
+                    rr >= 0 && cc >= 0 && (rr as usize) < rows && (cc as usize) < cols && map.free[rr as usize * cols + cc as usize]
+                })
+            })
+        })
+        .collect();
+    // The length of the run of open cells through each cell, along its row and its column.
+    let mut along_row = vec![0u32; rows * cols];
+    let mut along_col = vec![0u32; rows * cols];
+    for r in 0..rows {
+        let mut c = 0;
+        while c < cols {
+            let start = c;
+            while c < cols && open[r * cols + c] {
+                c += 1;
+            }
+            for x in start..c {
+                along_row[r * cols + x] = (c - start) as u32;
+            }
+            c += 1;
+        }
+    }
+    for c in 0..cols {
+        let mut r = 0;
+        while r < rows {
+            let start = r;
+            while r < rows && open[r * cols + c] {
+                r += 1;
+            }
+            for y in start..r {
+                along_col[y * cols + c] = (r - start) as u32;
+            }
+            r += 1;
+        }
+    }
+    for cell in (0..rows * cols).filter(|&cell| open[cell]) {
+        let headings: &[usize] = match along_row[cell].cmp(&along_col[cell]) {
+            std::cmp::Ordering::Greater => &[0, 2],
+            std::cmp::Ordering::Less => &[1, 3],
+            std::cmp::Ordering::Equal => &[],
+        };
+        for &h in headings {
+            if costs[cell][h] == WITH {
+                costs[cell][h] = ALONG_BAND;
+            }
+        }
+    }
+}
+
+/// How many cells [`lanes_core`] tries as a member of the core.
+const CORE_ROOTS: usize = 16;
+
+/// The free cells that moves along the lanes connect both ways (each reaches every other
+/// without a step against a lane): the strongly connected component of the lanes' graph
+/// holding at least half the free cells, or none if no component is that large.
+///
+/// Between these cells a robot never needs to go against a lane, so `pibt-one-way` bars
+/// it there ([`super::BARRED`]); elsewhere (a dead end, a pocket the lanes only run into)
+/// the step against the lane stays open, at its cost.
+#[must_use]
+pub fn lanes_core(map: &GridMap, costs: &[[u8; 4]]) -> Vec<bool> {
+    use crate::rules::grid::action::ahead;
+    let cells = map.cells();
+    let free_cells = map.free.iter().filter(|&&f| f).count();
+    let along = |p: u32, h: u8| ahead(map, p, h).filter(|&q| map.free[q as usize] && costs[p as usize][h as usize] < AGAINST);
+    // Cells reachable from `root` by moves along the lanes, forwards or (`back`) backwards.
+    let reach = |root: u32, back: bool| {
+        let mut seen = vec![false; cells];
+        let mut stack = vec![root];
+        seen[root as usize] = true;
+        while let Some(p) = stack.pop() {
+            for h in 0..4u8 {
+                let next = if back { ahead(map, p, h).filter(|&q| map.free[q as usize] && along(q, (h + 2) % 4) == Some(p)) } else { along(p, h) };
+                if let Some(q) = next.filter(|&q| !seen[q as usize]) {
+                    seen[q as usize] = true;
+                    stack.push(q);
+                }
+            }
+        }
+        seen
+    };
+    // The component holding at least half the free cells holds some of any `CORE_ROOTS`
+    // cells spread evenly over them on all but odd maps; each try costs two searches of the
+    // map, so the tries are few.
+    let free: Vec<u32> = (0..cells as u32).filter(|&c| map.free[c as usize]).collect();
+    let mut tried = vec![false; cells];
+    for k in 0..CORE_ROOTS.min(free_cells) {
+        let root = free[k * free_cells / CORE_ROOTS.min(free_cells)];
+        if tried[root as usize] {
+            continue;
+        }
+        let (fwd, bwd) = (reach(root, false), reach(root, true));
+        let core: Vec<bool> = fwd.iter().zip(&bwd).map(|(&f, &b)| f && b).collect();
+        if 2 * core.iter().filter(|&&c| c).count() >= free_cells {
+            return core;
+        }
+        for (t, &c) in tried.iter_mut().zip(&core) {
+            *t |= c;
+        }
+    }
+    vec![false; cells]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,5 +209,63 @@ mod tests {
         for cell in (0..36).filter(|&c| map.free[c]) {
             assert_ne!(costs[cell][1] == WITH, costs[cell][3] == WITH, "one way per column");
         }
+    }
+
+    #[test]
+    fn moves_along_an_open_band_cost_a_tenth_more_and_crossing_it_does_not() {
+        // Rows 1-3 are a band of open floor 10 wide (rows 0 and 4 run beside it); columns
+        // 1-8 of row 2 are open cells, whose run along the row (8) is longer than across (1).
+        let map = GridMap::parse("type octile\nheight 5\nwidth 10\nmap\n..........\n..........\n..........\n..........\n..........\n").unwrap();
+        let plain = highway_costs(&map);
+        let mut costs = plain.clone();
+        open_band_costs(&map, &mut costs);
+        for cell in 0..map.cells() {
+            let (r, c) = (cell / 10, cell % 10);
+            let open = (1..=3).contains(&r) && (1..=8).contains(&c);
+            for h in 0..4 {
+                let raised = open && h % 2 == 0 && plain[cell][h] == WITH;
+                assert_eq!(costs[cell][h], if raised { ALONG_BAND } else { plain[cell][h] }, "cell {cell} heading {h}");
+            }
+        }
+        // Against the lane stays as it was.
+        assert!(costs.iter().flatten().filter(|&&c| c == AGAINST).count() == plain.iter().flatten().filter(|&&c| c == AGAINST).count());
+    }
+
+    /// Cells reachable from `root` along the lanes, forwards or backwards.
+    fn along_from(map: &GridMap, costs: &[[u8; 4]], root: u32, back: bool) -> Vec<bool> {
+        use crate::rules::grid::action::ahead;
+        let mut seen = vec![false; map.cells()];
+        let mut stack = vec![root];
+        seen[root as usize] = true;
+        while let Some(p) = stack.pop() {
+            for q in 0..map.cells() as u32 {
+                let edge = |a: u32, b: u32| (0..4u8).any(|h| ahead(map, a, h) == Some(b) && map.free[b as usize] && costs[a as usize][h as usize] == WITH);
+                let linked = if back { edge(q, p) } else { edge(p, q) };
+                if map.free[q as usize] && linked && !seen[q as usize] {
+                    seen[q as usize] = true;
+                    stack.push(q);
+                }
+            }
+        }
+        seen
+    }
+
+    #[test]
+    fn the_core_is_what_the_lanes_connect_both_ways() {
+        // A dead end hangs below an open block; its column's lane runs south.
+        let spur = GridMap::parse("type octile\nheight 6\nwidth 8\nmap\n........\n........\n........\n........\n@.@@@@@@\n@.@@@@@@\n").unwrap();
+        let costs = highway_costs(&spur);
+        let core = lanes_core(&spur, &costs);
+        let members: Vec<u32> = (0..spur.cells() as u32).filter(|&c| core[c as usize]).collect();
+        assert!(2 * members.len() >= 34, "most of the block: {members:?}");
+        assert!(!core[33] && !core[41], "the dead end is not in the core");
+        // Exactly the component of its first member: everything reached both ways from it.
+        let (fwd, bwd) = (along_from(&spur, &costs, members[0], false), along_from(&spur, &costs, members[0], true));
+        for c in 0..spur.cells() {
+            assert_eq!(core[c], fwd[c] && bwd[c], "cell {c}");
+        }
+        // No component is half the map when the lanes only run into a corridor.
+        let line = GridMap::parse("type octile\nheight 1\nwidth 6\nmap\n......\n").unwrap();
+        assert!(lanes_core(&line, &highway_costs(&line)).iter().all(|&c| !c));
     }
 }

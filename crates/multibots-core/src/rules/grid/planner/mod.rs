@@ -8,7 +8,7 @@
 //! | --- | --- |
 //! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs`, on highways (`guidance.rs`) |
 //! | `pibt-no-lanes` | the same PIBT on highways, ties going straight ahead, not to the emptier lane |
-//! | `pibt-one-way` | `pibt-no-lanes`, never against a lane unless that brings the robot nearer |
+//! | `pibt-one-way` | `pibt-no-lanes`, never against a lane where the lanes go round (`guidance::lanes_core`), elsewhere only if that brings the robot nearer; open bands crossed, not travelled along (`guidance::open_band_costs`) |
 //! | `pibt-no-highways` | the same PIBT, every move costing the same |
 //! | `rpibt` | PIBT on actions, distances counting turns (`lookahead.rs`) |
 //! | `rpibt-pp` | `rpibt`, each robot first trying the next cell of a path planned a few steps ahead round the robots before it in priority (`window.rs`); on highways whose against-the-lane cost grows with robots per free cell (`Lookahead::on_highways_by_density`) |
@@ -20,8 +20,8 @@ mod lookahead;
 mod pibt;
 mod window;
 
-pub use dist::Distances;
-pub use guidance::{highway_costs, AGAINST, WITH};
+pub use dist::{Distances, BARRED};
+pub use guidance::{highway_costs, lanes_core, open_band_costs, AGAINST, WITH};
 pub use lookahead::Lookahead;
 pub use pibt::Pibt;
 
@@ -62,7 +62,7 @@ pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<B
     match name {
         "pibt" => Ok(Box::new(Pibt::new(map, robots, seed, true, true))),
         "pibt-no-lanes" => Ok(Box::new(Pibt::new(map, robots, seed, true, false))),
-        "pibt-one-way" => Ok(Box::new(Pibt::new(map, robots, seed, true, false).one_way())),
+        "pibt-one-way" => Ok(Box::new(Pibt::new(map, robots, seed, true, false).one_way(map))),
         "pibt-no-highways" => Ok(Box::new(Pibt::new(map, robots, seed, false, true))),
         "rpibt" => Ok(Box::new(Lookahead::new(map, robots, seed, 0))),
         "rpibt-pp" => Ok(Box::new(Lookahead::new(map, robots, seed, 0).guided(map.cells()).on_highways_by_density(map, robots))),
