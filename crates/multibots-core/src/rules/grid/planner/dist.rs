@@ -85,8 +85,8 @@ impl Distances {
         }
     }
 
-    /// Tables whose moves cost `weight(cell, heading)` (at least 1) instead of 1; a move
-    /// whose weight is [`BARRED`] is never taken.
+    /// Tables whose moves cost `weight(cell, heading)` (at least 1, at most 254) instead of
+    /// 1; a move whose weight is [`BARRED`] (255) is never taken.
     #[must_use]
     pub fn weighted(map: &GridMap, capacity: usize, weight: impl Fn(u32, u8) -> u8) -> Distances {
         let mut d = Distances::new(map, capacity);
@@ -359,9 +359,14 @@ mod tests {
     fn weighted_tables_match_a_relaxation_however_the_search_is_spread() {
         let map = GridMap::parse("type octile\nheight 5\nwidth 7\nmap\n.......\n.@@.@@.\n...@...\n.@.@.@.\n.......\n").unwrap();
         let plain: fn(u32, u8) -> u8 = |c, h| [3u8, 7, 1, 12][h as usize] + (c % 3) as u8;
-        // Some moves barred: every cell stays reachable, some only the long way round.
-        let barred: fn(u32, u8) -> u8 = |c, h| if c % 5 == 0 && h == 1 { BARRED } else { [3u8, 7, 1, 12][h as usize] };
-        for (weight, goal) in [plain, barred].into_iter().flat_map(|w| [(w, 0), (w, 16), (w, 34)]) {
+        // The move from the corner east barred: cell 0 still reaches cell 1, the long way round.
+        let barred: fn(u32, u8) -> u8 = |c, h| if c == 0 && h == 0 { BARRED } else { [3u8, 7, 1, 12][h as usize] };
+        let mut round = Distances::weighted(&map, 2, barred);
+        let mut short = Distances::weighted(&map, 2, plain);
+        let (r, s) = (round.slot(1), short.slot(1));
+        assert!((0..map.cells() as u32).filter(|&c| map.free[c as usize]).all(|c| round.get(r, c) != FAR));
+        assert!(round.get(r, 0) > short.get(s, 0) + 20, "{} against {}", round.get(r, 0), short.get(s, 0));
+        for (weight, goal) in [plain, barred].into_iter().flat_map(|w| [(w, 0), (w, 1), (w, 16), (w, 34)]) {
             let want = relaxed(&map, goal, weight);
             for step in [1, 3, u64::MAX] {
                 let mut d = Distances::weighted(&map, 2, weight);
