@@ -254,7 +254,8 @@ def main() -> None:
     ap.add_argument("--startkit-steps", type=int, help="default: as --steps")
     ap.add_argument("--startkit-time-limit", type=int, default=1000, help="ms per planning round (its default)")
     ap.add_argument("--scheduler", default="spread")
-    ap.add_argument("--planner", default="pibt", help="ours: pibt (the default), rpibt-pp, ... (docs/lorr.md)")
+    ap.add_argument("--planner", default="pibt",
+                    help="ours: pibt (rows named `ours`), pibt-one-way, rpibt-pp, ... (docs/lorr.md)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--rows", type=Path, help="a JSON file keeping the rows across invocations")
     ap.add_argument("--no-check", action="store_true")
@@ -315,7 +316,8 @@ def main() -> None:
         "```",
         "",
         f"On {machine()}, shared with other jobs (ms/step is noisy, memory is not).",
-        f"MultiBots: the planner each row names (`pibt` is the default), scheduler `{args.scheduler}` (2024), "
+        "MultiBots: the planner each row names (the command's default, `auto`, is `pibt-one-way` up to 30 % of the "
+        f"free cells taken, `pibt` above), scheduler `{args.scheduler}` (2024), "
         f"seed {args.seed}, no time limit. "
         f"Start-Kit: its default planner and scheduler, {args.startkit_time_limit} ms per round. "
         f"Best known: {ARCHIVE}; a share only where the steps match.",

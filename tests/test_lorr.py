@@ -140,7 +140,7 @@ def test_the_command_prints_the_score(cli, tmp_path):
     assert p.returncode == 0, p.stderr
     finished = json.loads(out.read_text())["numTaskFinished"]
     assert finished > 5
-    assert f": {finished:,} finished in 200 steps (2 robots, 2024 rules)" in p.stdout
+    assert f": {finished:,} finished in 200 steps (2 robots, 2024 rules, planner pibt-one-way)" in p.stdout
 
 
 def walk(result: dict) -> list[list[tuple[int, int, int]]]:

@@ -74,7 +74,7 @@ class LorrRun:
     def __new__(
         cls,
         problem: str | PathLike[str],
-        planner: str = "pibt",
+        planner: str = "auto",
         scheduler: str = "spread",
         seed: int = 0,
         plan_time_limit_ms: int | None = None,
@@ -87,6 +87,8 @@ class LorrRun:
     def t(self) -> int: ...
     @property
     def finished(self) -> int: ...
+    @property
+    def planner(self) -> str: ...
     @property
     def team_size(self) -> int: ...
     @property

@@ -23,7 +23,7 @@ __all__ = ["PLANNERS", "SCHEDULERS", "LorrResult", "run"]
 
 #: The built-in planners; the first is the default.
 PLANNERS: tuple[str, ...] = (
-    "pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead",
+    "auto", "pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead",
 )
 #: The built-in schedulers (2024 rules); the first is the default.
 SCHEDULERS: tuple[str, ...] = ("spread", "nearest", "greedy", "hungarian", "auction")
@@ -41,6 +41,7 @@ class LorrResult:
         steps: steps run.
         team_size: robots.
         version: the task rules, ``"2023"`` or ``"2024"``.
+        planner: the planner that played (``auto`` resolved).
         figures: MultiBots' figures (finished per 1,000 steps, planning time per round,
             errors, timeouts).
         out: the result file written, if any.
@@ -50,6 +51,7 @@ class LorrResult:
     steps: int
     team_size: int
     version: str
+    planner: str = ""
     figures: dict[str, Any] = field(default_factory=dict)
     out: Optional[Path] = None
 
@@ -58,7 +60,7 @@ def run(
     problem: Union[str, os.PathLike[str]],
     steps: int = 5000,
     out: Optional[Union[str, os.PathLike[str]]] = None,
-    planner: str = "pibt",
+    planner: str = "auto",
     scheduler: str = "spread",
     seed: int = 0,
     plan_time_limit_ms: Optional[int] = None,
@@ -117,6 +119,7 @@ def run(
         steps=engine.t,
         team_size=engine.team_size,
         version=engine.version,
+        planner=engine.planner,
         figures=json.loads(engine.figures_json()),
         out=written,
     )

@@ -22,7 +22,7 @@ pub(crate) struct PyLorrRun {
 #[pymethods]
 impl PyLorrRun {
     #[new]
-    #[pyo3(signature = (problem, planner="pibt", scheduler="spread", seed=0, plan_time_limit_ms=None, team_size=None, record=None))]
+    #[pyo3(signature = (problem, planner="auto", scheduler="spread", seed=0, plan_time_limit_ms=None, team_size=None, record=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -72,6 +72,11 @@ impl PyLorrRun {
     #[getter]
     fn finished(&self) -> u64 {
         self.run.finished()
+    }
+
+    #[getter]
+    fn planner(&self) -> String {
+        self.run.planner().to_owned()
     }
 
     #[getter]

@@ -24,10 +24,10 @@ def lorr(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
     planner: str = typer.Option(
-        "pibt",
+        "auto",
         "--planner",
-        help="Planner: pibt (on highways), pibt-no-lanes, pibt-one-way (2023 warehouse, sortation),"
-        " pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead.",
+        help="Planner: auto (pibt-one-way, or pibt when robots fill more than 30 % of the free cells),"
+        " pibt (on highways), pibt-no-lanes, pibt-one-way, pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead.",
     ),
     scheduler: str = typer.Option(
         "spread", "--scheduler", help="Scheduler (2024): spread, nearest, greedy, hungarian, auction.",
@@ -86,7 +86,7 @@ def lorr(
     wall = time.monotonic() - began
     print(
         f"{problem.name}: {result.finished:,} finished in {result.steps:,} steps "
-        f"({result.team_size:,} robots, {result.version} rules); "
+        f"({result.team_size:,} robots, {result.version} rules, planner {result.planner}); "
         f"planning {fig['plan_ms_mean']:.2f} ms/step mean, {fig['plan_ms_max']:.0f} ms max; "
         f"errors {fig['action_errors'] + fig['schedule_errors']}, timeouts {fig['timeouts']}; wall {wall:.1f} s"
     )

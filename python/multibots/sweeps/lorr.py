@@ -46,7 +46,7 @@ class LorrBase:
 
     problem: str
     steps: int = 5000
-    planner: str = "pibt"
+    planner: str = "auto"
     scheduler: str = "spread"
     seed: int = 0
     robots: Optional[int] = None

@@ -39,7 +39,7 @@ use std::time::{Duration, Instant};
 /// How a LoRR run is played.
 #[derive(Clone, Debug)]
 pub struct LorrOptions {
-    /// The planner's name (`pibt`, the default).
+    /// The planner's name (`auto`, the default: [`planner::auto_choice`]).
     pub planner: String,
     /// The scheduler's name (2024 rules; `spread`, the default).
     pub scheduler: String,
@@ -52,7 +52,7 @@ pub struct LorrOptions {
 
 impl Default for LorrOptions {
     fn default() -> Self {
-        LorrOptions { planner: "pibt".into(), scheduler: "spread".into(), seed: 0, plan_time_limit_ms: None }
+        LorrOptions { planner: "auto".into(), scheduler: "spread".into(), seed: 0, plan_time_limit_ms: None }
     }
 }
 
@@ -115,6 +115,17 @@ impl LorrRun {
             options,
             t: 0,
         })
+    }
+
+    /// The planner that plays: the options' name, with `auto` resolved
+    /// ([`planner::auto_choice`]).
+    #[must_use]
+    pub fn planner(&self) -> &str {
+        if self.options.planner == "auto" {
+            planner::auto_choice(&self.problem.map, self.problem.team_size())
+        } else {
+            &self.options.planner
+        }
     }
 
     /// Runs until step `until` (at most); the steps run.

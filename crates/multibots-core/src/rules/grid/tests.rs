@@ -245,3 +245,16 @@ fn turn_counting_planners_are_valid_and_the_same_for_a_seed() {
         }
     }
 }
+
+#[test]
+fn auto_plays_one_way_on_a_sparse_floor_and_pibt_on_a_crowded_one() {
+    // 40 free cells: 8 robots are 0.2 of them, 30 are 0.75.
+    for (robots, chosen) in [(8, "pibt-one-way"), (30, "pibt")] {
+        let auto = new_planner_run("auto", robots, 3);
+        let named = new_planner_run(chosen, robots, 3);
+        assert_eq!(auto.planner(), chosen, "{robots} robots");
+        assert_eq!(named.planner(), chosen);
+        assert!(auto.record().errors.is_empty());
+        assert_eq!((auto.finished(), &auto.record().actual), (named.finished(), &named.record().actual), "{robots} robots: auto is {chosen}");
+    }
+}

@@ -6,6 +6,7 @@
 //!
 //! | name | what it does |
 //! | --- | --- |
+//! | `auto` (the default) | `pibt-one-way`, or `pibt` when robots take more than [`CROWDED`] of the free cells ([`auto_choice`]) |
 //! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs`, on highways (`guidance.rs`) |
 //! | `pibt-no-lanes` | the same PIBT on highways, ties going straight ahead, not to the emptier lane |
 //! | `pibt-one-way` | `pibt-no-lanes`, never against a lane where the lanes go round (`guidance::lanes_core`; a swap may back out), elsewhere only if that brings the robot nearer; open bands crossed, not travelled along (`guidance::open_band_costs`) |
@@ -55,11 +56,35 @@ pub trait Planner: Send + Sync {
 }
 
 /// The built-in planners, by name.
-pub const BUILT_INS: &[&str] = &["pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead"];
+pub const BUILT_INS: &[&str] = &["auto", "pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead"];
+
+/// The share of free cells above which `auto` takes `pibt`: a fleet that fills a third of
+/// the floor needs robots to make way against the lanes, which `pibt-one-way` forbids where
+/// the lanes go round.
+pub const CROWDED: f64 = 0.3;
+
+/// The planner `auto` runs on `map` with `robots` robots.
+///
+/// Measured on the League's archive (docs/lorr.md, docs/benchmarks.md): `pibt-one-way` is
+/// ahead of `pibt` on every warehouse, sortation, city and game instance but MR24-WAREHOUSE
+/// (133,138 against 134,150) and MR24-CITY-01 (7,227 against 7,255); on the 32×32 random
+/// maps it falls behind as they fill (robots per free cell 0.24: 451 against 476; 0.49:
+/// 516 against 599; 0.98: 177 against 848). Robots per free cell are 0.26 on the densest
+/// warehouse instances and at least 0.49 on the random ones it loses most on.
+#[must_use]
+pub fn auto_choice(map: &GridMap, robots: usize) -> &'static str {
+    let free = map.free.iter().filter(|&&f| f).count().max(1);
+    if robots as f64 > CROWDED * free as f64 {
+        "pibt"
+    } else {
+        "pibt-one-way"
+    }
+}
 
 /// A built-in planner by name, for `map`, seeded by `seed`.
 pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
     match name {
+        "auto" => built_in(auto_choice(map, robots), map, robots, seed),
         "pibt" => Ok(Box::new(Pibt::new(map, robots, seed, true, true))),
         "pibt-no-lanes" => Ok(Box::new(Pibt::new(map, robots, seed, true, false))),
         "pibt-one-way" => Ok(Box::new(Pibt::new(map, robots, seed, true, false).one_way(map))),
