@@ -102,35 +102,27 @@ pub fn open_band_costs(map: &GridMap, costs: &mut [[u8; 4]]) {
     if 2 * open.iter().filter(|&&o| o).count() > free_cells {
         return;
     }
-    // The length of the run of open cells through each cell, along its row and its column.
-    let mut along_row = vec![0u32; rows * cols];
-    let mut along_col = vec![0u32; rows * cols];
-    for r in 0..rows {
-        let mut c = 0;
-        while c < cols {
-            let start = c;
-            while c < cols && open[r * cols + c] {
-                c += 1;
+    // The length of the run of open cells through each cell, along its row and its column:
+    // lines of `len` cells, the `i`th cell of line `line` at `at(line, i)`.
+    let runs = |lines: usize, len: usize, at: &dyn Fn(usize, usize) -> usize| {
+        let mut out = vec![0u32; rows * cols];
+        for line in 0..lines {
+            let mut i = 0;
+            while i < len {
+                let start = i;
+                while i < len && open[at(line, i)] {
+                    i += 1;
+                }
+                for k in start..i {
+                    out[at(line, k)] = (i - start) as u32;
+                }
+                i += 1;
             }
-            for x in start..c {
-                along_row[r * cols + x] = (c - start) as u32;
-            }
-            c += 1;
         }
-    }
-    for c in 0..cols {
-        let mut r = 0;
-        while r < rows {
-            let start = r;
-            while r < rows && open[r * cols + c] {
-                r += 1;
-            }
-            for y in start..r {
-                along_col[y * cols + c] = (r - start) as u32;
-            }
-            r += 1;
-        }
-    }
+        out
+    };
+    let along_row = runs(rows, cols, &|r, c| r * cols + c);
+    let along_col = runs(cols, rows, &|c, r| r * cols + c);
     for cell in (0..rows * cols).filter(|&cell| open[cell]) {
         let headings: &[usize] = match along_row[cell].cmp(&along_col[cell]) {
             std::cmp::Ordering::Greater => &[0, 2],
