@@ -9,7 +9,8 @@
 files have no licence and are never committed). Every problem JSON under it (or those named
 by ``--only``, shell patterns allowed) is run in a child process of its own:
 
-- with our planner (``multibots.lorr.run``; ``--planner``, by default ``pibt``) for ``--steps`` steps, by default the
+- with our planner (``multibots.lorr.run``; ``--planner``, by default ``pibt``, not the command's ``auto``, so
+  that rows keyed ``ours`` keep meaning ``pibt``) for ``--steps`` steps, by default the
   instance's own simulation time (the steps its best-known count was made in);
 - with ``--startkit``, the Start-Kit's ``lifelong`` (its default planner and scheduler, built
   by the user; 2024 rules) for ``--startkit-steps`` steps (default: the same), and with
@@ -199,7 +200,7 @@ def share(row: dict[str, Any], name: str) -> str:
 
 
 def planner_of(row: dict[str, Any]) -> str:
-    """Our planner in a row: entry ``ours`` is the default planner, ``ours:NAME`` another."""
+    """Our planner in a row: entry ``ours`` is ``pibt`` (this script's default), ``ours:NAME`` another."""
     return row["entry"].partition(":")[2] or "pibt"
 
 
@@ -316,8 +317,9 @@ def main() -> None:
         "```",
         "",
         f"On {machine()}, shared with other jobs (ms/step is noisy, memory is not).",
-        "MultiBots: the planner each row names (the command's default, `auto`, is `pibt-one-way` up to 30 % of the "
-        f"free cells taken, `pibt` above), scheduler `{args.scheduler}` (2024), "
+        "MultiBots: the planner each row names (`multibots lorr`'s default, `auto`, is `pibt-one-way` up to 30 % of "
+        "the free cells taken, `pibt` above; this script's `--planner` stays `pibt`, so that rows keyed `ours` keep "
+        f"meaning `pibt`), scheduler `{args.scheduler}` (2024), "
         f"seed {args.seed}, no time limit. "
         f"Start-Kit: its default planner and scheduler, {args.startkit_time_limit} ms per round. "
         f"Best known: {ARCHIVE}; a share only where the steps match.",

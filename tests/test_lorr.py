@@ -50,6 +50,7 @@ def test_the_checker_agrees(tmp_path, name, steps):
     problem = REFERENCE / name
     out = tmp_path / "result.json"
     r = lorr.run(problem, steps=steps, out=out)
+    assert r.planner == "pibt-one-way", "auto: these fleets take at most 13 % of the free cells"
     verdict = check(problem, out)
     assert verdict["valid"], verdict["error"]
     assert verdict["finished"] == r.finished == verdict["claimed"]
@@ -64,6 +65,17 @@ def test_the_checker_agrees(tmp_path, name, steps):
     assert data["actionModel"] == "MAPF_T" and data["teamSize"] == r.team_size
     assert sum(r.figures["finished_per_1000"]) == r.finished
     assert json.loads(lorr.figures_path(out).read_text())["finished"] == r.finished
+
+
+@needs_examples
+def test_the_checker_agrees_with_pibt(tmp_path):
+    problem = REFERENCE / EXAMPLES[0][0]
+    out = tmp_path / "result.json"
+    r = lorr.run(problem, steps=EXAMPLES[0][1], out=out, planner="pibt")
+    assert r.planner == "pibt"
+    verdict = check(problem, out)
+    assert verdict["valid"], verdict["error"]
+    assert verdict["finished"] == r.finished == verdict["claimed"]
 
 
 @needs_examples

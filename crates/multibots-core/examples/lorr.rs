@@ -37,7 +37,8 @@ fn main() {
     run.write_result(args[3].as_ref()).expect("result written");
     let f = run.figures();
     println!(
-        "finished {} in {} steps; {:.2} ms/step wall, plan {:.2} ms mean, {:.1} ms max; errors {}; per 1000: {:?}",
+        "{}: finished {} in {} steps; {:.2} ms/step wall, plan {:.2} ms mean, {:.1} ms max; errors {}; per 1000: {:?}",
+        run.planner(),
         f.finished,
         f.steps,
         wall * 1e3 / f64::from(f.steps.max(1)),

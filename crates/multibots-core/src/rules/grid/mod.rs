@@ -83,7 +83,12 @@ pub struct LorrRun {
 
 impl LorrRun {
     /// A run at step 0: robots on their start cells facing east, the first tasks revealed.
-    pub fn new(problem: Arc<Problem>, options: LorrOptions) -> Result<LorrRun> {
+    /// `auto` is resolved here: the run's options, its replay header and [`LorrRun::planner`]
+    /// name the planner that plays.
+    pub fn new(problem: Arc<Problem>, mut options: LorrOptions) -> Result<LorrRun> {
+        if options.planner == "auto" {
+            options.planner = planner::auto_choice(&problem.map, problem.team_size()).into();
+        }
         let planner = planner::built_in(&options.planner, &problem.map, problem.team_size(), options.seed)?;
         let scheduler = schedule::built_in(&options.scheduler)?;
         LorrRun::with(problem, options, planner, scheduler)
@@ -117,15 +122,11 @@ impl LorrRun {
         })
     }
 
-    /// The planner that plays: the options' name, with `auto` resolved
-    /// ([`planner::auto_choice`]).
+    /// The planner that plays, as the options name it (`auto` resolved by [`LorrRun::new`];
+    /// for [`LorrRun::with`], the caller's label).
     #[must_use]
     pub fn planner(&self) -> &str {
-        if self.options.planner == "auto" {
-            planner::auto_choice(&self.problem.map, self.problem.team_size())
-        } else {
-            &self.options.planner
-        }
+        &self.options.planner
     }
 
     /// Runs until step `until` (at most); the steps run.

@@ -144,7 +144,7 @@ fn schedules_that_break_the_rules_are_refused_and_the_last_valid_one_kept() {
 fn pibt_run(seed: u64) -> LorrRun {
     let map = "type octile\nheight 6\nwidth 8\nmap\n........\n.@@..@@.\n........\n.@@..@@.\n........\n........\n";
     let p = problem(map, &[0, 7, 16, 23, 32, 39, 41, 46], &[&[7, 40], &[0], &[47, 2], &[20], &[44, 3], &[5], &[33], &[8, 15]], Version::Y2024, 1.5);
-    let options = LorrOptions { seed, ..LorrOptions::default() };
+    let options = LorrOptions { planner: "pibt".into(), seed, ..LorrOptions::default() };
     let mut run = LorrRun::new(p, options).unwrap();
     run.run_to(300);
     run
@@ -257,4 +257,8 @@ fn auto_plays_one_way_on_a_sparse_floor_and_pibt_on_a_crowded_one() {
         assert!(auto.record().errors.is_empty());
         assert_eq!((auto.finished(), &auto.record().actual), (named.finished(), &named.record().actual), "{robots} robots: auto is {chosen}");
     }
+    // The boundary: 12 robots are 30 % of the 40 free cells, 13 are more.
+    let map = GridMap::parse("type octile\nheight 6\nwidth 8\nmap\n........\n.@@..@@.\n........\n.@@..@@.\n........\n........\n").unwrap();
+    assert_eq!(super::planner::auto_choice(&map, 12), "pibt-one-way");
+    assert_eq!(super::planner::auto_choice(&map, 13), "pibt");
 }

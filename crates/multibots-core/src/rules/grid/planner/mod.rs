@@ -66,11 +66,15 @@ pub const CROWDED: f64 = 0.3;
 /// The planner `auto` runs on `map` with `robots` robots.
 ///
 /// Measured on the League's archive (docs/lorr.md, docs/benchmarks.md): `pibt-one-way` is
-/// ahead of `pibt` on every warehouse, sortation, city and game instance but MR24-WAREHOUSE
-/// (133,138 against 134,150) and MR24-CITY-01 (7,227 against 7,255); on the 32×32 random
-/// maps it falls behind as they fill (robots per free cell 0.24: 451 against 476; 0.49:
-/// 516 against 599; 0.98: 177 against 848). Robots per free cell are 0.26 on the densest
-/// warehouse instances and at least 0.49 on the random ones it loses most on.
+/// ahead of `pibt` or level on every warehouse, sortation, city and game instance, a lot on
+/// some (MR23-I-10 153,375 against 104,167 at 0.26 robots per free cell), but for MR24-WAREHOUSE
+/// (133,138 against 134,150), MR24-CITY-01 (7,227 against 7,255) and TR23-warehouse_large
+/// (19,900 against 19,946); on the 32×32 random maps it is behind on four of six below 0.3
+/// (RANDOM-02, 0.24: 451 against 476) and far behind as they fill (0.49: 516 against 599;
+/// 0.98: 177 against 848). Density alone cannot separate these (MR23-I-10 at 0.26 needs
+/// `pibt-one-way`, RANDOM-02 at 0.24 `pibt`); the line is drawn where the losses grow. On
+/// `warehouse_small` (2023 example instances, 0.31 and 0.63) `auto` takes `pibt`, level and
+/// 3.6 % behind `pibt-one-way`.
 #[must_use]
 pub fn auto_choice(map: &GridMap, robots: usize) -> &'static str {
     let free = map.free.iter().filter(|&&f| f).count().max(1);
