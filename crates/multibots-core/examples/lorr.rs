@@ -34,7 +34,7 @@ fn main() {
     let began = std::time::Instant::now();
     run.run_to(steps);
     let wall = began.elapsed().as_secs_f64();
-    run.write_result(args[3].as_ref()).expect("result written");
+    multibots_core::output::lorr::write_result(&run, args[3].as_ref()).expect("result written");
     let f = run.figures();
     println!(
         "{}: finished {} in {} steps; {:.2} ms/step wall, plan {:.2} ms mean, {:.1} ms max; errors {}; per 1000: {:?}",

@@ -5,9 +5,9 @@
 mod common;
 
 use multibots_core::fleet::robot::State;
+use multibots_core::input::layout_params::Aisles;
 use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
-use multibots_core::output::resources::ResourceKind;
-use multibots_core::world::layout::Aisles;
+use multibots_core::record::resources::ResourceKind;
 use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
 
 #[allow(clippy::too_many_arguments)]

@@ -7,9 +7,10 @@ mod common;
 
 use common::lifelong;
 use multibots_core::fleet::robot::State;
+use multibots_core::input::layout_params::{Aisles, ChargerWalls, LayoutParams};
 use multibots_core::input::scenario::{ChargingPolicy, Scenario};
-use multibots_core::output::metrics::RunResult;
-use multibots_core::world::layout::{Aisles, ChargerWalls, Layout, LayoutParams};
+use multibots_core::record::metrics::RunResult;
+use multibots_core::world::layout::Layout;
 use multibots_core::{Simulation, Traffic};
 
 #[test]

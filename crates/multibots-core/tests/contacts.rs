@@ -4,8 +4,8 @@
 //! positions, step by step, and `closest` the smallest distance among pairs within
 //! r_i + r_j + margin. The count here shares nothing with the engine's grid.
 
+use multibots_core::input::layout_params::Aisles;
 use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
-use multibots_core::world::layout::Aisles;
 use multibots_core::{LayoutParams, Scenario, Simulation, Traffic, Unload};
 
 fn xorshift(state: &mut u64) -> u64 {

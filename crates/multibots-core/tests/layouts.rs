@@ -1,8 +1,11 @@
 //! Layouts as data: the generator against the spec's paper layout, the layout file's round
 //! trip, and every validation error.
 
-use multibots_core::input::layout_file::{self, LayoutFile};
-use multibots_core::world::layout::{Aisles, NodeKind};
+use multibots_core::input::files::write_atomic;
+use multibots_core::input::layout_file::LayoutFile;
+use multibots_core::input::layout_params::Aisles;
+use multibots_core::world::layout::NodeKind;
+use multibots_core::world::layout_file;
 use multibots_core::{Layout, LayoutParams, NodeId, Scenario, Simulation};
 
 /// The paper layout written out from docs/model.md section 1, independently of the generator.
@@ -63,7 +66,7 @@ fn layout_files_round_trip_and_run_the_worked_example() {
     let dir = std::env::temp_dir().join(format!("multibots-layouts-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("paper.toml");
-    layout_file::write(&path, &layout_file::to_toml(&Layout::paper(), Some(LayoutParams::paper()))).unwrap();
+    write_atomic(&path, &layout_file::to_toml(&Layout::paper(), Some(LayoutParams::paper()))).unwrap();
     assert_eq!(layout_file::read(&path).unwrap(), Layout::paper());
     // The same layout from the file runs the spec's worked example: T = 726.
     let s = Scenario { layout: path.display().to_string(), ..Scenario::paper(1, &[42]) };
@@ -78,11 +81,11 @@ fn layout_files_round_trip_and_run_the_worked_example() {
 }
 
 fn paper_file() -> LayoutFile {
-    LayoutFile::from_layout(&Layout::paper(), None)
+    layout_file::to_file(&Layout::paper(), None)
 }
 
 fn err(f: &LayoutFile) -> String {
-    match f.to_layout() {
+    match layout_file::from_file(f) {
         Err(e) => e.to_string(),
         Ok(l) => layout_file::check_layout(&l).map_or_else(|e| e.to_string(), |_| "no error".to_string()),
     }

@@ -2,9 +2,9 @@
 //! allocated (docs/limits.md), layouts that cannot be real are refused, and work that cannot
 //! be done is refused up front or ends the run with an outcome that says why.
 
-use multibots_core::input::layout_file;
 use multibots_core::input::scenario::{Orders, Tasks};
-use multibots_core::output::metrics::Outcome;
+use multibots_core::record::metrics::Outcome;
+use multibots_core::world::layout_file;
 use multibots_core::{Layout, LayoutParams, Scenario, Simulation};
 use std::fmt::Write;
 

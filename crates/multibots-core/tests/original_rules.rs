@@ -6,7 +6,7 @@
 mod common;
 
 use common::PAPER_TASKS;
-use multibots_core::output::metrics::Outcome::{self, Complete, Deadlock, Fault};
+use multibots_core::record::metrics::Outcome::{self, Complete, Deadlock, Fault};
 use multibots_core::EventKind;
 use multibots_core::{Original, Rules, Scenario, State};
 
@@ -468,7 +468,8 @@ fn a_replay_of_the_original_rules_holds_every_tick() {
     let s = original(3, &PAPER_TASKS[1]);
     let path = std::env::temp_dir().join(format!("mb-original-{}.mbr", std::process::id()));
     let mut sim = Simulation::new(&s).unwrap();
-    let r = replay::run_recorded(&mut sim, &path, &s.to_toml()).unwrap();
+    replay::run_recorded(&mut sim, &path, serde_json::json!({"scenario": s.to_toml()})).unwrap();
+    let r = sim.result();
     let bytes = std::fs::read(&path).unwrap();
     std::fs::remove_file(&path).unwrap();
     assert!(bytes.starts_with(b"MBREPLAY"));

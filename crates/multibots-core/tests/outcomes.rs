@@ -7,9 +7,9 @@ mod common;
 
 use common::lifelong;
 use multibots_core::fleet::robot::State;
+use multibots_core::input::layout_params::Aisles;
 use multibots_core::input::scenario::Scenario;
-use multibots_core::output::metrics::{Outcome, RunResult};
-use multibots_core::world::layout::Aisles;
+use multibots_core::record::metrics::{Outcome, RunResult};
 use multibots_core::{Simulation, Traffic};
 
 /// Whether the last quarter of the windows (at least 2) each delivered under a tenth of the

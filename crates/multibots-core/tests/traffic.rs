@@ -5,8 +5,8 @@
 mod common;
 
 use common::PAPER_TASKS;
-use multibots_core::output::metrics::Outcome;
-use multibots_core::world::layout::Aisles;
+use multibots_core::input::layout_params::Aisles;
+use multibots_core::record::metrics::Outcome;
 use multibots_core::{Scenario, Simulation, Traffic};
 
 #[allow(clippy::too_many_arguments)]

@@ -19,9 +19,6 @@ create_exception!(
     "Decisions taken from outside the engine (a learning environment's action) that it cannot carry out."
 );
 
-/// Steps between two checks for Ctrl-C in long runs.
-pub(crate) const SIGNAL_EVERY: u64 = 1 << 14;
-
 /// Maps an engine error to its exception.
 #[allow(clippy::needless_pass_by_value)] // by value so that it serves as `map_err(to_py)`
 pub(crate) fn to_py(e: Error) -> PyErr {

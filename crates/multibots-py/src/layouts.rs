@@ -3,7 +3,7 @@
 
 use crate::errors::{engine, to_py};
 use crate::scenario::PyScenario;
-use multibots_core::input::layout_file;
+use multibots_core::world::{layout_file, resolve_layout};
 use multibots_core::{HighwayGraph, Layout, LayoutParams, Scenario};
 use pyo3::prelude::*;
 
@@ -37,7 +37,7 @@ pub(crate) fn layout_file_json(py: Python<'_>, text: &str, source_name: &str) ->
 pub(crate) fn routing_table_bytes(py: Python<'_>, scenario: &PyScenario) -> PyResult<(usize, usize)> {
     let s = scenario.inner.clone();
     engine(py, move || {
-        let layout = s.resolve_layout()?;
+        let layout = resolve_layout(&s)?;
         layout.check_size()?;
         let g = HighwayGraph::new(&layout);
         Ok((g.table_bytes(), g.len()))
@@ -48,5 +48,5 @@ pub(crate) fn routing_table_bytes(py: Python<'_>, scenario: &PyScenario) -> PyRe
 #[pyfunction]
 pub(crate) fn layout_json(py: Python<'_>, name: &str) -> PyResult<String> {
     let s = Scenario { layout: name.to_string(), ..Scenario::paper(1, &[0]) };
-    engine(py, move || Ok(s.resolve_layout()?.to_json().to_string()))
+    engine(py, move || Ok(resolve_layout(&s)?.to_json().to_string()))
 }

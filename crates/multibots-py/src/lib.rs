@@ -25,6 +25,7 @@ mod results;
 mod run;
 mod scenario;
 mod simulation;
+mod slicer;
 mod strategy;
 
 // `strategy` names these by their old paths.
@@ -35,6 +36,22 @@ pub(crate) use errors::{to_py, ScenarioError};
 #[pyfunction]
 fn _panic_for_tests(py: Python<'_>) -> PyResult<()> {
     errors::engine(py, || -> Result<(), multibots_core::Error> { panic!("deliberate panic for the tests") })
+}
+
+/// The engine's limits (docs/limits.md), by the name of what they bound: the one definition
+/// that Python's checks read.
+fn limits(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    use multibots_core::input::limits as l;
+    let d = pyo3::types::PyDict::new(m.py());
+    d.set_item("robots", l::MAX_ROBOTS)?;
+    d.set_item("steps", l::MAX_STEPS)?;
+    d.set_item("humans", l::MAX_HUMANS)?;
+    d.set_item("nodes", l::MAX_NODES)?;
+    d.set_item("cells", l::MAX_CELLS)?;
+    d.set_item("input_bytes", l::MAX_INPUT_BYTES)?;
+    d.set_item("lorr_steps", l::MAX_LORR_STEPS)?;
+    d.set_item("plan_time_limit_ms", l::MAX_PLAN_TIME_LIMIT_MS)?;
+    m.add("LIMITS", d)
 }
 
 #[pymodule]
@@ -56,6 +73,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenario::toml_shape_error, m)?)?;
     m.add_function(wrap_pyfunction!(_panic_for_tests, m)?)?;
     codec::register(m)?;
+    lorr::register(m)?;
+    limits(m)?;
     strategy::register(m)?;
     envs::register(m)?;
     Ok(())

@@ -3,20 +3,18 @@
 
 use crate::errors::engine;
 use multibots_core::input::lorr::Problem;
-use multibots_core::output::grid_replay::GridReplay;
+use multibots_core::output::{lorr, replay::ReplayWriter};
+use multibots_core::record::frame::FrameSink;
 use multibots_core::rules::grid::{LorrOptions, LorrRun};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// Steps run between two checks for Ctrl-C: at 10,000 robots, about a second.
-const SLICE: u32 = 20;
-
 #[pyclass(module = "multibots._core", name = "LorrRun")]
 pub(crate) struct PyLorrRun {
     run: LorrRun,
     /// The replay being written (`record=`), until `finish_record`.
-    replay: Option<GridReplay>,
+    replay: Option<ReplayWriter>,
 }
 
 #[pymethods]
@@ -37,24 +35,17 @@ impl PyLorrRun {
         let options = LorrOptions { planner: planner.into(), scheduler: scheduler.into(), seed, plan_time_limit_ms };
         let (run, replay) = engine(py, move || {
             let run = LorrRun::new(Arc::new(Problem::load_team(&problem, team_size)?), options)?;
-            let replay = record.map(|path| GridReplay::create(&path, &run)).transpose()?;
+            let replay = record.map(|path| ReplayWriter::create(&path, &run, serde_json::Value::Null)).transpose()?;
             Ok((run, replay))
         })?;
         Ok(PyLorrRun { run, replay })
     }
 
-    /// Runs up to step `until` in slices, checking for Ctrl-C between them (and recording
-    /// every step when a replay is open); the step reached.
+    /// Runs up to step `until` (recording every step when a replay is open); the step
+    /// reached.
     fn run_to(&mut self, py: Python<'_>, until: u32) -> PyResult<u32> {
-        while self.run.t() < until {
-            let stop = until.min(self.run.t().saturating_add(SLICE));
-            let (run, replay) = (&mut self.run, &mut self.replay);
-            engine(py, move || match replay {
-                Some(w) => w.run_to(run, stop),
-                None => Ok(run.run_to(stop)),
-            })?;
-            py.check_signals()?;
-        }
+        let steps = u64::from(until.saturating_sub(self.run.t()));
+        crate::slicer::advance(py, &mut self.run, steps, self.replay.as_mut().map(|w| w as &mut (dyn FrameSink + Send)))?;
         Ok(self.run.t())
     }
 
@@ -100,12 +91,22 @@ impl PyLorrRun {
     /// Writes the competition's result file, atomically.
     fn write_result(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let run = &self.run;
-        engine(py, move || run.write_result(&path))
+        engine(py, move || lorr::write_result(run, &path))
     }
 
     /// Writes MultiBots' figures as JSON, atomically.
     fn write_figures(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let run = &self.run;
-        engine(py, move || run.write_figures(&path))
+        engine(py, move || lorr::write_figures(run, &path))
     }
+}
+
+/// The built-in planners and schedulers, as `(name, what it does)`, the default first: the
+/// one list the command line, Python and the docs read.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    use multibots_core::rules::grid::{planner, schedule};
+    let py = m.py();
+    m.add("LORR_PLANNERS", pyo3::types::PyTuple::new(py, planner::BUILT_INS.iter().map(|b| (b.name, b.about)))?)?;
+    m.add("LORR_SCHEDULERS", pyo3::types::PyTuple::new(py, schedule::BUILT_INS.iter().map(|b| (b.name, b.about)))?)?;
+    Ok(())
 }

@@ -1,6 +1,6 @@
 //! A run's result as a Python dictionary (NumPy arrays for per-robot columns).
 
-use multibots_core::output::metrics::RunResult;
+use multibots_core::record::metrics::RunResult;
 use multibots_core::State;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -55,7 +55,7 @@ pub(crate) fn result_dict<'py>(py: Python<'py>, r: &RunResult) -> PyResult<Bound
         }
         None => d.set_item("collapse", py.None())?,
     }
-    let resource = |u: &multibots_core::output::resources::ResourceUse| -> PyResult<Bound<'py, PyDict>> {
+    let resource = |u: &multibots_core::record::resources::ResourceUse| -> PyResult<Bound<'py, PyDict>> {
         let ud = PyDict::new(py);
         ud.set_item("kind", u.kind.as_str())?;
         ud.set_item("node", u.node.clone())?;

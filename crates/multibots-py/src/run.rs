@@ -1,10 +1,11 @@
 //! Whole runs: `simulate` (one run, optionally recorded) and `simulate_many` (a batch on the
 //! engine's thread pool). Both release the GIL and stop on Ctrl-C.
 
-use crate::errors::{engine, SIGNAL_EVERY};
+use crate::errors::engine;
 use crate::results::result_dict;
 use crate::scenario::PyScenario;
-use multibots_core::output::replay::{self, ReplayWriter};
+use multibots_core::output::replay::ReplayWriter;
+use multibots_core::record::frame::FrameSink;
 use multibots_core::rules::batch;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -23,22 +24,17 @@ pub(crate) fn simulate<'py>(py: Python<'py>, scenario: &PyScenario, record: Opti
     let mut writer = match record {
         Some(path) => {
             let sim = &sim;
-            Some(engine(py, move || ReplayWriter::create(&path, sim, &s.to_toml()))?)
+            Some(engine(py, move || ReplayWriter::create(&path, sim, serde_json::json!({"scenario": s.to_toml()})))?)
         }
         None => None,
     };
-    // In slices, so that a pending Ctrl-C is seen; an unfinished replay is removed on drop.
-    while !sim.done() {
-        let (sim, writer) = (&mut sim, &mut writer);
-        engine(py, move || replay::step_recorded(sim, writer.as_mut(), SIGNAL_EVERY))?;
-        py.check_signals()?;
-    }
-    let r = sim.result();
+    // An unfinished replay is removed on drop (Ctrl-C, an error).
+    crate::slicer::advance(py, &mut sim, u64::MAX, writer.as_mut().map(|w| w as &mut (dyn FrameSink + Send)))?;
     if let Some(w) = writer {
-        let r = r.clone();
-        engine(py, move || w.finish(&r))?;
+        let sim = &sim;
+        engine(py, move || w.finish(sim))?;
     }
-    result_dict(py, &r)
+    result_dict(py, &sim.result())
 }
 
 /// A batch's watch: goes on until Ctrl-C, which it keeps in `interrupted` to raise.

@@ -49,7 +49,7 @@ impl PyScenario {
     /// The scenario's task list as cell ids (random lists drawn).
     fn cells(&self, py: Python<'_>) -> PyResult<Vec<u32>> {
         let s = self.inner.clone();
-        engine(py, move || s.cells(&s.resolve_layout()?))
+        engine(py, move || s.cells(multibots_core::world::resolve_layout(&s)?.cells.len()))
     }
 
     fn __eq__(&self, other: &Self) -> bool {

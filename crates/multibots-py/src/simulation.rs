@@ -1,9 +1,10 @@
 //! `Simulation`: a run that Python steps and inspects, its state as NumPy arrays.
 
-use crate::errors::{engine, SIGNAL_EVERY};
 use crate::results::result_dict;
 use crate::scenario::PyScenario;
 use multibots_core::output::codec::Frames;
+use multibots_core::record::frame::Frame;
+use multibots_core::rules::Run;
 use multibots_core::Simulation;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -29,21 +30,12 @@ impl PySimulation {
     /// Runs `n` steps (fewer if the run ends first); returns the steps run.
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<u64> {
-        let mut done = 0;
-        while done < n && !self.sim.done() {
-            let chunk = (n - done).min(SIGNAL_EVERY);
-            let sim = &mut self.sim;
-            done += engine(py, move || sim.steps(chunk))?;
-            py.check_signals()?;
-        }
-        Ok(done)
+        crate::slicer::advance(py, &mut self.sim, n, None)
     }
 
     /// Runs to the end; returns the result dictionary.
     fn run<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        while !self.sim.done() {
-            self.step(py, SIGNAL_EVERY)?;
-        }
+        crate::slicer::advance(py, &mut self.sim, u64::MAX, None)?;
         result_dict(py, &self.sim.result())
     }
 
@@ -183,15 +175,17 @@ impl PySimulation {
     /// The current state as one frame of the replay codec (a decompressed one-frame chunk
     /// numbered by the step, without events), for live viewers.
     fn frame_chunk<'py>(&self, py: Python<'py>) -> Bound<'py, PyBytes> {
+        let mut frame = Frame::default();
+        self.sim.emit(&mut frame, false);
         let mut f = Frames::with_capacity(self.sim.robots().len(), 1);
-        f.push(&self.sim, self.sim.t(), false);
+        f.push(&frame, self.sim.t(), false);
         let mut raw = Vec::new();
         f.encode(self.sim.t(), &mut raw);
         PyBytes::new(py, &raw)
     }
     /// What a viewer needs before the first frame (the replay header), as JSON.
     fn viewer_header(&self, scenario_toml: &str) -> String {
-        multibots_core::output::replay::header(&self.sim, scenario_toml).to_string()
+        multibots_core::output::replay::header(&self.sim, serde_json::json!({"scenario": scenario_toml})).to_string()
     }
     /// The robots queued in the last step: (node, robots) for each node with a queue, the
     /// robots queued for a shared charger, and (from, to, robots) for each lane with a queue.

@@ -5,9 +5,9 @@
 //! learning environment until it is given a new scenario) and parsed by each run, which
 //! checks every row against its own sizes, in line order.
 
+use crate::error::shown;
 use crate::error::{Error, Result};
 use crate::input::files::{read_text, MAX_INPUT_BYTES};
-use crate::input::limits::shown;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::{Arc, Mutex};

@@ -286,6 +286,21 @@ fn one_line(e: &std::io::Error) -> String {
     }
 }
 
+/// Writes a file atomically: a temporary file in the same folder, then a rename, so a
+/// reader never sees half a file.
+pub fn write_atomic(path: &Path, text: &str) -> crate::error::Result<()> {
+    let shown = path.display().to_string();
+    let tmp = output_temp(path).map_err(|message| crate::error::Error::Io { path: shown.clone(), message })?;
+    std::fs::write(&tmp, text).map_err(|e| crate::error::Error::io(&shown, &e))?;
+    let renamed = replaceable(path)
+        .map_err(|message| crate::error::Error::Io { path: crate::error::shown(&shown), message })
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| crate::error::Error::io(&shown, &e)));
+    if renamed.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    renamed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -26,6 +26,13 @@ pub const MAX_STEPS: u64 = u32::MAX as u64;
 // Unlike the other limits, this one cannot be raised alone: the counters would wrap.
 const _: () = assert!(MAX_STEPS <= u32::MAX as u64, "per-robot counters are u32 (metrics.rs)");
 
+/// Longest League of Robot Runners run, steps (the problem's clock is 32-bit, as the
+/// Start-Kit's).
+pub const MAX_LORR_STEPS: u64 = u32::MAX as u64;
+
+/// Longest plan time limit of a League of Robot Runners run, ms: an hour a round.
+pub const MAX_PLAN_TIME_LIMIT_MS: u64 = 3_600_000;
+
 /// Most workers on the floor (`[humans] count`).
 pub const MAX_HUMANS: u32 = 100_000;
 
@@ -65,76 +72,3 @@ pub const HUMAN_ZONE_M: f64 = 100.0;
 /// Most cells of the collision grid: beyond it the grid's cells grow (which changes no
 /// result, only how many candidates each robot looks at).
 pub const MAX_GRID_CELLS: usize = 1 << 22;
-
-/// A value as it may appear in a message: at most 60 characters (with the full length when
-/// cut), control characters escaped, so that a huge or hostile value never floods or drives
-/// the terminal.
-#[must_use]
-pub fn shown(value: &str) -> String {
-    shown_within(value, 60)
-}
-
-/// A number as a message shows it: as written for ordinary sizes (`12.5`, `2000000000`), in
-/// exponent form past them (`1e308`, `2.5e-7`), `nan` and `inf` as TOML spells them, never
-/// 300 digits.
-#[must_use]
-pub fn number(v: f64) -> String {
-    if v.is_nan() {
-        "nan".into()
-    } else if v.is_infinite() {
-        if v > 0.0 { "inf" } else { "-inf" }.into()
-    } else if v == 0.0 || (1e-4..1e16).contains(&v.abs()) {
-        v.to_string()
-    } else {
-        format!("{v:e}")
-    }
-}
-
-/// A message from a parser or the system, cut to 240 characters and with its control
-/// characters escaped (it may quote the input).
-#[must_use]
-pub fn inert(message: &str) -> String {
-    shown_within(message, 240)
-}
-
-fn shown_within(value: &str, max: usize) -> String {
-    use std::fmt::Write;
-    let mut out = String::new();
-    for (k, ch) in value.chars().enumerate() {
-        if k == max {
-            let _ = write!(out, "… ({} characters)", value.chars().count());
-            break;
-        }
-        if ch.is_control() {
-            out.extend(ch.escape_default());
-        } else {
-            out.push(ch);
-        }
-    }
-    out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn values_in_messages_are_short_and_inert() {
-        assert_eq!(shown("M"), "M");
-        assert_eq!(shown("a\u{1b}[31mb\n"), "a\\u{1b}[31mb\\n");
-        let long = "x".repeat(10_000_000);
-        let s = shown(&long);
-        assert!(s.len() < 100 && s.ends_with("(10000000 characters)"), "{s}");
-    }
-
-    #[test]
-    fn numbers_in_messages_are_short() {
-        assert_eq!(number(12.5), "12.5");
-        assert_eq!(number(2e9), "2000000000");
-        assert_eq!(number(1e308), "1e308");
-        assert_eq!(number(-2.5e-7), "-2.5e-7");
-        assert_eq!(number(f64::NAN), "nan");
-        assert_eq!(number(f64::NEG_INFINITY), "-inf");
-        assert_eq!(number(0.0), "0");
-    }
-}

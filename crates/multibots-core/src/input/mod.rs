@@ -8,7 +8,9 @@
 pub(crate) mod csv;
 pub mod files;
 pub mod layout_file;
-pub(crate) mod limits;
+pub mod layout_params;
+pub mod limits;
 pub mod lorr;
+pub(crate) mod messages;
 pub mod scenario;
 pub mod schema;

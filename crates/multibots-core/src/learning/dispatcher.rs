@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::ids::RobotId;
 use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
-use crate::output::metrics::{Outcome, RunResult};
+use crate::record::metrics::{Outcome, RunResult};
 use crate::rules::paper::Paper;
 use crate::rules::Engine;
 use crate::world::World;

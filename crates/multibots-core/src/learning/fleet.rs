@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::ids::{RobotId, NONE};
 use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
-use crate::output::metrics::RunResult;
+use crate::record::metrics::RunResult;
 use crate::rules::paper::Paper;
 use crate::rules::Engine;
 use crate::world::World;

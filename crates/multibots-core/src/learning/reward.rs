@@ -21,7 +21,7 @@
 
 use crate::error::{Error, Result};
 use crate::input::scenario::CostWeights;
-use crate::output::metrics::{Outcome, RobotStats};
+use crate::record::metrics::{Outcome, RobotStats};
 use crate::rules::paper::Paper;
 use crate::rules::Engine;
 

@@ -1,9 +1,9 @@
 //! The replay frame codec (`docs/replay-format.md`): the one definition of how frames are
 //! laid out in a chunk, used by the replay writer, the live viewer's frames and the Python
 //! reader (through the binding). The viewer's page decodes the same layout in JavaScript and
-//! takes the state and event names from the replay header, and the numbers below (the
-//! mark, the state mask, the heading and energy scales) from the server, which has them
-//! from the binding: they are defined here only.
+//! takes the state and event names from the replay header, and the scales (the mark, the
+//! state mask, the heading and energy scales, `crate::record::frame`) from the server, which
+//! has them from the binding.
 //!
 //! A decompressed chunk holds `K` frames of `N` robots and `E` events:
 //!
@@ -23,9 +23,9 @@
 //! P is not in the head: it is what the bytes after the robots' sections hold, 8·K bytes per
 //! person, and the replay header's `humans` says it too.
 
-use crate::rules::Simulation;
+use crate::record::frame::Frame;
+pub use crate::record::frame::{ENERGY_SCALE, HEADING_STEPS, MARKED, STATE_MASK};
 use flate2::read::ZlibDecoder;
-use std::f64::consts::TAU;
 use std::io::Read;
 
 /// File magic.
@@ -34,27 +34,6 @@ pub const MAGIC: &[u8; 8] = b"MBREPLAY";
 pub const VERSION: u32 = 1;
 /// Bytes per robot per frame before compression.
 pub const BYTES_PER_ROBOT_STEP: usize = 12;
-/// The state byte's flag: marked by the threshold rule to charge after unloading.
-pub const MARKED: u8 = 0x80;
-/// The state byte's bits that hold the state code (all but [`MARKED`]).
-pub const STATE_MASK: u8 = !MARKED;
-/// Heading steps in a full turn: the heading byte counts turns in 256ths.
-pub const HEADING_STEPS: u32 = 256;
-/// The energy word of a full battery: energy is a fraction of full times this.
-pub const ENERGY_SCALE: u16 = u16::MAX;
-
-/// Heading angle (radians) as one byte: round(α / 2π × [`HEADING_STEPS`]) mod [`HEADING_STEPS`].
-#[must_use]
-pub fn heading_byte(a: f64) -> u8 {
-    ((a / TAU * f64::from(HEADING_STEPS)).round() as i64).rem_euclid(i64::from(HEADING_STEPS)) as u8
-}
-
-/// Energy as a fraction of full, in 16 bits: × [`ENERGY_SCALE`], rounded.
-#[must_use]
-pub fn energy_word(e: f64, full: f64) -> u16 {
-    ((e / full).clamp(0.0, 1.0) * f64::from(ENERGY_SCALE)).round() as u16
-}
-
 /// Byte offset and length of each section of a decompressed chunk.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ChunkLayout {
@@ -144,46 +123,24 @@ impl Frames {
         self.count == 0
     }
 
-    /// Adds the simulation's current state as frame number `frame`, with the events of the
-    /// step just run when `with_events` (frame 0, the state before step 1, has none).
-    pub fn push(&mut self, sim: &Simulation, frame: u64, with_events: bool) {
-        let r = sim.robots();
-        let full = sim.energy_levels().0;
-        self.counters.extend_from_slice(&[sim.s() as u32, sim.c() as u32, sim.delivered() as u32]);
-        self.x.extend(r.x.iter().map(|&v| v as f32));
-        self.y.extend(r.y.iter().map(|&v| v as f32));
-        self.energy.extend(r.energy.iter().map(|&e| energy_word(e, full)));
-        self.heading.extend(r.heading.iter().map(|&a| heading_byte(a)));
-        self.state.extend(r.state.iter().zip(&r.marked).map(|(&s, &m)| s as u8 | if m { MARKED } else { 0 }));
-        if let Some(p) = sim.people() {
-            self.people_x.extend(p.x.iter().map(|&v| v as f32));
-            self.people_y.extend(p.y.iter().map(|&v| v as f32));
-        }
+    /// Adds `f` as frame number `frame`, with its events when `with_events` (frame 0, the
+    /// state before step 1, has none under the paper rules).
+    pub fn push(&mut self, f: &Frame, frame: u64, with_events: bool) {
+        debug_assert_eq!(f.robots(), self.robots);
+        self.counters.extend_from_slice(&f.counters);
+        self.x.extend_from_slice(&f.x);
+        self.y.extend_from_slice(&f.y);
+        self.energy.extend_from_slice(&f.energy);
+        self.heading.extend_from_slice(&f.heading);
+        self.state.extend_from_slice(&f.state);
+        self.people_x.extend_from_slice(&f.people_x);
+        self.people_y.extend_from_slice(&f.people_y);
         if with_events {
-            for e in sim.events() {
-                self.events.extend_from_slice(&[frame as u32, e.kind.code(), e.robot, e.cell]);
+            for &[kind, robot, cell] in &f.events {
+                self.events.extend_from_slice(&[frame as u32, kind, robot, cell]);
             }
         }
         self.count += 1;
-    }
-
-    /// Adds a frame of a run under other rules than [`Simulation`]'s (the League of Robot
-    /// Runners' grid, `crate::output::grid_replay`): its counters (S, C, delivered), and
-    /// `fill` pushes one value per robot to each column of [`Columns`] (and events, if any,
-    /// as frame, kind, robot, cell).
-    pub fn push_with(&mut self, counters: [u32; 3], fill: impl FnOnce(Columns<'_>)) {
-        self.counters.extend_from_slice(&counters);
-        fill(Columns {
-            x: &mut self.x,
-            y: &mut self.y,
-            energy: &mut self.energy,
-            heading: &mut self.heading,
-            state: &mut self.state,
-            events: &mut self.events,
-        });
-        self.count += 1;
-        let cells = self.count * self.robots;
-        debug_assert!([self.x.len(), self.y.len(), self.energy.len(), self.heading.len(), self.state.len()].iter().all(|&l| l == cells));
     }
 
     /// Appends the decompressed chunk of the gathered frames, numbered from `first_frame`.
@@ -214,17 +171,6 @@ impl Frames {
         self.people_x.clear();
         self.people_y.clear();
     }
-}
-
-/// The columns of the frame being added by [`Frames::push_with`]: each takes one value per
-/// robot; `events` takes four words per event (frame, kind, robot, cell).
-pub struct Columns<'a> {
-    pub x: &'a mut Vec<f32>,
-    pub y: &'a mut Vec<f32>,
-    pub energy: &'a mut Vec<u16>,
-    pub heading: &'a mut Vec<u8>,
-    pub state: &'a mut Vec<u8>,
-    pub events: &'a mut Vec<u32>,
 }
 
 /// A decoded chunk.
@@ -303,30 +249,21 @@ pub fn decode(raw: &[u8]) -> Result<Chunk, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Scenario;
-
-    #[test]
-    fn heading_and_energy_encodings() {
-        assert_eq!(heading_byte(0.0), 0);
-        assert_eq!(heading_byte(std::f64::consts::FRAC_PI_2), 64);
-        assert_eq!(heading_byte(std::f64::consts::PI), 128);
-        assert_eq!(heading_byte(-std::f64::consts::FRAC_PI_2), 192);
-        assert_eq!(energy_word(10.0, 10.0), 65535);
-        assert_eq!(energy_word(0.0, 10.0), 0);
-        assert_eq!(energy_word(5.0, 10.0), 32768);
-        // The format's numbers (docs/replay-format.md): readers in other languages use them.
-        assert_eq!((MARKED, STATE_MASK, HEADING_STEPS, ENERGY_SCALE), (0x80, 0x7f, 256, 65535));
-    }
+    use crate::input::scenario::Scenario;
+    use crate::rules::{Run, Simulation};
 
     #[test]
     fn frames_round_trip_through_the_codec() {
         let mut sim = Simulation::new(&Scenario::paper(3, &[11, 8, 39])).unwrap();
         let mut f = Frames::with_capacity(3, 4);
-        f.push(&sim, 0, false);
+        let mut frame = Frame::default();
+        sim.emit(&mut frame, false);
+        f.push(&frame, 0, false);
         for k in 1..=300 {
             sim.step().unwrap();
             if k % 100 == 0 {
-                f.push(&sim, k, true);
+                sim.emit(&mut frame, true);
+                f.push(&frame, k, true);
             }
         }
         let mut raw = Vec::new();

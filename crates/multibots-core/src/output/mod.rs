@@ -1,13 +1,9 @@
-//! What a run gives back: its events (`events`), its indicators T, S, C and the figures
-//! beyond them (`metrics`, `docs/metrics.md`), how busy each resource was and the bottleneck
-//! (`resources`), and recorded runs: the replay file
-//! (`replay`; `grid_replay` for the League of Robot Runners' runs) and the byte layout of its
-//! frames (`codec`, `docs/replay-format.md`).
+//! What a run is written to, read from what the run records (`crate::record`) and the
+//! frames it emits through the run contract (`crate::rules::Run`): replay files
+//! (`replay`, one recorder for every rule set) and the byte layout of their frames
+//! (`codec`, `docs/replay-format.md`), and the League of Robot Runners' result file with
+//! MultiBots' figures beside it (`lorr`).
 
 pub mod codec;
-pub(crate) mod events;
-pub mod grid_replay;
 pub mod lorr;
-pub mod metrics;
 pub mod replay;
-pub mod resources;

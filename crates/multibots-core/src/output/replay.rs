@@ -7,10 +7,10 @@
 use crate::error::{Error, Result};
 use crate::fleet::robot::State;
 use crate::output::codec::{Frames, BYTES_PER_ROBOT_STEP, MAGIC, VERSION};
-use crate::output::events::EventKind;
-use crate::output::metrics::RunResult;
-use crate::output::resources::{Bottleneck, QueueLog, ResourceUse};
-use crate::rules::Simulation;
+use crate::record::events::EventKind;
+use crate::record::frame::{Frame, FrameSink};
+use crate::record::resources::{Bottleneck, QueueLog, ResourceUse};
+use crate::rules::run::Run;
 use flate2::write::ZlibEncoder;
 use flate2::Compression;
 use serde_json::{json, Value};
@@ -36,37 +36,23 @@ pub fn names() -> Value {
     })
 }
 
-/// What a viewer needs before the first frame: the fleet, the energy scale, the stock, the
-/// layout, the scenario and the code names. The replay header, and the live viewer's meta.
+/// What a viewer needs before the first frame: the format, the run's own description
+/// ([`Run::describe`]), the caller's `extra` fields (a scenario's text) and the code names.
+/// The replay header, and the live viewer's meta.
 #[must_use]
-pub fn header(sim: &Simulation, scenario_toml: &str) -> Value {
-    let (energy_full, threshold) = sim.energy_levels();
-    let r = sim.robots();
-    let mut h = json!({
-        "format": "multibots-replay",
-        "version": VERSION,
-        "robots": r.len(),
-        "radius": r.radius,
-        "home": r.home.iter().map(|h| h.0).collect::<Vec<_>>(),
-        "energy_full": energy_full,
-        "threshold": threshold,
-        "cells_full": sim.cells_full().iter().map(|&f| u8::from(f)).collect::<Vec<_>>(),
-        "goods_total": sim.goods_total(),
-        "layout": sim.world().layout.to_json(),
-        "scenario": scenario_toml,
-    });
-    if let Some(p) = sim.people() {
-        // The people section of each chunk (crate::output::codec), and what the viewer draws.
-        h["humans"] = json!({"count": p.len(), "radius": p.radius, "zones": p.zone_radii()});
-    }
-    if let (Value::Object(h), Value::Object(names)) = (&mut h, names()) {
-        h.extend(names);
+pub fn header(run: &dyn Run, extra: Value) -> Value {
+    let mut h = json!({"format": "multibots-replay", "version": VERSION});
+    for part in [run.describe(), extra, names()] {
+        if let (Value::Object(h), Value::Object(part)) = (&mut h, part) {
+            h.extend(part);
+        }
     }
     h
 }
 
-/// Writes a replay while a simulation runs: [`ReplayWriter::create`] before the first step,
-/// [`ReplayWriter::frame`] after each step, [`ReplayWriter::finish`] at the end.
+/// Writes a replay while a run goes, under any rules: [`ReplayWriter::create`] before the
+/// first step, then the run's frames ([`Run::advance`] with the writer as its sink), then
+/// [`ReplayWriter::finish`]. Dropped unfinished, it leaves nothing behind.
 pub struct ReplayWriter {
     out: Option<BufWriter<File>>,
     tmp: PathBuf,
@@ -78,23 +64,27 @@ pub struct ReplayWriter {
     chunks: Vec<ChunkInfo>,
     buf: Frames,
     raw: Vec<u8>,
-    /// The queues frame by frame, for a run of [`Simulation`] (its footer's `queues`).
+    /// The last frame, which a step in which nothing happened repeats.
+    last: Frame,
+    /// The queues frame by frame, where the run reports resources (its footer's `queues`).
     queues: Option<QueueLog>,
 }
 
 impl ReplayWriter {
-    /// Opens the replay and records frame 0 (the state before step 1).
-    pub fn create(path: &Path, sim: &Simulation, scenario_toml: &str) -> Result<ReplayWriter> {
-        let mut rw = ReplayWriter::open(path, header(sim, scenario_toml), sim.robots().len())?;
-        rw.queues = Some(QueueLog::new(&sim.world().layout));
-        rw.frame(sim)?;
+    /// Opens a replay of `run` at `path`, with `extra` header fields, and records frame 0
+    /// (the run's state now).
+    pub fn create(path: &Path, run: &dyn Run, extra: Value) -> Result<ReplayWriter> {
+        let mut frame = Frame::default();
+        run.emit(&mut frame, true);
+        let mut rw = ReplayWriter::open(path, header(run, extra), frame.robots())?;
+        rw.queues = run.queue_log();
+        rw.frame(&frame)?;
         Ok(rw)
     }
 
     /// Opens a replay of `robots` robots with the header `h` (to which `chunk_steps` is
-    /// added), and records no frame yet: for runs under other rules than [`Simulation`]'s,
-    /// which add their frames with [`ReplayWriter::push_with`].
-    pub fn open(path: &Path, mut h: Value, robots: usize) -> Result<ReplayWriter> {
+    /// added), and records no frame yet.
+    fn open(path: &Path, mut h: Value, robots: usize) -> Result<ReplayWriter> {
         let display = path.display().to_string();
         let tmp = crate::input::files::output_temp(path).map_err(|message| Error::Io { path: display.clone(), message })?;
         let file = File::create(&tmp).map_err(|e| Error::io(&display, &e))?;
@@ -120,28 +110,15 @@ impl ReplayWriter {
             chunks: Vec::new(),
             buf: Frames::with_capacity(robots, chunk_frames),
             raw: Vec::new(),
+            last: Frame::default(),
             queues: None,
         };
         // On an error the writer is dropped here, and its temporary file with it.
         written.map(|()| rw)
     }
 
-    /// Records the state after the step just run, with its events.
-    pub fn frame(&mut self, sim: &Simulation) -> Result<()> {
-        if let Some(log) = &mut self.queues {
-            log.record(self.frames, &sim.queues());
-        }
-        self.buf.push(sim, self.frames, self.frames > 0);
-        self.frames += 1;
-        if self.buf.len() == self.chunk_frames {
-            self.flush_chunk()?;
-        }
-        Ok(())
-    }
-
-    /// Records the next frame from columns filled by the caller ([`Frames::push_with`]).
-    pub fn push_with(&mut self, counters: [u32; 3], fill: impl FnOnce(crate::output::codec::Columns<'_>)) -> Result<()> {
-        self.buf.push_with(counters, fill);
+    fn push(&mut self, with_events: bool) -> Result<()> {
+        self.buf.push(&self.last, self.frames, with_events);
         self.frames += 1;
         if self.buf.len() == self.chunk_frames {
             self.flush_chunk()?;
@@ -181,27 +158,31 @@ impl ReplayWriter {
         Ok(())
     }
 
-    /// Writes the last chunk and the footer, and moves the file into place.
-    pub fn finish(self, result: &RunResult) -> Result<()> {
-        let queues = self.queues.as_ref().map_or(Value::Null, |log| log.to_json(&result.resources));
-        let fields = json!({
-            "T": result.t,
-            "S": result.s,
-            "C": result.c,
-            "outcome": result.outcome.map_or("running", |o| o.as_str()),
-            "delivered": result.delivered,
-            "window": result.window,
-            "windows": result.windows,
-            "resources": result.resources.iter().map(ResourceUse::to_json).collect::<Vec<_>>(),
-            "bottleneck": result.bottleneck.as_ref().map_or(Value::Null, Bottleneck::to_json),
-            "queues": queues,
+    /// Writes the last chunk and the footer (the run's [`Run::summary`]; where it reports
+    /// resources, their use, the bottleneck and each one's queue frame by frame), and moves
+    /// the file into place.
+    pub fn finish(self, run: &dyn Run) -> Result<()> {
+        let s = run.summary();
+        let mut fields = json!({
+            "T": s.t,
+            "S": s.s,
+            "C": s.c,
+            "outcome": s.outcome,
+            "delivered": s.delivered,
+            "window": s.window,
+            "windows": s.windows,
         });
+        if let Some(log) = &self.queues {
+            fields["resources"] = s.resources.iter().map(ResourceUse::to_json).collect();
+            fields["bottleneck"] = s.bottleneck.as_ref().map_or(Value::Null, Bottleneck::to_json);
+            fields["queues"] = log.to_json(&s.resources);
+        }
         self.finish_with(fields)
     }
 
     /// Writes the last chunk and a footer of `fields` (an object: the indicators) with the
     /// frame count and the chunk table, and moves the file into place.
-    pub fn finish_with(mut self, fields: Value) -> Result<()> {
+    fn finish_with(mut self, fields: Value) -> Result<()> {
         self.flush_chunk()?;
         let mut footer = fields;
         footer["frames"] = json!(self.frames);
@@ -221,7 +202,7 @@ impl ReplayWriter {
             let file = out.into_inner().map_err(|e| Error::io(&display, e.error()))?;
             file.sync_all().map_err(io)?;
             drop(file);
-            crate::input::files::replaceable(&self.path).map_err(|message| Error::Io { path: crate::input::limits::shown(&display), message })?;
+            crate::input::files::replaceable(&self.path).map_err(|message| Error::Io { path: crate::error::shown(&display), message })?;
             std::fs::rename(&self.tmp, &self.path).map_err(io)
         })();
         if written.is_err() {
@@ -241,32 +222,25 @@ impl Drop for ReplayWriter {
     }
 }
 
-/// Runs up to `max_steps` steps (fewer if the run ends), recording each frame when a writer
-/// is given; returns the steps run. Callers that must stay responsive (Ctrl-C) call it in
-/// slices.
-pub fn step_recorded(sim: &mut Simulation, mut writer: Option<&mut ReplayWriter>, max_steps: u64) -> Result<u64> {
-    if writer.is_none() {
-        return sim.steps(max_steps);
-    }
-    let mut k = 0;
-    while k < max_steps && !sim.done() {
-        sim.step()?;
-        if let Some(w) = writer.as_deref_mut() {
-            w.frame(sim)?;
+impl FrameSink for ReplayWriter {
+    fn frame(&mut self, f: &Frame) -> Result<()> {
+        if let (Some(log), Some(q)) = (&mut self.queues, &f.queues) {
+            log.record(self.frames, q);
         }
-        k += 1;
+        self.last.clone_from(f);
+        self.push(true)
     }
-    Ok(k)
+
+    fn repeat(&mut self) -> Result<()> {
+        self.push(false)
+    }
 }
 
-/// Runs a simulation to its end while recording it to `path`.
-pub fn run_recorded(sim: &mut Simulation, path: &Path, scenario_toml: &str) -> Result<RunResult> {
-    let mut w = ReplayWriter::create(path, sim, scenario_toml)?;
-    while !sim.done() {
-        sim.step()?;
-        w.frame(sim)?;
+/// Runs `run` to its end while recording it to `path` (with `extra` header fields).
+pub fn run_recorded(run: &mut dyn Run, path: &Path, extra: Value) -> Result<()> {
+    let mut w = ReplayWriter::create(path, run, extra)?;
+    while !run.done() {
+        run.advance(u64::MAX, Some(&mut w))?;
     }
-    let result = sim.result();
-    w.finish(&result)?;
-    Ok(result)
+    w.finish(run)
 }

@@ -11,7 +11,7 @@
 use crate::error::Result;
 use crate::input::csv::Tables;
 use crate::input::scenario::Scenario;
-use crate::output::metrics::RunResult;
+use crate::record::metrics::RunResult;
 use crate::rules::Simulation;
 use crate::world::World;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};

@@ -10,19 +10,24 @@ pub mod batch;
 pub mod grid;
 pub mod original;
 pub(crate) mod paper;
+pub mod run;
+
+pub use run::Run;
 
 use crate::alloc::{self, Allocator};
 use crate::error::Result;
 use crate::fleet::robot::Robots;
 use crate::input::csv::Tables;
 use crate::input::scenario::{Rules, Scenario};
-use crate::output::events::Event;
-use crate::output::metrics::{Outcome, RobotStats, RunResult};
-use crate::output::resources::Queues;
 use crate::people::People;
+use crate::record::events::Event;
+use crate::record::frame::{energy_word, heading_byte, Frame, FrameSink, Summary, MARKED};
+use crate::record::metrics::{Outcome, RobotStats, RunResult};
+use crate::record::resources::{QueueLog, Queues};
 use crate::world::World;
 use original::measured::OriginalRun;
 use paper::Paper;
+use serde_json::{json, Value};
 use std::sync::Arc;
 
 /// What a rule set's engine answers: how it steps, and what it shows of its state. A
@@ -274,9 +279,94 @@ impl Simulation {
         self.engine().route_of(i)
     }
     /// The robots queued in the last step, at each node and for a shared charger, counted as
-    /// the result's `resources` count them (`output/resources.rs`): what viewers draw.
+    /// the result's `resources` count them (`record/resources.rs`): what viewers draw.
     #[must_use]
     pub fn queues(&self) -> Queues {
         self.engine().queues()
+    }
+}
+
+impl Run for Simulation {
+    fn advance(&mut self, max: u64, sink: Option<&mut dyn FrameSink>) -> Result<u64> {
+        let Some(sink) = sink else { return self.steps(max) };
+        // Step by step: a frame of every step (no cruising past one).
+        let mut frame = Frame::default();
+        let mut k = 0;
+        while k < max && !self.done() {
+            self.step()?;
+            self.emit(&mut frame, true);
+            sink.frame(&frame)?;
+            k += 1;
+        }
+        Ok(k)
+    }
+
+    fn time(&self) -> u64 {
+        self.t()
+    }
+
+    fn done(&self) -> bool {
+        Simulation::done(self)
+    }
+
+    fn emit(&self, f: &mut Frame, events: bool) {
+        f.clear();
+        let r = self.robots();
+        let full = self.energy_levels().0;
+        f.counters = [self.s() as u32, self.c() as u32, self.delivered() as u32];
+        f.x.extend(r.x.iter().map(|&v| v as f32));
+        f.y.extend(r.y.iter().map(|&v| v as f32));
+        f.energy.extend(r.energy.iter().map(|&e| energy_word(e, full)));
+        f.heading.extend(r.heading.iter().map(|&a| heading_byte(a)));
+        f.state.extend(r.state.iter().zip(&r.marked).map(|(&s, &m)| s as u8 | if m { MARKED } else { 0 }));
+        if let Some(p) = self.people() {
+            f.people_x.extend(p.x.iter().map(|&v| v as f32));
+            f.people_y.extend(p.y.iter().map(|&v| v as f32));
+        }
+        // Events belong to a step: frame 0, before the first, shows none (the original rules'
+        // dispatch at the start included).
+        if events && self.t() > 0 {
+            f.events.extend(self.events().iter().map(|e| [e.kind.code(), e.robot, e.cell]));
+        }
+        f.queues = Some(self.queues());
+    }
+
+    fn describe(&self) -> Value {
+        let (energy_full, threshold) = self.energy_levels();
+        let r = self.robots();
+        let mut h = json!({
+            "robots": r.len(),
+            "radius": r.radius,
+            "home": r.home.iter().map(|h| h.0).collect::<Vec<_>>(),
+            "energy_full": energy_full,
+            "threshold": threshold,
+            "cells_full": self.cells_full().iter().map(|&f| u8::from(f)).collect::<Vec<_>>(),
+            "goods_total": self.goods_total(),
+            "layout": self.world().layout.to_json(),
+        });
+        if let Some(p) = self.people() {
+            // The people section of each chunk (crate::output::codec), and what the viewer draws.
+            h["humans"] = json!({"count": p.len(), "radius": p.radius, "zones": p.zone_radii()});
+        }
+        h
+    }
+
+    fn summary(&self) -> Summary {
+        let r = self.result();
+        Summary {
+            t: r.t,
+            s: r.s,
+            c: r.c,
+            outcome: r.outcome.map_or("running", Outcome::as_str),
+            delivered: r.delivered,
+            window: r.window,
+            windows: r.windows,
+            resources: r.resources,
+            bottleneck: r.bottleneck,
+        }
+    }
+
+    fn queue_log(&self) -> Option<QueueLog> {
+        Some(QueueLog::new(&self.world().layout))
     }
 }

@@ -506,13 +506,13 @@ mod tests {
         // A warehouse with unloading zones on three rows of crossings: every route keeps its
         // hops, is no longer, passes no more unloading zones than the spec's route (its target
         // not counted), and many pass fewer.
-        let p = crate::world::layout::LayoutParams {
+        let p = crate::input::layout_params::LayoutParams {
             group_rows: 9,
             group_cols: 8,
             chargers: 9,
             unloading_rows: 3,
-            aisles: crate::world::layout::Aisles::Alternate,
-            ..crate::world::layout::LayoutParams::paper()
+            aisles: crate::input::layout_params::Aisles::Alternate,
+            ..crate::input::layout_params::LayoutParams::paper()
         };
         let l = Layout::generate(&p, "g").unwrap();
         let plain = HighwayGraph::new(&l);
@@ -557,11 +557,11 @@ mod tests {
     fn generated_layouts_are_strongly_connected() {
         for rows in 1..4 {
             for cols in 1..7 {
-                let p = crate::world::layout::LayoutParams {
+                let p = crate::input::layout_params::LayoutParams {
                     group_rows: rows,
                     group_cols: cols,
                     chargers: cols + 1,
-                    ..crate::world::layout::LayoutParams::paper()
+                    ..crate::input::layout_params::LayoutParams::paper()
                 };
                 let l = Layout::generate(&p, "g").unwrap();
                 validate(&l, &HighwayGraph::new(&l)).unwrap_or_else(|e| panic!("{rows}x{cols}: {e}"));

@@ -1,16 +1,38 @@
-//! The world a run happens in: the warehouse layout and its generator (`layout`), the highway
-//! graph with its routing table (`graph`), where robots start, park and unload (`placement`),
-//! and [`World`], built and checked once and shared by every run on it.
+//! The world a run happens in: the warehouse layout and its generator (`layout`), layout
+//! files turned into layouts (`layout_file`), the highway graph with its routing table
+//! (`graph`), and [`World`], built from the layout a scenario names ([`resolve_layout`]),
+//! checked once and shared by every run on it.
 
 pub(crate) mod graph;
 pub mod layout;
-pub(crate) mod placement;
+pub mod layout_file;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::input::scenario::{Scenario, Traffic};
 use crate::world::layout::{Layout, NodeKind};
 use graph::HighwayGraph;
 use std::sync::Arc;
+
+/// The layout a scenario names.
+///
+/// `"paper"`, a layout file (a path ending in `.toml`, relative to the working
+/// directory), or, with `[layout_generate]`, the generated grid.
+pub fn resolve_layout(scenario: &Scenario) -> Result<Layout> {
+    if let Some(p) = &scenario.layout_generate {
+        if scenario.layout != crate::input::scenario::defaults::layout() {
+            return Err(Error::scenario("layout", format!("\"{}\"", scenario.layout), "give either layout or [layout_generate], not both"));
+        }
+        return Layout::generate(p, "generated").map_err(|e| match e {
+            Error::Scenario { field, value, reason } => Error::Scenario { field: field.replacen("layout.", "layout_generate.", 1), value, reason },
+            other => other,
+        });
+    }
+    match scenario.layout.as_str() {
+        "paper" => Ok(Layout::paper()),
+        path if std::path::Path::new(path).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) => layout_file::read(std::path::Path::new(path)),
+        other => Err(Error::scenario("layout", format!("\"{other}\""), "unknown layout (known: paper, or a layout file ending in .toml)")),
+    }
+}
 
 /// A layout with its graph and routing table.
 #[derive(Debug)]
@@ -33,7 +55,7 @@ impl World {
     /// as short does ([`HighwayGraph::routed_around`]); under the other policies they are the
     /// paper's.
     pub fn of(scenario: &Scenario) -> Result<Arc<World>> {
-        let layout = scenario.resolve_layout()?;
+        let layout = resolve_layout(scenario)?;
         layout.check_size()?;
         let mut graph = HighwayGraph::new(&layout);
         graph::validate(&layout, &graph)?;

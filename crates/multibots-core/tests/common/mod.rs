@@ -5,8 +5,8 @@
 #[allow(unused_imports)] // not every test binary uses it
 pub use multibots_core::input::scenario::PAPER_TASKS;
 
+use multibots_core::input::layout_params::Aisles;
 use multibots_core::input::scenario::{ChargerUse, Orders, Placement, Tasks};
-use multibots_core::world::layout::Aisles;
 use multibots_core::{LayoutParams, Scenario, Traffic, Unload};
 
 /// A lifelong run on a generated warehouse of `rows` × `cols` groups: robots parked along

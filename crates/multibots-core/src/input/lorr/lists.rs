@@ -14,7 +14,7 @@ fn data_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
 
 fn cell(path: &Path, line: usize, word: &str, map: &GridMap, what: &str) -> Result<u32> {
     let v: i64 =
-        word.trim().parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not a cell number", crate::input::limits::shown(word.trim()))))?;
+        word.trim().parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not a cell number", crate::error::shown(word.trim()))))?;
     if v < 0 || v >= map.cells() as i64 {
         return Err(Error::input_file(path, Some(line), format!("cell {v} is off the {} x {} map", map.rows, map.cols)));
     }
@@ -30,7 +30,7 @@ fn counted<'a>(path: &Path, text: &'a str, what: &str) -> Result<(usize, Vec<(us
     let mut lines = data_lines(text);
     let (line, first) = lines.next().ok_or_else(|| Error::input_file(path, None, format!("the file is empty; it must start with the number of {what}")))?;
     let count: usize =
-        first.parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not the number of {what}", crate::input::limits::shown(first))))?;
+        first.parse().map_err(|_| Error::input_file(path, Some(line), format!("'{}' is not the number of {what}", crate::error::shown(first))))?;
     let rest: Vec<(usize, &str)> = lines.take(count).collect();
     if rest.len() < count {
         let last = rest.last().map_or(line, |(l, _)| *l);

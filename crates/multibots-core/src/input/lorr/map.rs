@@ -32,7 +32,7 @@ impl GridMap {
             let line = lines.get(i).ok_or((i + 1, format!("the file ends before the '{key}' line")))?;
             let mut words = line.split_whitespace();
             if words.next() != Some(key) {
-                return Err((i + 1, format!("expected '{key} N', found '{}'", crate::input::limits::shown(line))));
+                return Err((i + 1, format!("expected '{key} N', found '{}'", crate::error::shown(line))));
             }
             let value = words.next().and_then(|w| w.parse::<u32>().ok()).filter(|v| (1..=100_000).contains(v));
             value.ok_or((i + 1, format!("'{key}' needs a whole number from 1 to 100000")))
@@ -63,11 +63,7 @@ impl GridMap {
                     _ => {
                         return Err((
                             4 + r + 1,
-                            format!(
-                                "column {}: '{}' is not a map cell ('.', 'E', 'S', '@', 'T')",
-                                c + 1,
-                                crate::input::limits::shown(&(b as char).to_string())
-                            ),
+                            format!("column {}: '{}' is not a map cell ('.', 'E', 'S', '@', 'T')", c + 1, crate::error::shown(&(b as char).to_string())),
                         ))
                     }
                 });

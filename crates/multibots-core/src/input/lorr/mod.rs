@@ -107,7 +107,7 @@ impl Problem {
             ));
         }
         if team == Some(0) {
-            return Err(crate::Error::scenario("robots", 0, "must be at least 1"));
+            return Err(crate::error::Error::scenario("robots", 0, "must be at least 1"));
         }
         let n = team.unwrap_or(json.team_size as usize);
         let base = path.parent().unwrap_or(Path::new("."));

@@ -1,8 +1,9 @@
 //! The scenario schema: the one definition of every field, its default and its checks.
 //! TOML files, Python dictionaries and the command line all land here.
 
-use crate::error::{json_message, toml_message, Error, Result};
-use crate::world::layout::{Layout, LayoutParams};
+use crate::error::{Error, Result};
+use crate::input::layout_params::LayoutParams;
+use crate::input::messages::{json_message, toml_message};
 use rand::{Rng, SeedableRng};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -89,7 +90,7 @@ pub struct Scenario {
     pub humans: Option<Humans>,
 }
 
-mod defaults {
+pub(crate) mod defaults {
     pub fn layout() -> String {
         "paper".into()
     }
@@ -181,29 +182,6 @@ impl Scenario {
             orders: None,
             metrics: MetricsParams::default(),
             humans: None,
-        }
-    }
-
-    /// The layout this scenario names.
-    ///
-    /// `"paper"`, a layout file (a path ending in `.toml`, relative to the working
-    /// directory), or, with `[layout_generate]`, the generated grid.
-    pub fn resolve_layout(&self) -> Result<Layout> {
-        if let Some(p) = &self.layout_generate {
-            if self.layout != defaults::layout() {
-                return Err(Error::scenario("layout", format!("\"{}\"", self.layout), "give either layout or [layout_generate], not both"));
-            }
-            return Layout::generate(p, "generated").map_err(|e| match e {
-                Error::Scenario { field, value, reason } => Error::Scenario { field: field.replacen("layout.", "layout_generate.", 1), value, reason },
-                other => other,
-            });
-        }
-        match self.layout.as_str() {
-            "paper" => Ok(Layout::paper()),
-            path if std::path::Path::new(path).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) => {
-                crate::input::layout_file::read(std::path::Path::new(path))
-            }
-            other => Err(Error::scenario("layout", format!("\"{other}\""), "unknown layout (known: paper, or a layout file ending in .toml)")),
         }
     }
 
@@ -354,9 +332,8 @@ impl Scenario {
         Ok(())
     }
 
-    /// The task list's cells, checked against the layout.
-    pub fn cells(&self, layout: &Layout) -> Result<Vec<u32>> {
-        let n = layout.cells.len();
+    /// The task list's cells, checked against a layout of `n` storage cells.
+    pub fn cells(&self, n: usize) -> Result<Vec<u32>> {
         match &self.tasks {
             Tasks::Cells(list) => {
                 let mut seen = vec![false; n];
@@ -470,9 +447,9 @@ mod tests {
         s.robot.speed = -1.0;
         assert_eq!(s.check_values().unwrap_err().to_string(), "robot.speed = -1: must be greater than 0");
         let s = Scenario::paper(3, &[1, 80]);
-        assert_eq!(s.cells(&Layout::paper()).unwrap_err().to_string(), "tasks[1] = 80: cell id out of range 0..79");
+        assert_eq!(s.cells(80).unwrap_err().to_string(), "tasks[1] = 80: cell id out of range 0..79");
         let s = Scenario::paper(3, &[5, 5]);
-        assert_eq!(s.cells(&Layout::paper()).unwrap_err().to_string(), "tasks[1] = 5: cell named twice in the task list");
+        assert_eq!(s.cells(80).unwrap_err().to_string(), "tasks[1] = 5: cell named twice in the task list");
         // A product too large names the factor nearer its own limit.
         let mut s = Scenario::paper(3, &[1]);
         s.orders = Some(Orders { rate: 100_000.0, horizon: 30_000_000, ..Orders::default() });

@@ -470,8 +470,9 @@ impl Humans {
     /// from it; the error names the field as `humans.NAME`. `robot`: the zones grow with the
     /// robots' speed (their stopping distance).
     pub(crate) fn check(&self, robot: &RobotParams) -> crate::error::Result<()> {
+        use crate::error::number;
         use crate::error::Error;
-        use crate::input::limits::{number, MAX_COORD, MAX_HUMANS, MAX_TOUR};
+        use crate::input::limits::{MAX_COORD, MAX_HUMANS, MAX_TOUR};
         if self.count > MAX_HUMANS {
             return Err(Error::scenario("humans.count", self.count, format!("at most {MAX_HUMANS} (docs/limits.md)")));
         }

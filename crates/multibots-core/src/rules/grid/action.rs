@@ -7,6 +7,7 @@
 //! reverse of another robot's move ("edge conflict", a swap).
 
 use crate::input::lorr::GridMap;
+use crate::record::grid::ActionError;
 
 /// One robot's action for one step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -67,19 +68,6 @@ pub fn heading_to(map: &GridMap, from: u32, to: u32) -> u8 {
     } else {
         3
     }
-}
-
-/// A refused joint action, as the result file records it.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ActionError {
-    /// "unallowed move", "vertex conflict" or "edge conflict".
-    pub kind: &'static str,
-    /// The robot whose action was found at fault.
-    pub agent: i64,
-    /// The other robot of a conflict, or -1.
-    pub other: i64,
-    /// The step the joint action would have led to.
-    pub timestep: u32,
 }
 
 /// Checks joint actions; owns the buffers so a check costs no allocation.

@@ -2,8 +2,9 @@
 //! engine: robots on grid cells with a heading, one action each per step, a planner
 //! (`planner/`) and, under the 2024 rules, a scheduler (`schedule/`). The action model and
 //! its check are in `action.rs`, the 2023 round-robin errands in `errands.rs`, the 2024 task
-//! pool and the check of schedules in `pool.rs`. What a run records, and the result file the
-//! competition's tools read, are in [`crate::output::lorr`].
+//! pool and the check of schedules in `pool.rs`. What a run records is in
+//! [`crate::record::grid`]; the result file the competition's tools read is written from it
+//! by `crate::output::lorr`.
 //!
 //! A step, in the order of the Start-Kit's `BaseSystem::simulate` (tag `v2.1.2`; the 2023
 //! archive's order is the same):
@@ -21,13 +22,19 @@
 
 pub mod action;
 pub mod errands;
+mod figures;
 pub mod planner;
 pub mod pool;
 pub mod schedule;
+mod show;
+
+pub use figures::Figures;
+pub use show::CELL_PX;
 
 use crate::error::Result;
+use crate::input::limits::MAX_PLAN_TIME_LIMIT_MS;
 use crate::input::lorr::{Problem, Version};
-use crate::output::lorr::Record;
+use crate::record::grid::{ActionError, Record};
 use action::{Action, Validator};
 use errands::RoundRobin;
 use planner::{PlanView, Planner, NO_GOAL};
@@ -79,6 +86,8 @@ pub struct LorrRun {
     actions: Vec<Action>,
     validator: Validator,
     record: Record,
+    /// What the frames show (`show.rs`).
+    shown: show::Shown,
 }
 
 impl LorrRun {
@@ -98,14 +107,14 @@ impl LorrRun {
     /// then only labels).
     pub fn with(problem: Arc<Problem>, options: LorrOptions, planner: Box<dyn Planner>, scheduler: Box<dyn Scheduler>) -> Result<LorrRun> {
         let n = problem.team_size();
-        if options.plan_time_limit_ms == Some(0) {
-            return Err(crate::Error::scenario("plan_time_limit", 0, "must be at least 1 ms"));
+        if let Some(ms) = options.plan_time_limit_ms.filter(|&ms| ms == 0 || ms > MAX_PLAN_TIME_LIMIT_MS) {
+            return Err(crate::error::Error::scenario("plan_time_limit", ms, format!("must be from 1 to {MAX_PLAN_TIME_LIMIT_MS} ms")));
         }
         let tasks = match problem.version {
             Version::Y2023 => Tasks::RoundRobin(RoundRobin::new(n, problem.reveal(), &problem.tasks)),
             Version::Y2024 => Tasks::Pool(TaskPool::new(n, problem.reveal(), problem.tasks.len())),
         };
-        Ok(LorrRun {
+        let mut run = LorrRun {
             loc: problem.starts.clone(),
             heading: vec![0; n],
             tasks,
@@ -116,10 +125,13 @@ impl LorrRun {
             actions: vec![Action::W; n],
             validator: Validator::default(),
             record: Record::new(n),
+            shown: show::Shown::default(),
             problem,
             options,
             t: 0,
-        })
+        };
+        run.note_shown();
+        Ok(run)
     }
 
     /// The planner that plays, as the options name it (`auto` resolved by [`LorrRun::new`];
@@ -172,9 +184,11 @@ impl LorrRun {
             self.record.timeouts += 1;
             self.count_costs();
             self.t += 1;
-            self.record.push_timeout(y2023, self.t);
+            self.record_timeout(y2023);
         }
         if self.t >= until {
+            // The round's plan was never carried out: nothing changed but the clock.
+            self.shown.events.clear();
             return;
         }
         self.count_costs();
@@ -200,6 +214,20 @@ impl LorrRun {
         };
         self.record.finished_at.push((self.t, done as u32));
         self.record.plan_ms.push((self.t, spent.as_secs_f64() * 1e3));
+        self.note_shown();
+    }
+
+    /// A step lost to the plan time limit: every robot's plan and action is `T` (2023: the
+    /// action carried out is `W`, and the empty action vector is an error).
+    fn record_timeout(&mut self, y2023: bool) {
+        let n = self.loc.len();
+        self.record.planned.extend(std::iter::repeat(Action::T as u8).take(n));
+        let carried = if y2023 { Action::W } else { Action::T };
+        self.record.actual.extend(std::iter::repeat(carried as u8).take(n));
+        if y2023 {
+            // The 2023 system checks an empty action vector and records its size as wrong.
+            self.record.errors.push(ActionError { kind: "incorrect vector size", agent: -1, other: -1, timestep: self.t });
+        }
     }
 
     fn count_costs(&mut self) {

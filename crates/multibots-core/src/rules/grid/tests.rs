@@ -68,7 +68,7 @@ fn a_swap_makes_every_robot_wait_and_is_recorded() {
     assert_eq!(run.headings(), &[0, 2, 0], "the refused step's turns are not made");
     assert_eq!(letters(&run, true), vec!["WWW", "RRW", "WWW"]);
     assert_eq!(letters(&run, false), vec!["WWF", "RRF", "WWC"]);
-    assert_eq!(run.record().errors, vec![action::ActionError { kind: "edge conflict", agent: 1, other: 0, timestep: 3 }]);
+    assert_eq!(run.record().errors, vec![crate::record::grid::ActionError { kind: "edge conflict", agent: 1, other: 0, timestep: 3 }]);
 }
 
 #[test]
@@ -79,7 +79,7 @@ fn a_vertex_conflict_makes_every_robot_wait() {
     let mut run = scripted(p, vec![vec![W, R, W], vec![W, R, W], vec![F, F, W]], vec![]);
     run.run_to(3);
     assert_eq!(run.locations(), &[0, 2, 4]);
-    assert_eq!(run.record().errors, vec![action::ActionError { kind: "vertex conflict", agent: 1, other: 0, timestep: 3 }]);
+    assert_eq!(run.record().errors, vec![crate::record::grid::ActionError { kind: "vertex conflict", agent: 1, other: 0, timestep: 3 }]);
 }
 
 #[test]

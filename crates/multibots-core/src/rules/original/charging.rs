@@ -23,7 +23,7 @@ use super::agent::Status;
 use super::map;
 use super::{Fault, Original, CHARGE_RATE, CONSUMPTION, FULL, THRESHOLD};
 use crate::ids::NONE;
-use crate::output::events::EventKind;
+use crate::record::events::EventKind;
 
 impl Original {
     /// `Controller.chargeController`.

@@ -29,13 +29,13 @@
 //! pair stays first and in contact for ever: no stopped robot is released again, and the
 //! first robot of the pair never reaches its charger, so the run can never be complete.
 //! [`Original::deadlocked`] tests exactly that, after every tick; the run ends then with
-//! [`Outcome::Deadlock`](crate::output::metrics::Outcome::Deadlock), where the original would go on
+//! [`Outcome::Deadlock`](crate::record::metrics::Outcome::Deadlock), where the original would go on
 //! ticking for ever.
 
 use super::agent::Agent;
 use super::{Original, RADIUS};
 use crate::ids::NONE;
-use crate::output::events::EventKind;
+use crate::record::events::EventKind;
 
 /// `r_i + r_j + 8`.
 const CONTACT: f64 = RADIUS + RADIUS + 8.0;

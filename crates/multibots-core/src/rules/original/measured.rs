@@ -5,8 +5,8 @@
 use crate::error::Result;
 use crate::fleet::robot::Robots;
 use crate::input::scenario::{CostWeights, MetricsParams, Scenario};
-use crate::output::events::Event;
-use crate::output::metrics::{Outcome, RobotStats, RunResult, Tally};
+use crate::record::events::Event;
+use crate::record::metrics::{Outcome, RobotStats, RunResult, Tally};
 use crate::rules::original::Original;
 use crate::rules::Engine;
 use crate::world::World;

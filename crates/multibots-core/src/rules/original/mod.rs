@@ -41,12 +41,12 @@ mod strategy;
 mod validate;
 mod view;
 
+use crate::error::{Error, Result};
 use crate::fleet::robot::Robots;
 use crate::ids::NONE;
 use crate::input::scenario::Scenario;
-use crate::output::events::{Event, EventKind};
-use crate::output::metrics::{Outcome, RobotStats, RunResult};
-use crate::{Error, Result};
+use crate::record::events::{Event, EventKind};
+use crate::record::metrics::{Outcome, RobotStats, RunResult};
 use agent::Agent;
 use map::Routes;
 use std::collections::VecDeque;

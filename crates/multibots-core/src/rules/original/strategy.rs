@@ -29,7 +29,7 @@
 use super::agent::Status;
 use super::map::{self, NOWHERE};
 use super::{Fault, Original, LOAD_TICKS, STEP, UNLOAD_TICKS};
-use crate::output::events::EventKind;
+use crate::record::events::EventKind;
 
 impl Original {
     /// `Strategy.computeStartToGood`.

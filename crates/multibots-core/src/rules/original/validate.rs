@@ -87,7 +87,7 @@ pub fn check(s: &Scenario) -> Result<Vec<u32>> {
     if s.dwell.unloading != 20 {
         return refuse("dwell.unloading", s.dwell.unloading.to_string(), "the original rules unload for 20 ticks");
     }
-    let cells = s.cells(&Layout::paper())?;
+    let cells = s.cells(Layout::paper().cells.len())?;
     if cells.len() < s.robots as usize {
         return refuse("tasks", format!("{} goods", cells.len()), &format!("the original rules need at least one goods per robot ({} robots)", s.robots));
     }

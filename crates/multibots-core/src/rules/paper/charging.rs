@@ -22,15 +22,15 @@
 use crate::alloc::Goods;
 use crate::error::{Error, Result};
 use crate::fleet::energy;
+use crate::fleet::placement::Homes;
 use crate::fleet::robot::{State, Target};
 use crate::fleet::route::service_target;
 use crate::fleet::route::{self, Place};
 use crate::ids::CellId as Cell;
 use crate::ids::{CellId, GoodsId, NodeId, NONE};
 use crate::input::scenario::{ChargerUse, Scenario};
-use crate::output::events::EventKind;
+use crate::record::events::EventKind;
 use crate::rules::paper::Paper;
-use crate::world::placement::Homes;
 use crate::world::World;
 use std::collections::VecDeque;
 

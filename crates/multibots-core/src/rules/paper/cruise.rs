@@ -13,7 +13,7 @@
 //! - collision waiting surely blocks nobody and the contact count surely finds no pair
 //!   ([`crate::collision::Collisions::quiet_steps`]: a robot alone, or a tiny fleet proven
 //!   apart with room for this many steps of travel);
-//! - phase 8 surely gives no verdict ([`crate::output::metrics::Tally::steps_without_verdict`]).
+//! - phase 8 surely gives no verdict ([`crate::record::metrics::Tally::steps_without_verdict`]).
 //!
 //! It then does phases 2 to 6 exactly as `intend.rs` and `moves.rs` do when nobody waits, and counts the
 //! step. The first step after which a robot is due (a route's end, a dwell's end, a full
@@ -270,10 +270,9 @@ mod tests {
         use crate::fleet::route::service_target;
         use crate::fleet::route::{waypoints, Place};
         use crate::ids::{CellId, NONE};
-        use crate::input::layout_file::LayoutFile;
         use crate::world::layout::Layout;
         for (shift, ulps) in [(9.0e6, 10737.51), (9.0e6, 10737.49), (0.0, 10737.51)] {
-            let mut f = LayoutFile::from_layout(&Layout::paper(), None);
+            let mut f = crate::world::layout_file::to_file(&Layout::paper(), None);
             f.bounds = [f.bounds[0] + shift, f.bounds[1] + shift, f.bounds[2] + shift, f.bounds[3] + shift];
             for n in &mut f.nodes {
                 (n.x, n.y) = (n.x + shift, n.y + shift);
@@ -285,7 +284,7 @@ mod tests {
                 (c.x, c.y) = (c.x + shift, c.y + shift);
                 c.service = [c.service[0] + shift, c.service[1] + shift];
             }
-            let world = crate::world::World::new(f.to_layout().unwrap()).unwrap();
+            let world = crate::world::World::new(crate::world::layout_file::from_file(&f).unwrap()).unwrap();
             let mut s = Scenario::paper(2, &[42]);
             s.robot.speed = ulps * 2f64.powi(-29);
             s.robot.radius = 0.25;

@@ -1,11 +1,11 @@
 //! Phase 8 (spec section 4): completion, then a fleet that can do nothing more (all
 //! stranded, or jammed), then the step limit or the horizon; and the run's result so far
-//! ([`crate::output::metrics`] says what each figure means).
+//! ([`crate::record::metrics`] says what each figure means).
 
 use crate::fleet::robot::State;
 use crate::ids::NONE;
-use crate::output::metrics::{Collapse, Gridlock, LifelongStats, Outcome, RunResult};
 use crate::people::PeopleFigures;
+use crate::record::metrics::{Collapse, Gridlock, LifelongStats, Outcome, RunResult};
 use crate::rules::paper::lifelong::{self, Lifelong};
 use crate::rules::paper::Paper;
 
@@ -69,7 +69,7 @@ impl Paper {
     /// How a lifelong run that reached its horizon ended: `horizon`, or, while orders waited,
     /// `stranded` if robots ran out of energy (one by one while the rest still moved: the
     /// fleet is shrinking, whatever its throughput), else `collapse` if its throughput
-    /// collapsed ([`crate::output::metrics::Tally::collapsed`]), with when and where in the
+    /// collapsed ([`crate::record::metrics::Tally::collapsed`]), with when and where in the
     /// result.
     fn at_horizon(&mut self, work_remains: bool) -> Outcome {
         let r = &self.robots;

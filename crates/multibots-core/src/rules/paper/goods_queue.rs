@@ -20,7 +20,7 @@ use crate::fleet::robot::{Robots, State, Target};
 use crate::fleet::route::service_target;
 use crate::ids::{CellId, GoodsId, NodeId, RobotId};
 use crate::input::scenario::Orders;
-use crate::output::events::{Event, EventKind};
+use crate::record::events::{Event, EventKind};
 use crate::rules::paper::lifelong::{Lifelong, OrderWindow, StockEvent};
 use crate::rules::paper::{Paper, Params};
 use crate::world::World;

@@ -13,8 +13,8 @@
 //! | 8 | completion, then the step limit; the result | `end.rs` |
 //!
 //! Stretches of quiet steps run in one pass (`cruise.rs`). Start positions, parking and
-//! unloading zones are in [`crate::world::placement`]; what T, S, C and the other figures mean
-//! in [`crate::output::metrics`].
+//! unloading zones are in [`crate::fleet::placement`]; what T, S, C and the other figures mean
+//! in [`crate::record::metrics`].
 
 pub(crate) mod charging;
 mod cruise;
@@ -33,17 +33,17 @@ pub(crate) use params::Params;
 use crate::alloc::Allocator;
 use crate::collision::Collisions;
 use crate::error::{Error, Result};
+use crate::fleet::placement::{self, Homes};
 use crate::fleet::robot::{Robots, Target};
 use crate::fleet::route;
 use crate::input::csv::Tables;
 use crate::input::scenario::{CostWeights, Scenario, Traffic};
-use crate::output::events::{Event, EventKind};
-use crate::output::metrics::{Outcome, RobotStats, RunResult, Tally};
 use crate::people::People;
+use crate::record::events::{Event, EventKind};
+use crate::record::metrics::{Outcome, RobotStats, RunResult, Tally};
 use crate::rules::paper::goods_queue::GoodsQueue;
 use crate::rules::Engine;
 use crate::traffic::TrafficState;
-use crate::world::placement::{self, Homes};
 use crate::world::World;
 use charging::{Asked, Chargers};
 use lifelong::Lifelong;
@@ -94,9 +94,9 @@ pub(crate) struct Paper {
     /// The fleet's largest radius and twice its top speed, for counting contacts (robots
     /// keep both for the whole run).
     contact_reach: (f64, f64),
-    /// How busy each resource was, and its queues (`output/resources.rs`); the nodes that
+    /// How busy each resource was, and its queues (`record/resources.rs`); the nodes that
     /// are unloading zones or chargers.
-    usage: crate::output::resources::Usage,
+    usage: crate::record::resources::Usage,
     service_nodes: Vec<bool>,
     /// Whether chargers are shared and goods go to the nearest unloading zone (what the
     /// bottleneck's remedy depends on).
@@ -135,7 +135,7 @@ impl Paper {
         let layout = &world.layout;
         let unload = placement::unload_zone(layout, &scenario.unload)?;
         let starts = placement::start_nodes(layout, scenario)?;
-        let cells = scenario.cells(layout)?;
+        let cells = scenario.cells(layout.cells.len())?;
         let (robots, homes) = placement::place(&world, scenario, &starts, unload)?;
         charging::check_reach(&world, scenario, &homes, &asked_cells(scenario, &cells, layout.cells.len()))?;
         let csv = match scenario.orders.as_ref().and_then(|o| o.csv.as_ref()) {
@@ -170,7 +170,7 @@ impl Paper {
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
             last_contacts: None,
-            usage: crate::output::resources::Usage::new(&world.layout),
+            usage: crate::record::resources::Usage::new(&world.layout),
             shared_and_nearest: (
                 scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
                 scenario.unload == crate::input::scenario::Unload::Nearest,
@@ -352,7 +352,7 @@ impl Engine for Paper {
     fn route_of(&self, i: usize) -> Vec<(f64, f64)> {
         route::remaining(&self.robots, &self.world.graph, i)
     }
-    fn queues(&self) -> crate::output::resources::Queues {
+    fn queues(&self) -> crate::record::resources::Queues {
         self.usage.queues(&self.world.layout)
     }
 }

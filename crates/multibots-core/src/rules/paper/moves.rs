@@ -4,7 +4,7 @@
 
 use crate::fleet::robot::State;
 use crate::ids::NONE;
-use crate::output::events::{Event, EventKind};
+use crate::record::events::{Event, EventKind};
 use crate::rules::paper::Paper;
 use crate::traffic;
 

@@ -9,7 +9,7 @@
 use crate::fleet::energy;
 use crate::fleet::robot::{State, Target};
 use crate::ids::NONE;
-use crate::output::events::EventKind;
+use crate::record::events::EventKind;
 use crate::rules::paper::Paper;
 
 impl Paper {

@@ -24,7 +24,7 @@ mod window;
 pub use dist::{Distances, BARRED};
 pub use guidance::{highway_costs, lanes_core, open_band_costs, AGAINST, WITH};
 pub use lookahead::Lookahead;
-pub use pibt::Pibt;
+pub use pibt::{Pibt, Variant};
 
 use super::action::Action;
 use crate::error::{Error, Result};
@@ -55,8 +55,51 @@ pub trait Planner: Send + Sync {
     fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]);
 }
 
-/// The built-in planners, by name.
-pub const BUILT_INS: &[&str] = &["auto", "pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead"];
+/// A built-in planner: its name (the same on the command line, in Python and in a replay's
+/// header), one line on what it does (the command line's help), and how it is made for a
+/// map, a fleet and a seed.
+pub struct BuiltIn {
+    pub name: &'static str,
+    pub about: &'static str,
+    make: fn(&GridMap, usize, u64) -> Box<dyn Planner>,
+}
+
+/// The built-in planners; the first is the default.
+pub const BUILT_INS: &[BuiltIn] = &[
+    BuiltIn {
+        name: "auto",
+        about: "pibt-one-way, or pibt when robots fill more than 30 % of the free cells",
+        make: |map, robots, seed| make(auto_choice(map, robots), map, robots, seed),
+    },
+    BuiltIn {
+        name: "pibt",
+        about: "PIBT with rotations on highways, ties to the emptier lane",
+        make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::Highways)),
+    },
+    BuiltIn { name: "pibt-no-lanes", about: "pibt, ties going straight ahead", make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::StraightTies)) },
+    BuiltIn {
+        name: "pibt-one-way",
+        about: "pibt-no-lanes, never against a lane where the lanes go round",
+        make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::OneWay)),
+    },
+    BuiltIn { name: "pibt-no-highways", about: "pibt, every move costing the same", make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::NoHighways)) },
+    BuiltIn { name: "rpibt", about: "PIBT on actions, distances counting turns", make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0)) },
+    BuiltIn {
+        name: "rpibt-pp",
+        about: "rpibt following paths planned a few steps ahead (small maps)",
+        make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0).guided(m.cells()).on_highways_by_density(m, r)),
+    },
+    BuiltIn {
+        name: "lookahead",
+        about: "rpibt played a few steps ahead, the best first step kept",
+        make: |m, r, s| Box::new(Lookahead::new(m, r, s, lookahead::ROLLOUTS)),
+    },
+];
+
+/// The built-in planners' names.
+pub fn names() -> impl Iterator<Item = &'static str> {
+    BUILT_INS.iter().map(|b| b.name)
+}
 
 /// The share of free cells above which `auto` takes `pibt`: a fleet that fills a third of
 /// the floor needs robots to make way against the lanes, which `pibt-one-way` forbids where
@@ -87,15 +130,12 @@ pub fn auto_choice(map: &GridMap, robots: usize) -> &'static str {
 
 /// A built-in planner by name, for `map`, seeded by `seed`.
 pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
-    match name {
-        "auto" => built_in(auto_choice(map, robots), map, robots, seed),
-        "pibt" => Ok(Box::new(Pibt::new(map, robots, seed, true, true))),
-        "pibt-no-lanes" => Ok(Box::new(Pibt::new(map, robots, seed, true, false))),
-        "pibt-one-way" => Ok(Box::new(Pibt::new(map, robots, seed, true, false).one_way(map))),
-        "pibt-no-highways" => Ok(Box::new(Pibt::new(map, robots, seed, false, true))),
-        "rpibt" => Ok(Box::new(Lookahead::new(map, robots, seed, 0))),
-        "rpibt-pp" => Ok(Box::new(Lookahead::new(map, robots, seed, 0).guided(map.cells()).on_highways_by_density(map, robots))),
-        "lookahead" => Ok(Box::new(Lookahead::new(map, robots, seed, lookahead::ROLLOUTS))),
-        _ => Err(Error::scenario("planner", name, format!("is not a planner; the built-in ones are {}", BUILT_INS.join(", ")))),
+    match BUILT_INS.iter().find(|b| b.name == name) {
+        Some(b) => Ok((b.make)(map, robots, seed)),
+        None => Err(Error::scenario("planner", name, format!("is not a planner; the built-in ones are {}", names().collect::<Vec<_>>().join(", ")))),
     }
+}
+
+fn make(name: &str, map: &GridMap, robots: usize, seed: u64) -> Box<dyn Planner> {
+    built_in(name, map, robots, seed).expect("a built-in name")
 }

@@ -92,17 +92,32 @@ pub trait Scheduler: Send + Sync {
     fn schedule(&mut self, view: &ScheduleView<'_>, proposal: &mut [i64]);
 }
 
-/// The built-in schedulers, by name; the first is the default.
-pub const BUILT_INS: &[&str] = &["spread", "nearest", "greedy", "hungarian", "auction"];
+/// A built-in scheduler: its name (the same on the command line and in Python), one line on
+/// what it does (the command line's help), and how it is made.
+pub struct BuiltIn {
+    pub name: &'static str,
+    pub about: &'static str,
+    make: fn() -> Box<dyn Scheduler>,
+}
+
+/// The built-in schedulers; the first is the default.
+pub const BUILT_INS: &[BuiltIn] = &[
+    BuiltIn { name: "spread", about: "nearest, counting robots already bound for an errand", make: || Box::new(Spread::new()) },
+    BuiltIn { name: "nearest", about: "each free robot takes the free task whose first errand is nearest", make: || Box::new(Nearest) },
+    BuiltIn { name: "greedy", about: "each free robot takes the task it would finish soonest (the Start-Kit's rule)", make: || Box::new(Greedy) },
+    BuiltIn { name: "hungarian", about: "free robots and tasks matched at least total cost", make: || Box::new(Hungarian) },
+    BuiltIn { name: "auction", about: "the lowest bid over all free pairs wins, round after round", make: || Box::new(Auction) },
+];
+
+/// The built-in schedulers' names.
+pub fn names() -> impl Iterator<Item = &'static str> {
+    BUILT_INS.iter().map(|b| b.name)
+}
 
 /// A built-in scheduler by name.
 pub fn built_in(name: &str) -> Result<Box<dyn Scheduler>> {
-    match name {
-        "greedy" => Ok(Box::new(Greedy)),
-        "nearest" => Ok(Box::new(Nearest)),
-        "spread" => Ok(Box::new(Spread::new())),
-        "hungarian" => Ok(Box::new(Hungarian)),
-        "auction" => Ok(Box::new(Auction)),
-        _ => Err(Error::scenario("scheduler", name, format!("is not a scheduler; the built-in ones are {}", BUILT_INS.join(", ")))),
+    match BUILT_INS.iter().find(|b| b.name == name) {
+        Some(b) => Ok((b.make)()),
+        None => Err(Error::scenario("scheduler", name, format!("is not a scheduler; the built-in ones are {}", names().collect::<Vec<_>>().join(", ")))),
     }
 }

@@ -432,7 +432,7 @@ fn few_westward_rows(layout: &Layout) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::world::layout::{Aisles, LayoutParams};
+    use crate::input::layout_params::{Aisles, LayoutParams};
 
     #[test]
     fn a_queue_log_keeps_the_frames_where_each_queue_changed() {

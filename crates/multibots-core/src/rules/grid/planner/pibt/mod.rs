@@ -88,12 +88,16 @@
 //! The recursion of the paper runs on an explicit stack: a chain of pushes can be as long
 //! as the fleet (10,000 robots), deeper than a thread's stack allows.
 
+mod build;
+#[cfg(test)]
+mod tests;
+
+pub use build::Variant;
+
 use super::dist::{Distances, BARRED, FAR};
-use super::guidance::{highway_costs, lanes_core, open_band_costs};
 use super::{PlanView, Planner, NO_GOAL};
-use crate::input::lorr::GridMap;
 use crate::rules::grid::action::{ahead, heading_to, Action};
-use rand::{Rng, SeedableRng};
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 const NONE: u32 = u32::MAX;
@@ -149,101 +153,7 @@ const SEARCH_CELLS_PER_ROUND: u64 = 12_000_000;
 /// 35,931 (a far count sees robots that will have moved on).
 const LANE_CELLS: u32 = 8;
 
-/// The memory the distance tables may take, 2 GB: the budget is 4 GB in all.
-const TABLE_BUDGET: usize = 2 << 30;
-
-/// How many distance tables fit [`TABLE_BUDGET`] on `map`, and at least one per robot.
-fn table_capacity(map: &GridMap, robots: usize) -> usize {
-    let free = map.free.iter().filter(|&&f| f).count().max(1);
-    (TABLE_BUDGET / (2 * free)).max(robots + 1)
-}
-
 impl Pibt {
-    /// A planner for `robots` robots on `map`, seeded by `seed`, whose distances follow
-    /// the highways (`guidance.rs`) if `highways`, and whose ties go to the emptier lane if
-    /// `lanes`.
-    #[must_use]
-    pub fn new(map: &GridMap, robots: usize, seed: u64, highways: bool, lanes: bool) -> Pibt {
-        let capacity = table_capacity(map, robots);
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let tie = (0..robots).map(|_| rng.random::<f32>()).collect();
-        let costs = highways.then(|| highway_costs(map));
-        let mut wrong_way = vec![0u8; map.cells()];
-        if let Some(costs) = &costs {
-            for p in 0..map.cells() as u32 {
-                if !map.free[p as usize] {
-                    continue;
-                }
-                for h in 0..4u8 {
-                    let Some(q) = ahead(map, p, h) else { continue };
-                    if !map.free[q as usize] || costs[p as usize][h as usize] != super::AGAINST {
-                        continue;
-                    }
-                    let side = |c: u32, s: u8| ahead(map, c, s).is_some_and(|u| map.free[u as usize]);
-                    let (s1, s2) = ((h + 1) % 4, (h + 3) % 4);
-                    // A passage: `q` and the cell after it have walls on both sides.
-                    let walled = |c: u32| !side(c, s1) && !side(c, s2);
-                    let beyond = ahead(map, q, h).filter(|&u| map.free[u as usize]);
-                    let open = !walled(q) || !beyond.is_some_and(walled);
-                    if !open {
-                        wrong_way[p as usize] |= 1 << h;
-                    }
-                }
-            }
-        }
-        Pibt {
-            dist: if let Some(costs) = &costs {
-                Distances::weighted(map, capacity, |c, h| costs[c as usize][h as usize])
-            } else {
-                Distances::new(map, capacity)
-            },
-            cols: map.cols,
-            rng,
-            tie,
-            urgency: vec![0; robots],
-            slot: vec![NONE; robots],
-            order: (0..robots as u32).collect(),
-            occ_now: vec![NONE; map.cells()],
-            occ_next: vec![NONE; map.cells()],
-            next: vec![NONE; robots],
-            stack: Vec::new(),
-            queue: Vec::new(),
-            bound: vec![NONE; robots],
-            bonus: vec![0; robots],
-            lanes,
-            wrong_way,
-            costs,
-        }
-    }
-
-    /// The same planner, keeping every robot off the wrong way of every lane, open areas
-    /// included (`pibt-one-way`): never between cells the lanes connect both ways
-    /// ([`lanes_core`]) but to back out for a swap, elsewhere unless the step brings it
-    /// nearer its errand; and moves along open bands cost a tenth more ([`open_band_costs`]).
-    #[must_use]
-    pub fn one_way(mut self, map: &GridMap) -> Pibt {
-        let Some(costs) = &mut self.costs else { return self };
-        for (bits, cost) in self.wrong_way.iter_mut().zip(costs.iter()) {
-            for (h, &c) in cost.iter().enumerate() {
-                if c == super::AGAINST {
-                    *bits |= 1 << h;
-                }
-            }
-        }
-        open_band_costs(map, costs);
-        let core = lanes_core(map, costs);
-        for p in (0..map.cells() as u32).filter(|&p| core[p as usize]) {
-            for h in 0..4u8 {
-                if costs[p as usize][h as usize] == super::AGAINST && ahead(map, p, h).is_some_and(|q| core[q as usize]) {
-                    costs[p as usize][h as usize] = BARRED;
-                }
-            }
-        }
-        let costs = &*costs;
-        self.dist = Distances::weighted(map, table_capacity(map, self.tie.len()), |c, h| costs[c as usize][h as usize]);
-        self
-    }
-
     /// Distance searches made so far.
     #[must_use]
     pub fn searches(&self) -> u64 {
@@ -624,102 +534,5 @@ impl Planner for Pibt {
             self.occ_now[view.loc[a] as usize] = NONE;
             self.occ_next[self.next[a] as usize] = NONE;
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn plan(map: &str, loc: &[u32], heading: &[u8], goals: &[u32]) -> Vec<Action> {
-        plan_with(map, loc, heading, goals, true)
-    }
-
-    fn plan_with(map: &str, loc: &[u32], heading: &[u8], goals: &[u32], lanes: bool) -> Vec<Action> {
-        let map = GridMap::parse(map).unwrap();
-        let mut p = Pibt::new(&map, loc.len(), 7, false, lanes);
-        let mut actions = vec![Action::W; loc.len()];
-        p.plan(&PlanView { map: &map, loc, heading, goals, t: 0 }, &mut actions);
-        actions
-    }
-
-    #[test]
-    fn a_robot_without_goal_is_pushed_ahead() {
-        let map = "type octile\nheight 1\nwidth 4\nmap\n....\n";
-        assert_eq!(plan(map, &[0, 1], &[0, 0], &[3, NO_GOAL]), vec![Action::F, Action::F]);
-    }
-
-    #[test]
-    fn of_two_equally_short_moves_a_robot_takes_the_emptier_lane() {
-        let map = "type octile\nheight 6\nwidth 6\nmap\n......\n......\n......\n......\n......\n......\n";
-        // Robot 0 at the corner, facing east, bound for (3, 3): east and south are as short.
-        // East, robots stand on the lane (on their own errands); it turns south (clockwise)
-        // rather than go ahead.
-        let a = plan(map, &[0, 2, 3, 4], &[0, 0, 0, 0], &[21, 2, 3, 4]);
-        assert_eq!(a, vec![Action::R, Action::W, Action::W, Action::W]);
-        // With the lane empty, it goes straight ahead.
-        let a = plan(map, &[0, 32, 33, 34], &[0, 0, 0, 0], &[21, 32, 33, 34]);
-        assert_eq!(a[0], Action::F);
-        // Without the lane count (`pibt-no-lanes`) it goes straight ahead, robots or not.
-        let a = plan_with(map, &[0, 2, 3, 4], &[0, 0, 0, 0], &[21, 2, 3, 4], false);
-        assert_eq!(a, vec![Action::F, Action::W, Action::W, Action::W]);
-    }
-
-    #[test]
-    fn a_pushed_robot_does_not_step_into_an_aisle_against_its_lane() {
-        // Column 1 is an aisle three cells long whose lane runs south (highways). Robot 1,
-        // without an errand, stands at its foot facing north, in the way of robot 0.
-        let text = "type octile\nheight 5\nwidth 3\nmap\n...\n@.@\n@.@\n@.@\n..@\n";
-        let map = GridMap::parse(text).unwrap();
-        let (loc, heading, goals) = ([12, 13], [0, 3], [13, NO_GOAL]);
-        let mut actions = vec![Action::W; 2];
-        let mut p = Pibt::new(&map, 2, 7, true, true);
-        p.plan(&PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t: 0 }, &mut actions);
-        assert_eq!(actions, vec![Action::W, Action::W], "it waits rather than go up the aisle the wrong way");
-        // Without highways there is no wrong way: it makes room.
-        assert_eq!(plan(text, &loc, &heading, &goals), vec![Action::F, Action::F]);
-    }
-
-    #[test]
-    fn one_way_never_steps_against_a_lane_the_lanes_can_go_round() {
-        // An open 5×8 block. Row 0 runs east; robot 0 at (0, 3) faces west, bound for
-        // (0, 2) next to it. `pibt-no-lanes` steps back against the lane (it is nearer);
-        // `pibt-one-way` goes round along the lanes and gets there without such a step.
-        let text = "type octile\nheight 5\nwidth 8\nmap\n........\n........\n........\n........\n........\n";
-        let map = GridMap::parse(text).unwrap();
-        let (loc, heading, goals) = ([3u32], [2u8], [2u32]);
-        let view = PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t: 0 };
-        let mut actions = vec![Action::W];
-        Pibt::new(&map, 1, 7, true, false).plan(&view, &mut actions);
-        assert_eq!(actions, vec![Action::F], "pibt-no-lanes steps against the lane");
-        let mut one_way = Pibt::new(&map, 1, 7, true, false).one_way(&map);
-        let costs = highway_costs(&map);
-        let (mut at, mut facing) = (3u32, 2u8);
-        for t in 0..40 {
-            if at == 2 {
-                return;
-            }
-            let (loc, heading) = ([at], [facing]);
-            one_way.plan(&PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t }, &mut actions);
-            match actions[0] {
-                Action::F => {
-                    assert_ne!(costs[at as usize][facing as usize], crate::rules::grid::planner::AGAINST, "step {t}: against the lane");
-                    at = ahead(&map, at, facing).expect("on the map");
-                }
-                Action::R => facing = (facing + 1) % 4,
-                Action::C => facing = (facing + 3) % 4,
-                other => panic!("step {t}: a lone robot does {other:?}"),
-            }
-        }
-        panic!("not there in 40 steps");
-    }
-
-    #[test]
-    fn a_pushed_robot_that_must_turn_holds_up_the_pusher() {
-        let map = "type octile\nheight 2\nwidth 3\nmap\n...\n@@.\n";
-        // Robot 1 leaves 2 southwards (to 5) but faces east: it turns, and robot 0, which
-        // would enter 2, waits.
-        let a = plan(map, &[1, 2], &[0, 0], &[2, 5]);
-        assert_eq!(a, vec![Action::W, Action::R]);
     }
 }

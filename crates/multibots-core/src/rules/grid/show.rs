@@ -1,5 +1,6 @@
-//! Replays of League of Robot Runners runs (`multibots lorr --record`), in the replay format
-//! of `docs/replay-format.md`, version 1, unchanged: a grid world is a layout with no
+//! How a League of Robot Runners run shows itself (the run contract's frames and description,
+//! which `multibots lorr --record` writes and the viewer draws), in the replay format of
+//! `docs/replay-format.md`, version 1, unchanged: a grid world is a layout with no
 //! highway graph and a `grid` key (its rows, `@` for an obstacle and `.` for a free cell),
 //! and a cell is [`CELL_PX`] px square (cell `(row, col)` has its centre at `((col + 0.5) ·
 //! 16, (row + 0.5) · 16)` px, y down), so that the viewer and `multibots render` draw a grid
@@ -17,16 +18,17 @@
 //! Goals are written only when they change (events), so each robot's goal at any frame is
 //! the chunk's starting state plus the events up to that frame, as readers already derive
 //! the paper rules' tasks. A step lost to the plan time limit is a frame in which every
-//! robot stood still.
+//! robot stood still. What a frame shows is noted after every planning round
+//! ([`Shown`]): the goals the last frame showed, and the events that changed them.
 
 use crate::error::Result;
 use crate::fleet::robot::State;
 use crate::input::lorr::Version;
-use crate::output::events::EventKind;
-use crate::output::replay::{names, ReplayWriter};
+use crate::record::events::EventKind;
+use crate::record::frame::{Frame, FrameSink, Summary};
 use crate::rules::grid::{LorrRun, Tasks};
+use crate::rules::run::Run;
 use serde_json::{json, Value};
-use std::path::Path;
 
 /// A grid cell's side, in px: robots of 0.4 cells (6.4 px) are legible at the viewer's and
 /// the exporter's scales, and the largest LoRR map (500 cells) is 8,000 px wide.
@@ -36,167 +38,46 @@ const RADIUS: f64 = 0.4 * CELL_PX;
 /// "No robot" or "no cell" in an event.
 const NONE: u32 = u32::MAX;
 
-/// Writes a replay while a LoRR run goes: [`GridReplay::create`] at step 0,
-/// [`GridReplay::run_to`] to play and record, [`GridReplay::finish`] at the end. Dropped
-/// unfinished, it leaves nothing behind.
-pub struct GridReplay {
-    writer: ReplayWriter,
-    cols: u32,
-    /// Each robot's goal in the last frame, or [`NONE`].
+/// What the run's frames show beyond positions and headings: each robot's goal and state,
+/// and the events of the last planning round that changed them.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Shown {
     goals: Vec<u32>,
-    /// Whether each robot finished a task in the step just run.
-    delivered: Vec<bool>,
-    /// The last frame, repeated for steps lost to the plan time limit.
-    x: Vec<f32>,
-    y: Vec<f32>,
-    heading: Vec<u8>,
     state: Vec<u8>,
-    counters: [u32; 3],
-    events: Vec<u32>,
+    pub(crate) events: Vec<[u32; 3]>,
+    /// Whether each robot finished a task in the round just played.
+    delivered: Vec<bool>,
 }
 
-/// The header of a grid replay: the fleet, the grid as a layout, the run's inputs.
-#[must_use]
-pub fn header(run: &LorrRun) -> Value {
-    let p = run.problem();
-    let (rows, cols) = (p.map.rows, p.map.cols);
-    let grid: Vec<String> =
-        (0..rows as usize).map(|r| p.map.free[r * cols as usize..(r + 1) * cols as usize].iter().map(|&f| if f { '.' } else { '@' }).collect()).collect();
-    let n = run.locations().len();
-    let o = run.options();
-    let version = match p.version {
-        Version::Y2023 => "2023",
-        Version::Y2024 => "2024",
-    };
-    let name = p.path.file_name().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-    let inputs = json!({"problem": name, "rules": version, "teamSize": n, "planner": o.planner, "scheduler": o.scheduler, "seed": o.seed, "planTimeLimitMs": o.plan_time_limit_ms});
-    let mut h = json!({
-        "format": "multibots-replay",
-        "version": crate::output::codec::VERSION,
-        "robots": n,
-        "radius": vec![RADIUS; n],
-        "home": p.starts,
-        "energy_full": 1.0,
-        "threshold": 0.0,
-        "cells_full": [],
-        "goods_total": p.tasks.len(),
-        "layout": {
-            "name": name,
-            "bounds": [0.0, 0.0, f64::from(cols) * CELL_PX, f64::from(rows) * CELL_PX],
-            "aisle_width": CELL_PX,
-            "cell_size": CELL_PX,
-            "nodes": [], "edges": [], "spurs": [], "cells": [],
-            "departure": [], "unloading": [], "chargers": [],
-            "grid": {"rows": rows, "cols": cols, "cells": grid},
-        },
-        "scenario": serde_json::to_string_pretty(&inputs).expect("JSON serialises"),
-        "lorr": inputs,
-    });
-    if let (Value::Object(h), Value::Object(names)) = (&mut h, names()) {
-        h.extend(names);
-    }
-    h
-}
-
-impl GridReplay {
-    /// Opens the replay at `path` and records frame 0 (the run's state before step 1).
-    pub fn create(path: &Path, run: &LorrRun) -> Result<GridReplay> {
-        let n = run.locations().len();
-        let writer = ReplayWriter::open(path, header(run), n)?;
-        let mut g = GridReplay {
-            writer,
-            cols: run.problem().map.cols,
-            goals: vec![NONE; n],
-            delivered: vec![false; n],
-            x: Vec::with_capacity(n),
-            y: Vec::with_capacity(n),
-            heading: Vec::with_capacity(n),
-            state: Vec::with_capacity(n),
-            counters: [0; 3],
-            events: Vec::new(),
-        };
-        g.frame(run)?;
-        Ok(g)
-    }
-
-    /// Plays `run` up to step `until` (as [`LorrRun::run_to`]), recording every step; the
-    /// steps run.
-    pub fn run_to(&mut self, run: &mut LorrRun, until: u32) -> Result<u32> {
-        let start = run.t();
-        while run.t() < until {
-            run.step(until);
-            // Steps lost to the plan time limit: every robot waited.
-            while self.writer.frames() < u64::from(run.t()) {
-                self.repeat()?;
-            }
-            self.frame(run)?;
+impl LorrRun {
+    /// Notes what the frame after this round shows: each robot's goal and state, with an
+    /// event where a task finished (DELIVER) or the goal changed (ASSIGN, PUT_BACK). At step
+    /// 0, the first goals.
+    pub(crate) fn note_shown(&mut self) {
+        let n = self.loc.len();
+        let t = self.t;
+        let lines = &self.problem.tasks;
+        let sh = &mut self.shown;
+        if sh.goals.len() != n {
+            sh.goals = vec![NONE; n];
         }
-        Ok(run.t() - start)
-    }
-
-    /// Writes the last chunk and the footer (the score, refused actions, finished tasks per
-    /// 1,000 steps) and moves the file into place.
-    pub fn finish(self, run: &LorrRun) -> Result<()> {
-        let f = run.figures();
-        self.writer.finish_with(json!({
-            "T": null,
-            "S": f.action_errors,
-            "C": 0,
-            "outcome": "horizon",
-            "delivered": f.finished,
-            "window": 1000,
-            "windows": f.finished_per_1000,
-        }))
-    }
-
-    fn repeat(&mut self) -> Result<()> {
-        self.push_frame(false)
-    }
-
-    /// The frame of the robots as they stand, with this step's events or none.
-    fn push_frame(&mut self, with_events: bool) -> Result<()> {
-        let Self { x, y, heading, state, events, .. } = self;
-        self.writer.push_with(self.counters, |c| {
-            c.x.extend_from_slice(x);
-            c.y.extend_from_slice(y);
-            c.energy.extend(std::iter::repeat(u16::MAX).take(x.len()));
-            c.heading.extend_from_slice(heading);
-            c.state.extend_from_slice(state);
-            if with_events {
-                c.events.extend_from_slice(events);
-            }
-        })
-    }
-
-    /// Which robots finished a task in the step that led to frame `frame` (none in frame 0).
-    fn mark_delivered(&mut self, run: &LorrRun, frame: u32) {
-        self.delivered.fill(false);
-        if frame == 0 {
-            return;
-        }
-        match run.tasks() {
-            Tasks::Pool(pool) => pool.new_free.iter().for_each(|&k| self.delivered[k as usize] = true),
-            Tasks::RoundRobin(rr) => {
-                for (k, events) in rr.events.iter().enumerate() {
-                    // This step's events are the last ones: a finish, then the errands revealed.
-                    self.delivered[k] = events.iter().rev().take_while(|e| e.1 == run.t()).any(|e| e.2);
+        sh.state.clear();
+        sh.events.clear();
+        sh.delivered.clear();
+        sh.delivered.resize(n, false);
+        if t > 0 {
+            match &self.tasks {
+                Tasks::Pool(pool) => pool.new_free.iter().for_each(|&k| sh.delivered[k as usize] = true),
+                Tasks::RoundRobin(rr) => {
+                    for (k, events) in rr.events.iter().enumerate() {
+                        // This step's events are the last ones: a finish, then the errands revealed.
+                        sh.delivered[k] = events.iter().rev().take_while(|e| e.1 == t).any(|e| e.2);
+                    }
                 }
             }
         }
-    }
-
-    /// Records the run's state now as the next frame, with the goals that changed.
-    fn frame(&mut self, run: &LorrRun) -> Result<()> {
-        let frame = self.writer.frames() as u32;
-        let lines = &run.problem().tasks;
-        self.x.clear();
-        self.y.clear();
-        self.heading.clear();
-        self.state.clear();
-        self.events.clear();
-        self.mark_delivered(run, frame);
-        for (k, (&cell, &h)) in run.locations().iter().zip(run.headings()).enumerate() {
-            let (goal, last) = match run.tasks() {
+        for k in 0..n {
+            let (goal, last) = match &self.tasks {
                 Tasks::RoundRobin(rr) => (rr.goal(k), true),
                 Tasks::Pool(pool) => {
                     let id = pool.current[k];
@@ -208,28 +89,117 @@ impl GridReplay {
                     }
                 }
             };
-            self.x.push(((f64::from(cell % self.cols) + 0.5) * CELL_PX) as f32);
-            self.y.push(((f64::from(cell / self.cols) + 0.5) * CELL_PX) as f32);
-            self.heading.push(h.wrapping_mul(64));
-            let was = self.goals[k];
-            if self.delivered[k] {
-                self.events.extend_from_slice(&[frame, EventKind::Deliver.code(), k as u32, was]);
+            let was = sh.goals[k];
+            if sh.delivered[k] {
+                sh.events.push([EventKind::Deliver.code(), k as u32, was]);
                 if goal != NONE {
-                    self.events.extend_from_slice(&[frame, EventKind::Assign.code(), k as u32, goal]);
+                    sh.events.push([EventKind::Assign.code(), k as u32, goal]);
                 }
             } else if goal != was {
-                let e = if goal == NONE { [frame, EventKind::PutBack.code(), k as u32, NONE] } else { [frame, EventKind::Assign.code(), k as u32, goal] };
-                self.events.extend_from_slice(&e);
+                sh.events.push(if goal == NONE { [EventKind::PutBack.code(), k as u32, NONE] } else { [EventKind::Assign.code(), k as u32, goal] });
             }
-            self.goals[k] = goal;
-            self.state.push(match (goal == NONE, last) {
+            sh.goals[k] = goal;
+            sh.state.push(match (goal == NONE, last) {
                 (true, _) => State::Idle,
                 (false, false) => State::ToPickup,
                 (false, true) => State::ToDrop,
             } as u8);
         }
-        self.counters = [run.record().errors.len() as u32, 0, run.finished() as u32];
-        self.push_frame(true)
+    }
+}
+
+impl Run for LorrRun {
+    fn advance(&mut self, max: u64, mut sink: Option<&mut dyn FrameSink>) -> Result<u64> {
+        let start = self.t;
+        let until = u64::from(start).saturating_add(max).min(u64::from(u32::MAX)) as u32;
+        let mut frame = Frame::default();
+        while self.t < until {
+            let before = self.t;
+            self.step(until);
+            if let Some(sink) = sink.as_deref_mut() {
+                // Steps lost to the plan time limit: every robot waited.
+                for _ in before + 1..self.t {
+                    sink.repeat()?;
+                }
+                self.emit(&mut frame, true);
+                sink.frame(&frame)?;
+            }
+        }
+        Ok(u64::from(self.t - start))
+    }
+
+    fn time(&self) -> u64 {
+        u64::from(self.t)
+    }
+
+    fn done(&self) -> bool {
+        false
+    }
+
+    fn emit(&self, f: &mut Frame, events: bool) {
+        f.clear();
+        let cols = self.problem.map.cols;
+        for (&cell, &h) in self.loc.iter().zip(&self.heading) {
+            f.x.push(((f64::from(cell % cols) + 0.5) * CELL_PX) as f32);
+            f.y.push(((f64::from(cell / cols) + 0.5) * CELL_PX) as f32);
+            f.heading.push(h.wrapping_mul(64));
+        }
+        f.energy.extend(std::iter::repeat(u16::MAX).take(self.loc.len()));
+        f.state.extend_from_slice(&self.shown.state);
+        if events {
+            f.events.extend_from_slice(&self.shown.events);
+        }
+        f.counters = [self.record.errors.len() as u32, 0, self.finished() as u32];
+    }
+
+    fn describe(&self) -> Value {
+        let p = &self.problem;
+        let (rows, cols) = (p.map.rows, p.map.cols);
+        let grid: Vec<String> =
+            (0..rows as usize).map(|r| p.map.free[r * cols as usize..(r + 1) * cols as usize].iter().map(|&f| if f { '.' } else { '@' }).collect()).collect();
+        let n = self.loc.len();
+        let o = &self.options;
+        let version = match p.version {
+            Version::Y2023 => "2023",
+            Version::Y2024 => "2024",
+        };
+        let name = p.path.file_name().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let inputs = json!({"problem": name, "rules": version, "teamSize": n, "planner": o.planner, "scheduler": o.scheduler, "seed": o.seed, "planTimeLimitMs": o.plan_time_limit_ms});
+        json!({
+            "robots": n,
+            "radius": vec![RADIUS; n],
+            "home": p.starts,
+            "energy_full": 1.0,
+            "threshold": 0.0,
+            "cells_full": [],
+            "goods_total": p.tasks.len(),
+            "layout": {
+                "name": name,
+                "bounds": [0.0, 0.0, f64::from(cols) * CELL_PX, f64::from(rows) * CELL_PX],
+                "aisle_width": CELL_PX,
+                "cell_size": CELL_PX,
+                "nodes": [], "edges": [], "spurs": [], "cells": [],
+                "departure": [], "unloading": [], "chargers": [],
+                "grid": {"rows": rows, "cols": cols, "cells": grid},
+            },
+            "scenario": serde_json::to_string_pretty(&inputs).expect("JSON serialises"),
+            "lorr": inputs,
+        })
+    }
+
+    fn summary(&self) -> Summary {
+        let f = self.figures();
+        Summary {
+            t: None,
+            s: u64::from(f.action_errors),
+            c: 0,
+            outcome: "horizon",
+            delivered: f.finished,
+            window: 1000,
+            windows: f.finished_per_1000,
+            resources: Vec::new(),
+            bottleneck: None,
+        }
     }
 }
 
@@ -238,7 +208,9 @@ mod tests {
     use super::*;
     use crate::input::lorr::{GridMap, Problem};
     use crate::output::codec::{decode, inflate};
+    use crate::output::replay::ReplayWriter;
     use crate::rules::grid::LorrOptions;
+    use std::path::Path;
     use std::sync::Arc;
 
     const MAP: &str = "type octile\nheight 5\nwidth 6\nmap\n......\n.@..@.\n......\n.@@...\n......\n";
@@ -275,8 +247,9 @@ mod tests {
 
     fn record(mut r: LorrRun, steps: u32, name: &str) -> (LorrRun, std::path::PathBuf) {
         let path = std::env::temp_dir().join(format!("mb-grid-replay-{}-{name}.mbr", std::process::id()));
-        let mut w = GridReplay::create(&path, &r).unwrap();
-        assert_eq!(w.run_to(&mut r, steps / 2).unwrap() + w.run_to(&mut r, steps).unwrap(), steps);
+        let mut w = ReplayWriter::create(&path, &r, Value::Null).unwrap();
+        let half = u64::from(steps / 2);
+        assert_eq!(r.advance(half, Some(&mut w)).unwrap() + r.advance(u64::from(steps) - half, Some(&mut w)).unwrap(), u64::from(steps));
         w.finish(&r).unwrap();
         (r, path)
     }
@@ -373,12 +346,12 @@ mod tests {
     fn nothing_half_written() {
         let r = run(Version::Y2024, None);
         let missing = std::env::temp_dir().join("mb-no-such-folder-grid").join("r.mbr");
-        let e = GridReplay::create(&missing, &r).err().unwrap().to_string();
+        let e = ReplayWriter::create(&missing, &r, Value::Null).err().unwrap().to_string();
         assert!(e.contains("mb-no-such-folder-grid"), "{e}");
         // A folder of its own: other tests write to the temporary folder meanwhile.
         let dir = std::env::temp_dir().join(format!("mb-grid-replay-{}-dropped", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        drop(GridReplay::create(&dir.join("r.mbr"), &r).unwrap());
+        drop(ReplayWriter::create(&dir.join("r.mbr"), &r, Value::Null).unwrap());
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
         std::fs::remove_dir(&dir).unwrap();
     }

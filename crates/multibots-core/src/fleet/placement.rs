@@ -271,7 +271,7 @@ fn listed(names: &[&str]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::world::layout::LayoutParams;
+    use crate::input::layout_params::LayoutParams;
 
     #[test]
     fn a_robots_slot_is_the_one_the_full_list_would_give() {

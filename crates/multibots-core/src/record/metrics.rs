@@ -149,9 +149,9 @@ pub struct RunResult {
     pub collapse: Option<Collapse>,
     /// How busy each unloading zone, charger and the busiest crossings were, and their
     /// queues (paper rules; empty under the original rules).
-    pub resources: Vec<crate::output::resources::ResourceUse>,
+    pub resources: Vec<crate::record::resources::ResourceUse>,
     /// The resource with the longest mean queue, and what would relieve it.
-    pub bottleneck: Option<crate::output::resources::Bottleneck>,
+    pub bottleneck: Option<crate::record::resources::Bottleneck>,
     pub robots: RobotStats,
     /// Lifelong runs only: throughput, latency, utilisation, energy per delivery.
     pub lifelong: Option<LifelongStats>,

@@ -1,0 +1,54 @@
+//! MultiBots' figures of a LoRR run, beside the competition's score: tasks finished per
+//! window of 1,000 steps, planning time per round, errors and lost steps.
+
+use crate::rules::grid::{LorrRun, Tasks};
+
+/// MultiBots' figures of a run.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Figures {
+    /// Steps run.
+    pub steps: u32,
+    /// The score: tasks (2024) or errands (2023) finished.
+    pub finished: u64,
+    /// Tasks finished in each window of 1,000 steps (the last may be shorter).
+    pub finished_per_1000: Vec<u64>,
+    /// Mean planning time per planning round, in milliseconds.
+    pub plan_ms_mean: f64,
+    /// The longest planning round, in milliseconds.
+    pub plan_ms_max: f64,
+    /// Planning rounds past 1 s.
+    pub plan_rounds_over_1s: u32,
+    /// Refused joint actions.
+    pub action_errors: u32,
+    /// Refused schedules (2024).
+    pub schedule_errors: u32,
+    /// Steps lost to the plan time limit.
+    pub timeouts: u32,
+}
+
+impl LorrRun {
+    /// MultiBots' figures so far.
+    #[must_use]
+    pub fn figures(&self) -> Figures {
+        let r = self.record();
+        let mut windows = vec![0u64; (self.t() as usize).div_ceil(1000)];
+        for &(t, k) in &r.finished_at {
+            windows[(t as usize - 1) / 1000] += u64::from(k);
+        }
+        let times = &r.planner_times;
+        Figures {
+            steps: self.t(),
+            finished: self.finished(),
+            finished_per_1000: windows,
+            plan_ms_mean: if times.is_empty() { 0.0 } else { times.iter().sum::<f64>() * 1e3 / times.len() as f64 },
+            plan_ms_max: times.iter().copied().fold(0.0, f64::max) * 1e3,
+            plan_rounds_over_1s: times.iter().filter(|&&s| s > 1.0).count() as u32,
+            action_errors: r.errors.len() as u32,
+            schedule_errors: match self.tasks() {
+                Tasks::Pool(p) => p.errors.len() as u32,
+                Tasks::RoundRobin(_) => 0,
+            },
+            timeouts: r.timeouts,
+        }
+    }
+}
