@@ -1,8 +1,7 @@
-//! Phase 2 (spec section 4): who wants to move, and where each is heading. Robots in bays
-//! are marked here too, for the collision phase that follows.
+//! Phase 2 (spec section 4): who wants to move, and where each is heading; and who stands in
+//! a bay ([`crate::fleet::bay::Bays::choose`]), for the collision phase that follows.
 
 use crate::fleet::motion::bearing;
-use crate::fleet::robot::State;
 use crate::rules::paper::Paper;
 
 impl Paper {
@@ -23,20 +22,6 @@ impl Paper {
                 head[i] = bearing(wp_x[i] - x[i], wp_y[i] - y[i]);
             }
         }
-        if self.homes.spread() {
-            // Spread placement: parked robots, and robots waiting for a charger once at their
-            // slot, stand in a bay beside the aisle, out of the traffic (docs/model.md
-            // section 7; `fleet/bay.rs`).
-            self.collisions.bay.resize(n, false);
-            // A robot that ran flat in its bay stays there (it strands where it stands).
-            for (i, ((b, s), &routing)) in self.collisions.bay.iter_mut().zip(state).zip(routing).enumerate() {
-                *b = match s {
-                    State::Parked => true,
-                    State::WaitCharger => !routing,
-                    State::Stranded => r.in_bay(i),
-                    _ => false,
-                };
-            }
-        }
+        self.bays.choose(&self.robots);
     }
 }

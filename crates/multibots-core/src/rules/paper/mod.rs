@@ -33,6 +33,7 @@ pub(crate) use params::Params;
 use crate::alloc::Allocator;
 use crate::collision::Collisions;
 use crate::error::{Error, Result};
+use crate::fleet::bay::Bays;
 use crate::fleet::robot::{Robots, Target};
 use crate::fleet::route;
 use crate::input::csv::Tables;
@@ -84,6 +85,8 @@ pub(crate) struct Paper {
     /// Set when a step failed part-way: the run cannot go on.
     failure: Option<String>,
     collisions: Collisions,
+    /// Who stands in a bay this step (spread placement, `fleet/bay.rs`).
+    bays: Bays,
     /// The `gate` and `reserve` traffic policies (`None`: the paper's collision waiting).
     traffic: Option<TrafficState>,
     /// Phase 2's answer: who wants to move (the heading it wants is `robots.heading`).
@@ -150,6 +153,8 @@ impl Paper {
             None => None,
         };
         let people_alone = people.as_ref().map(|p| Box::new(p.alone()));
+        let r_max = robots.radius.iter().copied().fold(0.0, f64::max);
+        let bays = Bays::new(homes.spread(), n, r_max, scenario.collision.margin);
         Ok(Paper {
             people,
             people_alone,
@@ -166,6 +171,7 @@ impl Paper {
             alloc_due: true,
             failure: None,
             collisions: Collisions::new(world.reach_bounds(), reach, n),
+            bays,
             traffic: (scenario.traffic != Traffic::Wait)
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             wants: vec![false; n],
@@ -182,7 +188,7 @@ impl Paper {
                 }
                 v
             },
-            contact_reach: (robots.radius.iter().copied().fold(0.0, f64::max), 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
+            contact_reach: (r_max, 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
             events: Vec::new(),
             robots,
             world,

@@ -17,22 +17,11 @@ impl Paper {
         let p = &self.p;
         // Who waits and how far each robot may travel: the paper's collision waiting, or a
         // traffic policy, which may also stop a robot short.
-        // A robot in a bay stands one contact distance beside the lane.
-        let bay_depth = 2.0 * self.contact_reach.0 + p.margin;
-        traffic::decide(
-            self.traffic.as_mut(),
-            &mut self.collisions,
-            &mut self.robots,
-            &self.world.graph,
-            self.tally.t,
-            &self.wants,
-            p.margin,
-            p.angle,
-            bay_depth,
-            self.people.as_deref(),
-        );
+        let scene =
+            traffic::Scene { graph: &self.world.graph, t: self.tally.t, wants: &self.wants, margin: p.margin, angle: p.angle, people: self.people.as_deref() };
+        traffic::decide(self.traffic.as_mut(), &mut self.collisions, &mut self.bays, &mut self.robots, &scene);
         let (waits, budget) = traffic::moves(self.traffic.as_ref(), &self.collisions, n);
-        let bays = &self.collisions.bay;
+        let bays = &self.bays;
         // People: robots that stop for a person (not a collision) or slow down near one.
         let (halt, slow, slow_factor) = match self.people.as_deref() {
             Some(pp) => (Some(&pp.stop[..n]), Some(&pp.slow[..n]), pp.slow_factor),
@@ -65,8 +54,7 @@ impl Paper {
             r.waited[i] = w;
             // Phase 4: robots that may move travel `speed` px along their routes (or what the
             // traffic policy allows).
-            // A robot that could not step out of its bay (a person stood in the way) waits.
-            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]) && !bays.get(i).is_some_and(|&b| b);
+            let moves = wants[i] && !w && !halt.is_some_and(|h| h[i]) && !bays.holds(i);
             if moves {
                 let mut step = budget.map_or(r.speed[i], |b| b[i]);
                 if slow.is_some_and(|s| s[i]) {
@@ -96,7 +84,7 @@ impl Paper {
                 let (r_max, slack) = self.contact_reach;
                 if !moved {
                     // No grid was built this step (nobody wanted to move).
-                    self.collisions.build_grid(&r.x, &r.y, &r.radius);
+                    self.collisions.build_grid(&r.x, &r.y, &r.radius, self.bays.flags());
                 }
                 let found = self.collisions.contacts_of_every_pair(&r.x, &r.y, &r.radius, r_max, slack, self.p.margin);
                 self.last_contacts = Some(found);
