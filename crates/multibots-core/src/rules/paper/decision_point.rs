@@ -35,7 +35,7 @@ impl Paper {
                 self.goods.pending = true;
                 return Ok(true);
             }
-            self.finish_hand_out().map_err(|reason| Error::Decision { step: self.tally.t, reason })?;
+            self.finish_hand_out().map_err(|reason| Error::Decision { step: self.record.tally.t, reason })?;
             self.finish_step();
         }
     }
@@ -54,10 +54,10 @@ impl Paper {
     /// not open or handed out twice, a full robot sent to charge); the run is unchanged then.
     pub fn decide(&mut self, decisions: &Decisions) -> Result<()> {
         if !self.goods.pending {
-            return Err(Error::Decision { step: self.tally.t, reason: "no decision is pending: call advance_to_decision() first".into() });
+            return Err(Error::Decision { step: self.record.tally.t, reason: "no decision is pending: call advance_to_decision() first".into() });
         }
         self.goods.decisions.clone_from(decisions);
-        self.finish_hand_out().map_err(|reason| Error::Decision { step: self.tally.t, reason })?;
+        self.finish_hand_out().map_err(|reason| Error::Decision { step: self.record.tally.t, reason })?;
         self.goods.pending = false;
         self.finish_step();
         Ok(())

@@ -59,7 +59,7 @@ impl Params {
 
     /// Whether phase 7 would change anything for a robot (`marked` by the threshold rule):
     /// [`Params::due`] less robots below the threshold that the threshold rule has nothing
-    /// left to do for (`Paper::energy_rules`): marked already, or going to charge, charging,
+    /// left to do for (`Cycle::energy_rules`, `charging.rs`): marked already, or going to charge, charging,
     /// waiting for a charger, parked or going home. A robot fetching goods below it counts as
     /// acting (whether it puts them back depends on where it is). A charging robot below the
     /// threshold is due every step until it is full: without this, no run of steps could
