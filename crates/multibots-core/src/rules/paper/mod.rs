@@ -1,16 +1,21 @@
 //! The paper rules (`rules = "paper"`, `docs/model.md`): the engine [`Paper`], and the step,
-//! the phases of the model in their order (spec section 4), each in its own file.
+//! the phases of the model in their order (spec section 4). The step is a pipeline
+//! (`pipeline.rs`): one function calls the phases in this order, each taking as arguments
+//! the parts of the run's state it touches (`state.rs` splits them by concern).
 //!
-//! | phase | what | where |
-//! | --- | --- | --- |
-//! | 0 | lifelong orders and restocks arrive | `goods_queue.rs`, `lifelong.rs` |
-//! | 1 | idle robots get goods, or go home | `goods_queue.rs`, [`crate::alloc`] (or a caller, `decision_point.rs`) |
-//! | 2 | who wants to move, and where each is heading | `intend.rs` |
-//! | 3 | collision waiting and the count S, or a traffic policy | `moves.rs`, [`crate::collision`], [`crate::traffic`] |
-//! | 4 | robots that may move travel along their routes | `moves.rs`, [`crate::fleet::route`] |
-//! | 5, 6 | dwell counters; charging and consumption | `moves.rs`, `params.rs`, [`crate::fleet::energy`] |
-//! | 7 | the task cycle, then the charging rules | `tasks.rs`, `charging.rs` |
-//! | 8 | completion, then the step limit; the result | `end.rs` |
+//! | spec | `Phase` | what | where |
+//! | --- | --- | --- | --- |
+//! | 0 | `Arrive` | the step count; lifelong orders and restocks arrive | `goods_queue.rs`, `lifelong.rs` |
+//! | 1 | `HandOut` | idle robots get goods or go to charge, or go home | `goods_queue.rs`, [`crate::alloc`] (or a caller, `decision_point.rs`) |
+//! | 2 | `Intend` | who wants to move, and where each is heading; who stands in a bay | `intend.rs`, [`crate::fleet::bay`] |
+//! | – | `PeopleGuard` | robots stop, or slow down, for people near them | [`crate::people`] |
+//! | 3 | `Decide` | collision waiting, or a traffic policy; robots step into and out of bays | `moves.rs`, [`crate::collision`], [`crate::traffic`] |
+//! | 4–6 | `Travel` | the count S; travel along the routes; dwell counters, charging and consumption | `moves.rs`, [`crate::fleet::route`], `params.rs` |
+//! | – | `Contacts` | contacts after the moves | `moves.rs`, [`crate::collision`] |
+//! | – | `PeopleWalk` | people walk, pick or rest; the safety figures | [`crate::people`] |
+//! | – | `PeopleAloneWalk` | the same people on a floor with no robot (output only) | [`crate::people`] |
+//! | 7 | `Tasks` | the task cycle, then the charging rules | `tasks.rs`, `charging.rs` |
+//! | 8 | `End` | completion, stalls, then the step limit; the result | `end.rs` |
 //!
 //! Stretches of quiet steps run in one pass (`cruise.rs`). Start positions, parking and
 //! unloading zones are in [`crate::world::placement`]; what T, S, C and the other figures mean
@@ -178,23 +183,40 @@ impl Paper {
         Ok(done)
     }
 
-    /// Runs one step (all eight phases). Does nothing once the run has ended.
+    /// Runs one step (every phase, `pipeline.rs`). Does nothing once the run has ended.
     pub fn step(&mut self) -> Result<()> {
-        if !self.begin_step()? {
+        if !self.may_step()? {
             return Ok(());
         }
-        if let Err(e) = self.hand_out() {
+        let stepped = self.pipeline.step(
+            &mut *self.allocator,
+            &self.p,
+            &self.world,
+            &mut self.robots,
+            &mut self.goods,
+            &mut self.stations,
+            &mut self.record,
+            &mut self.crowd,
+        );
+        if let Err(e) = &stepped {
             self.failure = Some(e.to_string());
-            return Err(e);
         }
-        self.finish_step();
-        Ok(())
+        stepped
     }
 
     /// A new step up to phase 1: the step count, then phase 0. Returns `false` once the run
-    /// has ended. Phase 1 comes next: [`Paper::hand_out`] with the allocator, or decisions
-    /// from outside (`decision_point.rs`).
+    /// has ended. Decisions from outside the engine make phase 1 (`decision_point.rs`).
     pub(crate) fn begin_step(&mut self) -> Result<bool> {
+        if !self.may_step()? {
+            return Ok(false);
+        }
+        self.pipeline.begin(&mut self.goods, &mut self.record);
+        Ok(true)
+    }
+
+    /// Whether a new step may begin: `false` once the run has ended; an error after a failed
+    /// step, or while decisions are pending.
+    fn may_step(&self) -> Result<bool> {
         if self.record.outcome.is_some() {
             return Ok(false);
         }
@@ -208,14 +230,7 @@ impl Paper {
         if self.goods.pending {
             return Err(Error::Decision { step: self.record.tally.t, reason: "decisions are pending: decide() finishes this step first".into() });
         }
-        self.pipeline.begin(&mut self.goods, &mut self.record);
         Ok(true)
-    }
-
-    /// Phase 1 with the allocator.
-    pub(crate) fn hand_out(&mut self) -> Result<()> {
-        let people = self.crowd.people.as_deref();
-        self.goods.hand_out(&mut *self.allocator, &self.p, &self.world, &mut self.robots, &mut self.stations, &mut self.record, people)
     }
 
     /// Phase 1, first half (see [`GoodsQueue::begin_hand_out`]).

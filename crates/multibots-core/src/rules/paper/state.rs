@@ -61,10 +61,33 @@ impl Record {
 }
 
 /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
-#[derive(Default)]
 pub(crate) struct Crowd {
     pub people: Option<Box<People>>,
     /// The same people with the fleet removed, stepped beside the run: output only (what
     /// robots cost people, docs/people.md); nothing of the run reads it.
     pub alone: Option<Box<People>>,
+}
+
+impl Crowd {
+    /// The people guard, before robots move: robots with a person ahead stop, or slow down
+    /// ([`People::guard`]; `wants`: who wants to move).
+    pub fn guard(&mut self, robots: &Robots, wants: &[bool]) {
+        if let Some(people) = self.people.as_deref_mut() {
+            people.guard(robots, wants);
+        }
+    }
+
+    /// After the robots moved: people walk, pick or rest ([`People::step`]).
+    pub fn walk(&mut self, robots: &Robots) {
+        if let Some(people) = self.people.as_deref_mut() {
+            people.step(robots);
+        }
+    }
+
+    /// The same people on a floor with no robot take their step ([`People::step_alone`]).
+    pub fn walk_alone(&mut self) {
+        if let Some(alone) = self.alone.as_deref_mut() {
+            alone.step_alone();
+        }
+    }
 }
