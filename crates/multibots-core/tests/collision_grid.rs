@@ -83,12 +83,9 @@ fn tiny_fleets_agree_with_the_definition_with_robots_in_bays() {
         let margin = if round % 4 == 0 { 8.0 } else { 0.0 };
         let reach = 2.0 * radius.iter().copied().fold(0.0, f64::max) + margin;
         let mut c = Collisions::new([-50.0, -50.0, 200.0, 200.0], reach, n);
-        if bay.contains(&true) {
-            c.bay.clone_from(&bay);
-        }
         for shift in [0.0, 1.0] {
             let x: Vec<f64> = x.iter().map(|v| v + shift).collect();
-            c.resolve(&x, &y, &radius, &wants, &alpha, margin, 30f64.to_radians());
+            c.resolve(&x, &y, &radius, &wants, &alpha, &bay, margin, 30f64.to_radians());
             let _ = c.contacts(&x, &y, &radius, &wants, 8.0);
             assert_eq!(c.waits, brute_with_bays(&x, &y, &radius, margin, &wants, &alpha, 30f64.to_radians(), &bay), "round {round}, shift {shift}");
         }
@@ -132,7 +129,7 @@ fn crowded_aisles(radius_of: impl Fn(u64) -> f64, margin: f64) {
                 let mut c = Collisions::new([-50.0, -50.0, far_corner, far_corner], reach, n);
                 for shift in [0.0, 1.0] {
                     let x: Vec<f64> = x.iter().map(|v| v + shift).collect();
-                    c.resolve(&x, &y, &radius, &wants, &alpha, margin, angle);
+                    c.resolve(&x, &y, &radius, &wants, &alpha, &[], margin, angle);
                     assert_eq!(
                         c.waits,
                         brute(&x, &y, &radius, margin, &wants, &alpha, angle),
@@ -155,7 +152,7 @@ fn grid_agrees_with_the_definition_in_a_pile_of_more_than_64_robots() {
     let alpha: Vec<f64> = (0..n).map(|_| rnd() / 40.0 * 2.0 * PI - PI).collect();
     let wants: Vec<bool> = (0..n).map(|i| i % 4 != 0).collect();
     let mut c = Collisions::new([-50.0, -50.0, 350.0, 350.0], 25.0, n);
-    c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, 30f64.to_radians());
+    c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, &[], 0.0, 30f64.to_radians());
     assert_eq!(c.waits, brute(&x, &y, &vec![12.5; n], 0.0, &wants, &alpha, 30f64.to_radians()));
     assert!(c.waits.iter().any(|&w| w), "the pile must block someone");
 }
@@ -179,7 +176,6 @@ fn a_dense_grid_kept_from_step_to_step_agrees_with_the_definition() {
         let alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() % headings.len() as u64) as usize]).collect();
         let wants: Vec<bool> = (0..n).map(|_| rnd() % 4 != 0).collect();
         let bay: Vec<bool> = (0..n).map(|_| step % 3 == 1 && rnd() % 10 == 0).collect();
-        c.bay.clone_from(&bay);
         let (mut px, mut py) = (x.clone(), y.clone());
         if step % 4 == 2 {
             // 200 robots on one spot: 19,900 pairs, past the list's limit for 300 robots.
@@ -187,7 +183,7 @@ fn a_dense_grid_kept_from_step_to_step_agrees_with_the_definition() {
                 (px[i], py[i]) = (200.0, 200.0);
             }
         }
-        c.resolve(&px, &py, &radius, &wants, &alpha, 0.0, 30f64.to_radians());
+        c.resolve(&px, &py, &radius, &wants, &alpha, &bay, 0.0, 30f64.to_radians());
         let want = brute_with_bays(&px, &py, &radius, 0.0, &wants, &alpha, 30f64.to_radians(), &bay);
         assert_eq!(c.waits, want, "step {step}");
         waited += want.iter().filter(|&&w| w).count();

@@ -359,7 +359,7 @@ mod tests {
             }
             let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
             let (px, py) = (x.clone(), y.clone());
-            c.build_grid(&x, &y, &radius);
+            c.build_grid(&x, &y, &radius, &[]);
             let moved: Vec<bool> = (0..n).map(|_| lcg(&mut seed) < 0.6).collect();
             for i in 0..n {
                 if moved[i] {
@@ -376,10 +376,10 @@ mod tests {
             // through the collision test, which collects the pairs as wide as the count
             // asked for once: the count reads them instead of collecting its own.
             let mut k = Collisions::new([0.0, 0.0, side, side], 2.0 * r_max, n);
-            k.build_grid(&px, &py, &radius);
+            k.build_grid(&px, &py, &radius, &[]);
             let _ = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             let heading = vec![0.0; n];
-            k.resolve(&px, &py, &radius, &vec![true; n], &heading, 0.0, 0.5);
+            k.resolve(&px, &py, &radius, &vec![true; n], &heading, &[], 0.0, 0.5);
             assert!(k.near.pairs_r2 > 0.0, "case {case}: the collision test collected pairs");
             let kept = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
             assert_eq!((kept.0, kept.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}, pairs kept");
@@ -436,12 +436,9 @@ mod tests {
             }
             // Bays in every other round of fleet sizes, so tiny fleets get them too.
             let bay: Vec<bool> = (0..n).map(|_| (case / 8) % 2 == 1 && lcg(&mut seed) < 0.15).collect();
-            if bay.contains(&true) {
-                c.bay.clone_from(&bay);
-            }
             for step in 0..4 {
                 let (px, py) = (x.clone(), y.clone());
-                c.build_grid(&x, &y, &radius);
+                c.build_grid(&x, &y, &radius, &bay);
                 let moved: Vec<bool> = (0..n).map(|_| lcg(&mut seed) < 0.6).collect();
                 for i in 0..n {
                     if moved[i] {

@@ -79,9 +79,6 @@ pub struct Collisions {
     sin_angle: (f64, f64),
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
-    /// Robots standing in a bay beside the aisle (an extension for large fleets, see
-    /// docs/model.md section 7): they neither block nor wait. Empty: nobody (the paper).
-    pub bay: Vec<bool>,
 }
 
 impl Collisions {
@@ -141,24 +138,24 @@ impl Collisions {
             bays_by_cell: Vec::new(),
             sin_angle: (0.0, 0.0),
             waits: vec![false; robots],
-            bay: Vec::new(),
         }
     }
 
-    /// Sorts the robots (bays aside) into the grid by their positions; returns whether the
-    /// fleet shares one radius. [`Collisions::resolve`] and [`Collisions::contacts`] read it.
-    pub fn build_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64]) -> bool {
-        self.sort_into_grid(x, y, radius).0
+    /// Sorts the robots into the grid by their positions, robots in a bay (`bay[i]`; empty:
+    /// nobody) aside; returns whether the fleet shares one radius. [`Collisions::resolve`] and
+    /// [`Collisions::contacts`] read it.
+    pub fn build_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64], bay: &[bool]) -> bool {
+        self.sort_into_grid(x, y, radius, bay).0
     }
 
     /// [`Collisions::build_grid`]; also returns whether a robot in the grid stands at a NaN
     /// coordinate.
-    fn sort_into_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64]) -> (bool, bool) {
+    fn sort_into_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64], bay: &[bool]) -> (bool, bool) {
         let n = x.len();
         let (y, radius) = (&y[..n], &radius[..n]);
         self.near.pairs_r2 = 0.0;
         let grid = self.space.grid;
-        let bay: &[bool] = if self.bay.is_empty() { &[] } else { &self.bay[..n] };
+        let bay: &[bool] = if bay.is_empty() { &[] } else { &bay[..n] };
         let cell_of = &mut self.space.cell_of[..n];
         // Every robot can block, so every robot goes into the grid (bays aside).
         let mut placed = 0;
@@ -201,7 +198,9 @@ impl Collisions {
     /// in which nobody comes near anybody. The robots stand at `x`, `y` now; robot `i`
     /// travels at most `speed[i]` along its route a step where `moving[i]` and stands
     /// otherwise, and `slack` is at least twice every speed. A robot alone: always. Tiny
-    /// fleets without bays: by a pass over the pairs. 0 for any other fleet.
+    /// fleets: by a pass over the pairs. 0 for any other fleet. Robots that step into or out
+    /// of a bay move sideways, past `speed`: a fleet with bays must not ask (cruising, the
+    /// one caller, never runs under spread placement).
     ///
     /// Two robots `d` apart now are at least `d - (j - 1) (speed_a + speed_b)` apart when
     /// step `j` starts (each speed with what rounding can add to a move). While that exceeds
@@ -219,7 +218,7 @@ impl Collisions {
         // The contact count's reach has grown to what these moves need (it has once a count
         // has run), so the steps' counts look no wider than `cover`.
         let wide_enough = self.contact_need >= contacts::contact_need(r_max, slack);
-        if !self.space.tiny || n > TINY || !self.bay.is_empty() || !wide_enough {
+        if !self.space.tiny || n > TINY || !wide_enough {
             return 0;
         }
         let (y, speed, moving) = (&y[..n], &speed[..n], &moving[..n]);
@@ -252,10 +251,12 @@ impl Collisions {
         k
     }
 
-    /// Decides who waits. `alpha[i]` is used only where `wants[i]`; `margin` widens every
-    /// contact distance and `angle` is the collision angle in radians. Fills `self.waits`.
+    /// Decides who waits. `alpha[i]` is used only where `wants[i]`; robots in a bay (`bay[i]`,
+    /// an extension for large fleets, docs/model.md section 7; empty: nobody, the paper)
+    /// neither block nor wait; `margin` widens every contact distance and `angle` is the
+    /// collision angle in radians. Fills `self.waits`.
     #[allow(clippy::too_many_arguments)]
-    pub fn resolve(&mut self, x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], margin: f64, angle: f64) {
+    pub fn resolve(&mut self, x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], bay: &[bool], margin: f64, angle: f64) {
         let n = x.len();
         // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
         let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
@@ -266,7 +267,7 @@ impl Collisions {
             return;
         }
         self.margin = margin;
-        let (uniform, nan) = self.sort_into_grid(x, y, radius);
+        let (uniform, nan) = self.sort_into_grid(x, y, radius, bay);
         // A robot at a NaN coordinate lands in a cell of its own choosing: the boxes decide
         // what it finds, as they always did.
         let pairs = if nan { None } else { self.pair_reach2(radius, uniform, margin) };

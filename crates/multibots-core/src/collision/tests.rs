@@ -63,7 +63,7 @@ fn a_nan_margin_or_radius_blocks_as_the_definition_says_in_a_tiny_fleet() {
     // not drop a pair that the test itself would accept.
     for (radius, margin) in [([12.5, 12.5], f64::NAN), ([12.5, f64::NAN], 0.0)] {
         let mut c = Collisions::new([-100.0, -100.0, 900.0, 700.0], 25.0, 2);
-        c.resolve(&[0.0, 100.0], &[0.0, 0.0], &radius, &[true, false], &[0.0, 0.0], margin, ANGLE);
+        c.resolve(&[0.0, 100.0], &[0.0, 0.0], &radius, &[true, false], &[0.0, 0.0], &[], margin, ANGLE);
         let expect = blocks(0.0, 0.0, 0.0, 100.0, 0.0, radius[0] + radius[1] + margin, ANGLE);
         assert!(expect, "the definition lets a NaN contact distance block");
         assert_eq!(c.waits, vec![expect, false], "radius {radius:?}, margin {margin}");
@@ -87,7 +87,7 @@ fn angles_fold_across_the_seam() {
 
 fn run(x: &[f64], y: &[f64], wants: &[bool], alpha: &[f64]) -> Vec<bool> {
     let mut c = Collisions::new([-100.0, -100.0, 900.0, 700.0], 25.0, x.len());
-    c.resolve(x, y, &vec![12.5; x.len()], wants, alpha, 0.0, ANGLE);
+    c.resolve(x, y, &vec![12.5; x.len()], wants, alpha, &[], 0.0, ANGLE);
     c.waits.clone()
 }
 
@@ -148,9 +148,9 @@ fn one_collisions_kept_from_step_to_step_decides_as_a_fresh_one() {
             let alpha: Vec<f64> = (0..n).map(|_| rnd() * TAU - PI).collect();
             let wants: Vec<bool> = (0..n).map(|_| rnd() < 0.8).collect();
             let radius: Vec<f64> = (0..n).map(|_| if mixed { 8.0 + 6.0 * rnd() } else { 12.5 }).collect();
-            kept.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
+            kept.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
             let mut fresh = Collisions::new(bounds, 28.0, n);
-            fresh.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
+            fresh.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
             assert_eq!(kept.waits, fresh.waits, "{n} robots in {side} px, step {step}");
             released += kept.graph.blocked.iter().filter(|&&i| !kept.waits[i as usize]).count();
         }
@@ -174,6 +174,7 @@ fn a_tiny_fleet_that_skips_the_pass_over_pairs_decides_and_counts_as_a_fresh_one
         let mut y: Vec<f64> = (0..n).map(|_| (rnd() * side).round()).collect();
         let mut goal: Vec<(f64, f64)> = (0..n).map(|_| (rnd() * side, rnd() * side)).collect();
         let radius = vec![12.5; n];
+        let mut bay: Vec<bool> = Vec::new();
         for step in 0..2000 {
             // Along one axis at a time, as on aisles (exact positions), else straight
             // (diagonals too: a proof that measured moves by their longer axis would fail).
@@ -201,24 +202,22 @@ fn a_tiny_fleet_that_skips_the_pass_over_pairs_decides_and_counts_as_a_fresh_one
             let wants: Vec<bool> = (0..n).map(|_| rnd() < 0.9).collect();
             if step % 150 == 0 {
                 // Robot 0 steps into a bay or out of it: a new set of robots in the grid.
-                let bay: Vec<bool> = (0..n).map(|i| i == 0 && step % 300 == 0).collect();
-                kept.bay.clone_from(&bay);
+                bay = (0..n).map(|i| i == 0 && step % 300 == 0).collect();
             }
             let anchor = kept.space.apart.x.clone();
             // A twin of the kept state without its proof makes the pass: everything the
             // pass leaves must come out the same, not only the decisions.
             let mut twin = kept.clone();
             twin.space.apart = grid::Apart::default();
-            kept.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
-            twin.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
+            kept.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
+            twin.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
             assert_eq!(
                 (&kept.space.bits, kept.space.cover.to_bits(), kept.space.clear),
                 (&twin.space.bits, twin.space.cover.to_bits(), twin.space.clear),
                 "{n} robots, step {step}"
             );
             let mut fresh = Collisions::new(bounds, 28.0, n);
-            fresh.bay.clone_from(&kept.bay);
-            fresh.resolve(&x, &y, &radius, &wants, &alpha, 0.0, ANGLE);
+            fresh.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
             assert_eq!(kept.waits, fresh.waits, "{n} robots, step {step}");
             assert_eq!(kept.waits, twin.waits, "{n} robots, step {step}");
             skipped += usize::from(kept.space.apart.x == anchor && step > 0);
@@ -257,7 +256,7 @@ fn the_pairs_stand_in_for_the_boxes_only_where_they_find_the_same() {
     let kept_pairs = |x: &[f64], y: &[f64], margin: f64| {
         let mut c = Collisions::new([-50.0, -50.0, 450.0, 450.0], 25.0, n);
         assert!(c.space.dense);
-        c.resolve(x, y, &radius, &wants, &alpha, margin, ANGLE);
+        c.resolve(x, y, &radius, &wants, &alpha, &[], margin, ANGLE);
         c.near.pairs_r2 > 0.0
     };
     assert!(kept_pairs(&x, &y, 0.0), "the usual case uses the pairs");
@@ -282,7 +281,7 @@ fn grid_finds_neighbours_across_cell_borders_and_agrees_with_brute_force() {
     let alpha: Vec<f64> = (0..n).map(|_| rnd() * TAU - PI).collect();
     let wants: Vec<bool> = (0..n).map(|i| i % 3 != 0).collect();
     let mut c = Collisions::new([0.0, 0.0, 300.0, 300.0], 25.0, n);
-    c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, 0.0, ANGLE);
+    c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, &[], 0.0, ANGLE);
     for i in 0..n {
         let brute: Vec<u32> = (0..n).filter(|&j| j != i && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], 25.0, ANGLE)).map(|j| j as u32).collect();
         let s = c.graph.blocked.binary_search(&(i as u32)).ok();

@@ -66,7 +66,8 @@ impl Lanes {
         }
     }
 
-    /// Places every robot not in a bay (`out[i]`) on its lane and in its zones.
+    /// Places every robot not in a bay (`out[i]`; empty: nobody is) on its lane and in its
+    /// zones.
     #[allow(clippy::needless_range_loop)] // robot ids index several columns
     pub fn build(&mut self, r: &Robots, g: &HighwayGraph, zone: f64, out: &[bool]) {
         let n = r.len();
@@ -95,7 +96,7 @@ impl Lanes {
         for i in 0..n {
             self.edge_of[i] = NONE;
             self.rank[i] = NONE;
-            if out[i] {
+            if !out.is_empty() && out[i] {
                 continue;
             }
             if r.at_node[i] != NONE {

@@ -27,7 +27,7 @@
 mod lanes;
 
 use crate::collision::Collisions;
-use crate::fleet::bay;
+use crate::fleet::bay::Bays;
 use crate::fleet::robot::Robots;
 use crate::ids::NONE;
 use crate::input::scenario::Traffic;
@@ -65,53 +65,56 @@ fn may_detour_to(g: &HighwayGraph, v: u32, w: u32, refusals: u32) -> bool {
     out.len() > 1 || refusals >= LAST_RESORT_AFTER && out.iter().any(|&x| x != v)
 }
 
+/// What the traffic decision reads of this step: the floor, who wants to move (heading
+/// `robots.heading`), the collision rule's numbers, and the people, if any.
+pub(crate) struct Scene<'a> {
+    pub graph: &'a HighwayGraph,
+    /// The step.
+    pub t: u64,
+    pub wants: &'a [bool],
+    pub margin: f64,
+    /// The collision angle, radians.
+    pub angle: f64,
+    pub people: Option<&'a People>,
+}
+
+impl Scene<'_> {
+    /// Whether a robot of `radius` may stand at `(x, y)` as far as people go.
+    fn clear(&self, x: f64, y: f64, radius: f64) -> bool {
+        self.people.map_or(true, |p| p.clear_of(x, y, radius))
+    }
+}
+
 /// Phase 3 for the fleet: who waits, and how far each robot that wants to move may travel.
 /// Without a policy (`wait`), the paper's collision waiting decides; `gate` keeps its
 /// decisions and adds crossings taken one at a time; `reserve` decides alone, then sorts the
-/// robots into the collision grid, which the contact count reads after the moves. Robots in
-/// a bay (`collisions.bay`) are out of the traffic. [`moves`] reads the answer.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn decide(
-    traffic: Option<&mut TrafficState>,
-    collisions: &mut Collisions,
-    r: &mut Robots,
-    g: &HighwayGraph,
-    t: u64,
-    wants: &[bool],
-    margin: f64,
-    angle: f64,
-    bay_depth: f64,
-    people: Option<&People>,
-) {
+/// robots into the collision grid, which the contact count reads after the moves. Robots
+/// step into and out of their bays first (`bays`, settled here because under `reserve` a
+/// robot leaves its bay only where its lane has room); robots in a bay are out of the
+/// traffic. [`moves`] reads the answer.
+pub(crate) fn decide(traffic: Option<&mut TrafficState>, collisions: &mut Collisions, bays: &mut Bays, r: &mut Robots, scene: &Scene<'_>) {
     let reserve = traffic.as_ref().is_some_and(|ts| ts.policy == Traffic::Reserve);
-    let clear = |x: f64, y: f64, radius: f64| people.map_or(true, |p| p.clear_of(x, y, radius));
     if !reserve {
         // Under collision waiting a robot leaves its bay when it wants to: it steps back onto
         // its lane whoever is passing (the cone then decides, and a contact is counted).
-        bay::settle(r, g, &mut collisions.bay, bay_depth, clear);
+        bays.settle(r, scene.graph, |x, y, radius| scene.clear(x, y, radius));
     }
+    let (wants, margin, angle) = (scene.wants, scene.margin, scene.angle);
     let Some(ts) = traffic else {
-        collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, margin, angle);
+        collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, bays.flags(), margin, angle);
         return;
     };
     let cone = if ts.policy == Traffic::Gate {
-        collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, margin, angle);
+        collisions.resolve(&r.x, &r.y, &r.radius, wants, &r.heading, bays.flags(), margin, angle);
         Some(&collisions.waits[..])
     } else {
         None
     };
-    let bays = &collisions.bay;
-    for (o, k) in ts.out.iter_mut().zip(0..) {
-        *o = bays.get(k).copied().unwrap_or(false);
-    }
-    ts.decide(r, g, t, wants, cone, bay_depth, clear, people);
+    ts.decide(r, bays, cone, scene);
     if reserve {
         // Robots waiting to leave a bay are still in it; the grid serves to count contacts
         // after the moves.
-        if !collisions.bay.is_empty() {
-            collisions.bay.copy_from_slice(&ts.out);
-        }
-        collisions.build_grid(&r.x, &r.y, &r.radius);
+        collisions.build_grid(&r.x, &r.y, &r.radius, bays.flags());
     }
 }
 
@@ -144,8 +147,6 @@ pub(crate) struct TrafficState {
     /// Consecutive steps a robot was refused for a full exit.
     exit_refusals: Vec<u32>,
     ahead: Vec<Option<Ahead>>,
-    /// Robots in a bay (out of the traffic) this step.
-    pub out: Vec<bool>,
     /// Output: how far each robot may travel, and who waits.
     pub budget: Vec<f64>,
     pub waits: Vec<bool>,
@@ -166,36 +167,23 @@ impl TrafficState {
             waiting_since: vec![u64::MAX; robots],
             exit_refusals: vec![0; robots],
             ahead: vec![None; robots],
-            out: vec![false; robots],
             budget: vec![0.0; robots],
             waits: vec![false; robots],
         }
     }
 
     /// Decides how far each robot that wants to move may travel this step (`budget`), and
-    /// who waits. `self.out[i]` (set by the caller): robot `i` stands in a bay, out of the
-    /// traffic. For `gate`, `cone_waits` are the collision-waiting rule's decisions, which it
-    /// keeps.
-    #[allow(clippy::too_many_arguments)]
-    fn decide(
-        &mut self,
-        r: &mut Robots,
-        g: &HighwayGraph,
-        t: u64,
-        wants: &[bool],
-        cone_waits: Option<&[bool]>,
-        bay_depth: f64,
-        clear: impl Fn(f64, f64, f64) -> bool,
-        people: Option<&People>,
-    ) {
+    /// who waits. Robots in a bay (`bays`) are out of the traffic. For `gate`, `cone_waits`
+    /// are the collision-waiting rule's decisions, which it keeps.
+    fn decide(&mut self, r: &mut Robots, bays: &mut Bays, cone_waits: Option<&[bool]>, scene: &Scene<'_>) {
+        let (g, t, wants, people) = (scene.graph, scene.t, scene.wants, scene.people);
         let n = r.len();
         if self.policy == Traffic::Reserve {
-            self.rejoin(r, g);
+            self.rejoin(r, g, bays);
             // Robots step aside, or back onto a lane with room, before the lanes are read.
-            bay::settle(r, g, &mut self.out, bay_depth, clear);
+            bays.settle(r, g, |x, y, radius| scene.clear(x, y, radius));
         }
-        let out = &self.out;
-        self.lanes.build(r, g, self.zone, out);
+        self.lanes.build(r, g, self.zone, bays.flags());
         for &k in &self.admitted_nodes {
             self.admitted_count[k as usize] = 0;
         }
@@ -266,19 +254,22 @@ impl TrafficState {
 
     /// Robots leaving a bay join their lane only where it has room: a contact distance to the
     /// robots ahead and behind; until then they stay in the bay.
-    fn rejoin(&mut self, r: &Robots, g: &HighwayGraph) {
+    fn rejoin(&mut self, r: &Robots, g: &HighwayGraph, bays: &mut Bays) {
+        if !bays.exist() {
+            return;
+        }
         let n = r.len();
         // Joining: standing in a bay (where it is, not what it did last step: a step back a
         // person refused leaves it there) and no longer to be in one.
-        let joining: Vec<usize> = (0..n).filter(|&i| r.in_bay(i) && !self.out[i]).collect();
+        let joining: Vec<usize> = (0..n).filter(|&i| r.in_bay(i) && !bays.holds(i)).collect();
         if !joining.is_empty() {
             for &i in &joining {
-                self.out[i] = true;
+                bays.keep(i, true);
             }
-            self.lanes.build(r, g, self.zone, &self.out);
+            self.lanes.build(r, g, self.zone, bays.flags());
             for &i in &joining {
                 if r.at_node[i] != NONE {
-                    self.out[i] = false;
+                    bays.keep(i, false);
                     continue;
                 }
                 let e = g.edge_id(r.edge_u[i], r.edge_v[i]);
@@ -289,7 +280,7 @@ impl TrafficState {
                 let (_, v, len) = g.edge(e);
                 let zones_free =
                     (s >= self.zone || self.lanes.holder[g.edge(e).0 as usize] == NONE) && (len - s >= self.zone || self.lanes.holder[v as usize] == NONE);
-                self.out[i] = !(clear && zones_free);
+                bays.keep(i, !(clear && zones_free));
             }
         }
     }

@@ -23,6 +23,7 @@ use crate::alloc::Goods;
 use crate::error::{Error, Result};
 use crate::fleet::energy;
 use crate::fleet::placement::Homes;
+use crate::fleet::robot::Robots;
 use crate::fleet::robot::{State, Target};
 use crate::fleet::route::service_target;
 use crate::fleet::route::{self, Place};
@@ -30,7 +31,8 @@ use crate::ids::CellId as Cell;
 use crate::ids::{CellId, GoodsId, NodeId, NONE};
 use crate::input::scenario::{ChargerUse, Scenario};
 use crate::record::events::EventKind;
-use crate::rules::paper::Paper;
+use crate::rules::paper::state::Stations;
+use crate::rules::paper::tasks::Cycle;
 use crate::world::World;
 use std::collections::VecDeque;
 
@@ -98,145 +100,147 @@ impl Chargers {
     }
 }
 
-impl Paper {
+impl Cycle<'_> {
     /// The threshold rule (with put-back), opportunistic charging and stranding, for robot
     /// `i` after its task transition (phase 7).
     pub(crate) fn energy_rules(&mut self, i: usize) {
-        if energy::below(self.robots.energy[i], self.p.threshold) {
+        let (p, world, t) = (self.p, self.world, self.record.tally.t);
+        if energy::below(self.robots.energy[i], p.threshold) {
             match self.robots.state[i] {
-                State::Idle => self.send_to_charge(i),
-                State::ToPickup if !self.inside_service_edge(i) => {
+                State::Idle => self.stations.send_to_charge(world, self.robots, i, t),
+                State::ToPickup if !inside_service_edge(world, self.robots, i) => {
                     let g = Goods { id: GoodsId(self.robots.goods[i]), cell: CellId(self.robots.cell[i]) };
                     self.goods.put_back(g);
-                    self.alloc_due = true;
-                    self.event(EventKind::PutBack, i, g.cell.0);
+                    self.goods.alloc_due = true;
+                    self.record.event(EventKind::PutBack, i, g.cell.0);
                     self.robots.goods[i] = NONE;
                     self.robots.cell[i] = NONE;
-                    self.send_to_charge(i);
+                    self.stations.send_to_charge(world, self.robots, i, t);
                 }
                 State::ToPickup | State::Loading | State::ToDrop | State::Unloading => self.robots.marked[i] = true,
                 _ => {}
             }
         }
-        if let Some(level) = self.p.opportunistic {
+        if let Some(level) = p.opportunistic {
             if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], level) {
-                self.send_to_charge(i);
+                self.stations.send_to_charge(world, self.robots, i, t);
             }
         }
-        if let Some(level) = self.p.staggered {
-            if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], own_level(self.p.threshold, level, i)) && self.chargers.one_free() {
-                let near = !self.chargers.shared
-                    || self.chargers.reach.is_infinite()
-                    || self.chargers.nearest_free_within(&self.world, Place::of(&self.robots, i), self.chargers.reach);
+        if let Some(level) = p.staggered {
+            let chargers = &self.stations.chargers;
+            if self.robots.state[i] == State::Idle && energy::below(self.robots.energy[i], own_level(p.threshold, level, i)) && chargers.one_free() {
+                let near = !chargers.shared || chargers.reach.is_infinite() || chargers.nearest_free_within(world, Place::of(self.robots, i), chargers.reach);
                 if near {
-                    self.send_to_charge(i);
+                    self.stations.send_to_charge(world, self.robots, i, t);
                 }
             }
         }
         if energy::exhausted(self.robots.energy[i]) && self.robots.state[i] != State::Stranded {
-            if self.chargers.shared && self.robots.state[i] == State::ToCharger {
-                self.release_charger(self.robots.charger[i]);
+            if self.stations.chargers.shared && self.robots.state[i] == State::ToCharger {
+                self.stations.release_charger(world, self.robots, self.robots.charger[i], t);
             }
             self.robots.state[i] = State::Stranded;
             self.robots.energy[i] = 0.0;
             self.robots.routing[i] = false;
-            self.tally.first_stranded.get_or_insert(self.tally.t);
-            self.event(EventKind::Strand, i, NONE);
-        }
-    }
-
-    /// Whether robot `i` is strictly inside the edge of the service point it is fetching from
-    /// (past the point of putting goods back).
-    fn inside_service_edge(&self, i: usize) -> bool {
-        let r = &self.robots;
-        // A robot fetching goods always has their cell (they are set and cleared together).
-        debug_assert!(r.cell[i] != NONE, "robot {i} fetches goods without a cell");
-        let (u, v) = self.world.layout.cells[r.cell[i] as usize].edge;
-        r.at_node[i] == NONE && r.edge_u[i] == u.0 && r.edge_v[i] == v.0
-    }
-
-    /// Sends robot `i` to charge: to its home charger, or to the pool's nearest free one.
-    pub(crate) fn send_to_charge(&mut self, i: usize) {
-        if !self.chargers.shared {
-            let charger = self.robots.home[i];
-            self.head_for_charger(i, charger);
-            return;
-        }
-        if let Some(k) = self.chargers.nearest_free(&self.world, Place::of(&self.robots, i)) {
-            self.claim_charger(i, k);
-        } else {
-            self.robots.state[i] = State::WaitCharger;
-            self.robots.routing[i] = false;
-            if self.homes.spread() {
-                // It waits in its bay, out of the traffic, not where it stands (often an
-                // unloading zone, where the next robot would stand on it).
-                self.route(i, self.homes.target(&self.robots, i));
-            }
-            self.chargers.queue.push_back((i as u32, self.tally.t));
-        }
-    }
-
-    fn head_for_charger(&mut self, i: usize, charger: NodeId) {
-        self.robots.state[i] = State::ToCharger;
-        self.robots.charger[i] = charger.0;
-        self.route(i, Target::Node(charger));
-    }
-
-    fn claim_charger(&mut self, i: usize, k: usize) {
-        debug_assert!(self.chargers.claim[k] == NONE, "charger {k} claimed twice");
-        self.chargers.claim[k] = i as u32;
-        self.chargers.free -= 1;
-        let charger = self.world.layout.chargers[k];
-        self.head_for_charger(i, charger);
-    }
-
-    /// A charger became free: of the robots still waiting, the one whose drive to it is
-    /// shortest, less the steps it has waited, takes it (ties: the first to come). Serving
-    /// the longest-waiting robot wherever it stands left chargers idle while robots drove
-    /// across the warehouse to them; counting the wait keeps a far robot from waiting for
-    /// ever.
-    fn release_charger(&mut self, charger: u32) {
-        let k = self.chargers.slot_of_node[charger as usize];
-        if k == NONE {
-            return;
-        }
-        if self.chargers.claim[k as usize] != NONE {
-            self.chargers.free += 1;
-        }
-        self.chargers.claim[k as usize] = NONE;
-        let state = &self.robots.state;
-        self.chargers.queue.retain(|&(j, _)| state[j as usize] == State::WaitCharger);
-        let nodes = self.world.layout.nodes.len();
-        let row = &self.chargers.to_charger[k as usize * nodes..(k as usize + 1) * nodes];
-        let mut best: Option<(f64, usize)> = None;
-        for (pos, &(j, since)) in self.chargers.queue.iter().enumerate() {
-            let j = j as usize;
-            let drive = route::length_via_row(&self.world.graph, Place::of(&self.robots, j), NodeId(charger), row) / self.robots.speed[j];
-            let priority = drive - (self.tally.t - since) as f64;
-            if best.map_or(true, |(b, _)| priority < b) {
-                best = Some((priority, pos));
-            }
-        }
-        if let Some((_, pos)) = best {
-            let (j, _) = self.chargers.queue.remove(pos).expect("a position of the queue");
-            self.claim_charger(j as usize, k as usize);
+            self.record.tally.first_stranded.get_or_insert(t);
+            self.record.event(EventKind::Strand, i, NONE);
         }
     }
 
     /// Robot `i` reached its charger: it charges, and C counts one.
     pub(crate) fn arrive_at_charger(&mut self, i: usize) {
         self.robots.state[i] = State::Charging;
-        self.tally.c += 1;
-        self.tally.stats.charges[i] += 1;
-        self.event(EventKind::Charge, i, NONE);
+        self.record.tally.c += 1;
+        self.record.tally.stats.charges[i] += 1;
+        self.record.event(EventKind::Charge, i, NONE);
     }
 
     /// Robot `i` is full: it is idle again, and frees a shared charger.
     pub(crate) fn leave_charger(&mut self, i: usize) {
         self.robots.state[i] = State::Idle;
-        self.alloc_due = true;
-        if self.chargers.shared {
-            self.release_charger(self.robots.charger[i]);
+        self.goods.alloc_due = true;
+        if self.stations.chargers.shared {
+            self.stations.release_charger(self.world, self.robots, self.robots.charger[i], self.record.tally.t);
+        }
+    }
+}
+
+/// Whether robot `i` is strictly inside the edge of the service point it is fetching from
+/// (past the point of putting goods back).
+fn inside_service_edge(world: &World, r: &Robots, i: usize) -> bool {
+    // A robot fetching goods always has their cell (they are set and cleared together).
+    debug_assert!(r.cell[i] != NONE, "robot {i} fetches goods without a cell");
+    let (u, v) = world.layout.cells[r.cell[i] as usize].edge;
+    r.at_node[i] == NONE && r.edge_u[i] == u.0 && r.edge_v[i] == v.0
+}
+
+fn head_for_charger(world: &World, r: &mut Robots, i: usize, charger: NodeId) {
+    r.state[i] = State::ToCharger;
+    r.charger[i] = charger.0;
+    route::assign(r, &world.graph, i, Target::Node(charger));
+}
+
+impl Stations {
+    /// Sends robot `i` to charge at step `t`: to its home charger, or to the pool's nearest
+    /// free one.
+    pub(crate) fn send_to_charge(&mut self, world: &World, r: &mut Robots, i: usize, t: u64) {
+        if !self.chargers.shared {
+            let charger = r.home[i];
+            head_for_charger(world, r, i, charger);
+            return;
+        }
+        if let Some(k) = self.chargers.nearest_free(world, Place::of(r, i)) {
+            self.claim_charger(world, r, i, k);
+        } else {
+            r.state[i] = State::WaitCharger;
+            r.routing[i] = false;
+            if self.homes.spread() {
+                // It waits in its bay, out of the traffic, not where it stands (often an
+                // unloading zone, where the next robot would stand on it).
+                route::assign(r, &world.graph, i, self.homes.target(r, i));
+            }
+            self.chargers.queue.push_back((i as u32, t));
+        }
+    }
+
+    fn claim_charger(&mut self, world: &World, r: &mut Robots, i: usize, k: usize) {
+        debug_assert!(self.chargers.claim[k] == NONE, "charger {k} claimed twice");
+        self.chargers.claim[k] = i as u32;
+        self.chargers.free -= 1;
+        head_for_charger(world, r, i, world.layout.chargers[k]);
+    }
+
+    /// A charger became free at step `t`: of the robots still waiting, the one whose drive to
+    /// it is shortest, less the steps it has waited, takes it (ties: the first to come).
+    /// Serving the longest-waiting robot wherever it stands left chargers idle while robots
+    /// drove across the warehouse to them; counting the wait keeps a far robot from waiting
+    /// for ever.
+    fn release_charger(&mut self, world: &World, r: &mut Robots, charger: u32, t: u64) {
+        let chargers = &mut self.chargers;
+        let k = chargers.slot_of_node[charger as usize];
+        if k == NONE {
+            return;
+        }
+        if chargers.claim[k as usize] != NONE {
+            chargers.free += 1;
+        }
+        chargers.claim[k as usize] = NONE;
+        let state = &r.state;
+        chargers.queue.retain(|&(j, _)| state[j as usize] == State::WaitCharger);
+        let nodes = world.layout.nodes.len();
+        let row = &chargers.to_charger[k as usize * nodes..(k as usize + 1) * nodes];
+        let mut best: Option<(f64, usize)> = None;
+        for (pos, &(j, since)) in chargers.queue.iter().enumerate() {
+            let j = j as usize;
+            let drive = route::length_via_row(&world.graph, Place::of(r, j), NodeId(charger), row) / r.speed[j];
+            let priority = drive - (t - since) as f64;
+            if best.map_or(true, |(b, _)| priority < b) {
+                best = Some((priority, pos));
+            }
+        }
+        if let Some((_, pos)) = best {
+            let (j, _) = chargers.queue.remove(pos).expect("a position of the queue");
+            self.claim_charger(world, r, j as usize, k as usize);
         }
     }
 }

@@ -22,25 +22,43 @@
 //! and event is the one step by step gives, to the bit; the tests below check it.
 
 use crate::fleet::motion::bearing;
-use crate::rules::paper::Paper;
+use crate::fleet::robot::Robots;
+use crate::rules::paper::goods_queue::GoodsQueue;
+use crate::rules::paper::pipeline::Pipeline;
+use crate::rules::paper::state::{Record, Stations};
+use crate::rules::paper::tasks::transitions;
+use crate::rules::paper::{Paper, Params};
+use crate::world::World;
 
 impl Paper {
     /// Runs up to `max` quiet steps (see the module); returns how many ran, 0 when the next
     /// step needs the full phases.
     pub(crate) fn cruise(&mut self, max: u64) -> u64 {
-        if self.outcome.is_some()
-            || self.failure.is_some()
-            || self.goods.pending
-            || self.alloc_due
-            || self.lifelong.is_some()
-            || self.traffic.is_some()
-            || self.people.is_some()
-            || self.homes.spread()
-        {
+        if self.failure.is_some() || self.crowd.people.is_some() {
             return 0;
         }
-        let n = self.robots.len();
-        let r = &self.robots;
+        self.pipeline.cruise(max, &self.p, &self.world, &mut self.robots, &mut self.goods, &mut self.stations, &mut self.record)
+    }
+}
+
+impl Pipeline {
+    /// [`Paper::cruise`] for a run without people that has not failed.
+    #[allow(clippy::too_many_arguments)]
+    fn cruise(
+        &mut self,
+        max: u64,
+        p: &Params,
+        world: &World,
+        robots: &mut Robots,
+        goods: &mut GoodsQueue,
+        stations: &mut Stations,
+        record: &mut Record,
+    ) -> u64 {
+        if record.outcome.is_some() || goods.pending || goods.alloc_due || goods.lifelong.is_some() || self.traffic.is_some() || self.bays.exist() {
+            return 0;
+        }
+        let n = robots.len();
+        let r = &*robots;
         // Who travels (phase 2's answer, the same every step until somebody is due), dwells
         // and charges cannot change while nobody is due, and so neither can whether a step
         // makes progress.
@@ -53,7 +71,7 @@ impl Paper {
         let (r_max, slack) = self.contact_reach;
         // Nobody moving: collision waiting and the contact count have nobody to look at.
         let quiet = if moving { self.collisions.quiet_steps(&r.x, &r.y, &r.radius, &r.speed, wants, r_max, slack) } else { u64::MAX };
-        let k_max = max.min(quiet).min(self.tally.steps_without_verdict(progress, self.p.step_limit));
+        let k_max = max.min(quiet).min(record.tally.steps_without_verdict(progress, p.step_limit));
         if k_max == 0 {
             return 0;
         }
@@ -67,13 +85,12 @@ impl Paper {
         };
         self.last_contacts = Some(per_step);
         // What each step's phases 0 and 3 would leave: no events, nobody waiting.
-        self.events.clear();
+        record.events.clear();
         self.collisions.waits[..n].fill(false);
-        let p = self.p;
-        let g = &self.world.graph;
+        let g = &world.graph;
         let wants = &mut self.wants[..n];
-        let tally = &mut self.tally;
-        let (mut motion, pass) = self.robots.split();
+        let tally = &mut record.tally;
+        let (mut motion, pass) = robots.split();
         let (mut k, mut due) = (0, false);
         while k < k_max && !due {
             tally.t += 1;
@@ -110,11 +127,11 @@ impl Paper {
         self.progress = progress;
         // The steps that ended here, each in the same state (a due step ends in `end`).
         self.collisions.waits[..n].fill(false);
-        self.observe_resources(k - u64::from(due));
+        record.observe_resources(robots, &self.collisions.waits[..n], k - u64::from(due));
         if due {
             // The last step's phases 7 and 8, the usual way.
-            self.transitions();
-            self.end();
+            transitions(p, world, robots, goods, stations, record);
+            self.end(p, world, robots, goods, &stations.homes, record);
         }
         k
     }
@@ -133,7 +150,7 @@ mod tests {
     /// Everything a step leaves that anybody can read, to the bit (`Debug` prints every
     /// float's shortest exact form).
     fn state(p: &Paper) -> String {
-        format!("{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}", p.robots, p.tally, p.events, p.outcome, p.collisions.waits, p.alloc_due)
+        format!("{:?}\n{:?}\n{:?}\n{:?}\n{:?}\n{}", p.robots, p.record.tally, p.record.events, p.record.outcome, p.pipeline.collisions.waits, p.goods.alloc_due)
     }
 
     /// Runs `s` twice, step by step and in runs of random length that cruise where they can,

@@ -8,8 +8,9 @@
 //! phase 1; [`Paper::pending_view`] shows what an allocator would see; [`Paper::decide`]
 //! checks the [`Decisions`] exactly as an allocator's answer is checked, carries them out and
 //! finishes the step (phases 2 to 8). A run driven this way makes the same moves as one whose
-//! allocator gives the same answers: `step()` is `begin_step`, `hand_out` (the two halves of
-//! phase 1 around the allocator) and `finish_step`, and the pause only splits it.
+//! allocator gives the same answers: `step()` is the pipeline's `begin`, `hand_out` (the two
+//! halves of phase 1 around the allocator) and `finish` (`pipeline.rs`), and the pause only
+//! splits it.
 //!
 //! A refused answer changes nothing: the run stays paused at the same point and takes
 //! another. Under the original rules (`rules = "original"`) goods are handed out in turn
@@ -35,7 +36,7 @@ impl Paper {
                 self.goods.pending = true;
                 return Ok(true);
             }
-            self.finish_hand_out().map_err(|reason| Error::Decision { step: self.tally.t, reason })?;
+            self.finish_hand_out().map_err(|reason| Error::Decision { step: self.record.tally.t, reason })?;
             self.finish_step();
         }
     }
@@ -54,10 +55,10 @@ impl Paper {
     /// not open or handed out twice, a full robot sent to charge); the run is unchanged then.
     pub fn decide(&mut self, decisions: &Decisions) -> Result<()> {
         if !self.goods.pending {
-            return Err(Error::Decision { step: self.tally.t, reason: "no decision is pending: call advance_to_decision() first".into() });
+            return Err(Error::Decision { step: self.record.tally.t, reason: "no decision is pending: call advance_to_decision() first".into() });
         }
         self.goods.decisions.clone_from(decisions);
-        self.finish_hand_out().map_err(|reason| Error::Decision { step: self.tally.t, reason })?;
+        self.finish_hand_out().map_err(|reason| Error::Decision { step: self.record.tally.t, reason })?;
         self.goods.pending = false;
         self.finish_step();
         Ok(())

@@ -2,70 +2,60 @@
 //! stranded, or jammed), then the step limit or the horizon; and the run's result so far
 //! ([`crate::record::metrics`] says what each figure means).
 
-use crate::fleet::robot::State;
+use crate::fleet::placement::Homes;
+use crate::fleet::robot::{Robots, State};
 use crate::ids::NONE;
 use crate::people::PeopleFigures;
 use crate::record::metrics::{Collapse, Gridlock, LifelongStats, Outcome, RunResult};
+use crate::rules::paper::goods_queue::GoodsQueue;
 use crate::rules::paper::lifelong::{self, Lifelong};
-use crate::rules::paper::Paper;
+use crate::rules::paper::pipeline::Pipeline;
+use crate::rules::paper::state::Record;
+use crate::rules::paper::{Paper, Params};
+use crate::world::World;
 
-impl Paper {
+impl Pipeline {
     /// Phase 8: completion first, then a fleet that can do nothing more (all stranded, or
     /// jammed), then the step limit (or the horizon).
-    pub(crate) fn end(&mut self) {
-        self.observe_resources(1);
-        let complete =
-            self.lifelong.is_none() && self.tally.delivered == self.tally.goods_total && (0..self.robots.len()).all(|i| self.homes.at_home(&self.robots, i));
-        let work_remains = if self.lifelong.is_some() { self.tally.delivered < self.tally.goods_total } else { !complete };
-        let jammed = self.tally.end_step(self.progress, work_remains);
+    pub(crate) fn end(&self, p: &Params, world: &World, robots: &Robots, goods: &GoodsQueue, homes: &Homes, record: &mut Record) {
+        let n = robots.len();
+        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+        record.observe_resources(robots, waits, 1);
+        let tally = &mut record.tally;
+        let complete = goods.lifelong.is_none() && tally.delivered == tally.goods_total && (0..n).all(|i| homes.at_home(robots, i));
+        let work_remains = if goods.lifelong.is_some() { tally.delivered < tally.goods_total } else { !complete };
+        let jammed = tally.end_step(self.progress, work_remains);
+        let mut end = End { world, robots, waits, record };
         if complete {
-            self.outcome = Some(Outcome::Complete);
-        } else if work_remains && self.robots.state.iter().all(|&s| s == State::Stranded) {
-            self.report_strand(None);
-            self.outcome = Some(Outcome::Stranded);
+            end.record.outcome = Some(Outcome::Complete);
+        } else if work_remains && robots.state.iter().all(|&s| s == State::Stranded) {
+            end.report_strand(None);
+            end.record.outcome = Some(Outcome::Stranded);
         } else if jammed {
-            let waits = std::mem::take(&mut self.collisions.waits);
-            self.declare_stall(&waits);
-            self.collisions.waits = waits;
-        } else if self.tally.livelocked(work_remains) {
-            self.outcome = Some(Outcome::Livelock);
-        } else if let Some(ll) = &self.lifelong {
-            if self.tally.t >= ll.horizon {
-                self.outcome = Some(self.at_horizon(work_remains));
+            // Collision waiting's own waits, not a traffic policy's (`reserve` leaves them
+            // empty).
+            end.declare_stall(&self.collisions.waits);
+        } else if end.record.tally.livelocked(work_remains) {
+            end.record.outcome = Some(Outcome::Livelock);
+        } else if let Some(ll) = &goods.lifelong {
+            if end.record.tally.t >= ll.horizon {
+                end.record.outcome = Some(end.at_horizon(work_remains));
             }
-        } else if self.tally.t >= self.p.step_limit {
-            self.outcome = Some(Outcome::Incomplete);
+        } else if end.record.tally.t >= p.step_limit {
+            end.record.outcome = Some(Outcome::Incomplete);
         }
     }
+}
 
-    /// The indicators and per-robot statistics so far.
-    #[must_use]
-    pub fn result(&self) -> RunResult {
-        let r = &self.robots;
-        let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
-        let lifelong = self.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
-        let mut result = self.tally.result(self.outcome, stranded, r.len(), &self.cost_weights, lifelong);
-        result.people = self
-            .people
-            .as_ref()
-            .map(|p| PeopleFigures { alone: self.people_alone.as_ref().map(|a| Box::new(a.figures(self.tally.t))), ..p.figures(self.tally.t) });
-        let (shared, nearest) = self.shared_and_nearest;
-        (result.resources, result.bottleneck) = self.usage.report(
-            &self.world.layout,
-            shared,
-            nearest,
-            self.traffic.as_ref().is_some_and(|ts| ts.policy == crate::input::scenario::Traffic::Reserve),
-        );
-        result
-    }
+/// What phase 8's verdicts read and write: `waits` is phase 3's answer.
+struct End<'a> {
+    world: &'a World,
+    robots: &'a Robots,
+    waits: &'a [bool],
+    record: &'a mut Record,
+}
 
-    /// This step's use of the resources, counted `times` times (runs of quiet steps).
-    pub(crate) fn observe_resources(&mut self, times: u64) {
-        let n = self.robots.len();
-        let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
-        self.usage.observe(&self.robots, waits, &self.service_nodes, times);
-    }
-
+impl End<'_> {
     /// How a lifelong run that reached its horizon ended: `horizon`, or, while orders waited,
     /// `stranded` if robots ran out of energy (one by one while the rest still moved: the
     /// fleet is shrinking, whatever its throughput), else `collapse` if its throughput
@@ -75,7 +65,7 @@ impl Paper {
         let r = &self.robots;
         let n = r.len();
         let stranded = (0..n).filter(|&i| r.state[i] == State::Stranded).count() as u32;
-        let collapsed = self.tally.collapsed();
+        let collapsed = self.record.tally.collapsed();
         if !work_remains || (collapsed.is_none() && stranded == 0) {
             return Outcome::Horizon;
         }
@@ -97,19 +87,19 @@ impl Paper {
         let stranded = (0..n).filter(|&i| r.state[i] == State::Stranded).count() as u32;
         let out = |i: usize| r.state[i] == State::Stranded;
         let crossings = if collapsed.is_some() {
-            let (waits, _) = crate::traffic::moves(self.traffic.as_ref(), &self.collisions, n);
+            let waits = self.waits;
             self.busiest_nodes((0..n).filter(|&i| waits[i] || out(i)))
         } else {
-            // Not the waits: a stalled run's are taken out while it is declared.
+            // Not the waits: a stall names its waiting robots itself (`declare_stall`).
             self.busiest_nodes((0..n).filter(|&i| out(i)))
         };
-        let windows = self.tally.windows();
-        let first_stranded = (stranded > 0).then(|| self.tally.first_stranded.unwrap_or(self.tally.t));
+        let windows = self.record.tally.windows();
+        let first_stranded = (stranded > 0).then(|| self.record.tally.first_stranded.unwrap_or(self.record.tally.t));
         let (step, best, last) = match collapsed {
-            Some((first, best, last)) => (first as u64 * self.tally.window() + 1, best, last),
-            None => (first_stranded.unwrap_or(self.tally.t), windows.iter().copied().max().unwrap_or(0), windows.last().copied().unwrap_or(0)),
+            Some((first, best, last)) => (first as u64 * self.record.tally.window() + 1, best, last),
+            None => (first_stranded.unwrap_or(self.record.tally.t), windows.iter().copied().max().unwrap_or(0), windows.last().copied().unwrap_or(0)),
         };
-        self.tally.collapse = Some(Collapse { step, best, last, stranded, collapsed: collapsed.is_some(), first_stranded, crossings });
+        self.record.tally.collapse = Some(Collapse { step, best, last, stranded, collapsed: collapsed.is_some(), first_stranded, crossings });
     }
 
     /// The nodes `robots` stand at or drive towards, with how many robots each, most first
@@ -132,7 +122,7 @@ impl Paper {
 
     /// Ends a run that made no progress for too long: a gridlock (robots wait, and where),
     /// stranded robots, or robots standing idle.
-    pub(crate) fn declare_stall(&mut self, waits: &[bool]) {
+    fn declare_stall(&mut self, waits: &[bool]) {
         let r = &self.robots;
         let waiting: Vec<u32> = (0..r.len()).filter(|&i| waits[i]).map(|i| i as u32).collect();
         if waiting.is_empty() {
@@ -140,18 +130,41 @@ impl Paper {
             if stranded {
                 self.report_strand(None);
             }
-            self.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
+            self.record.outcome = Some(if stranded { Outcome::Stranded } else { Outcome::Stalled });
             return;
         }
         let crossings = self.busiest_nodes(waiting.iter().map(|&i| i as usize));
-        self.tally.gridlock = Some(Gridlock { step: self.tally.t, waiting, crossings });
-        self.outcome = Some(Outcome::Gridlock);
+        self.record.tally.gridlock = Some(Gridlock { step: self.record.tally.t, waiting, crossings });
+        self.record.outcome = Some(Outcome::Gridlock);
+    }
+}
+
+impl Paper {
+    /// The indicators and per-robot statistics so far.
+    #[must_use]
+    pub fn result(&self) -> RunResult {
+        let r = &self.robots;
+        let stranded = (0..r.len()).filter(|&i| r.state[i] == State::Stranded).map(|i| i as u32).collect();
+        let lifelong = self.goods.lifelong.as_ref().map(|ll| self.lifelong_stats(ll));
+        let rec = &self.record;
+        let t = rec.tally.t;
+        let mut result = rec.tally.result(rec.outcome, stranded, r.len(), &rec.cost_weights, lifelong);
+        let crowd = &self.crowd;
+        result.people = crowd.people.as_ref().map(|p| PeopleFigures { alone: crowd.alone.as_ref().map(|a| Box::new(a.figures(t))), ..p.figures(t) });
+        let (shared, nearest) = rec.shared_and_nearest;
+        (result.resources, result.bottleneck) = rec.usage.report(
+            &self.world.layout,
+            shared,
+            nearest,
+            self.pipeline.traffic.as_ref().is_some_and(|ts| ts.policy == crate::input::scenario::Traffic::Reserve),
+        );
+        result
     }
 
     fn lifelong_stats(&self, ll: &Lifelong) -> LifelongStats {
         let mut lat = ll.latencies.clone();
         lat.sort_unstable();
-        let tally = &self.tally;
+        let tally = &self.record.tally;
         let energy: f64 = tally.stats.energy_used.iter().sum();
         let r = &self.robots;
         LifelongStats {
@@ -170,6 +183,6 @@ impl Paper {
     /// The step an unfinished run would stop at: the horizon of a lifelong run, else the step
     /// limit.
     pub(crate) fn limit(&self) -> u64 {
-        self.lifelong.as_ref().map_or(self.p.step_limit, |ll| ll.horizon)
+        self.goods.lifelong.as_ref().map_or(self.p.step_limit, |ll| ll.horizon)
     }
 }

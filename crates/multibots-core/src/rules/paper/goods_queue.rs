@@ -7,26 +7,30 @@
 //! left without goods go home to park when the queue is empty (in lifelong runs, parked robots
 //! wake when orders are open).
 //!
-//! Phase 1 comes in two halves, [`Paper::begin_hand_out`] (who is idle, and whether decisions
-//! are needed) and [`Paper::finish_hand_out`] (check and carry out); the allocator answers in
-//! between, or, paused at a decision point, a caller outside the engine does
-//! (`decision_point.rs`).
+//! Phase 1 comes in two halves, [`GoodsQueue::begin_hand_out`] (who is idle, and whether
+//! decisions are needed) and [`GoodsQueue::finish_hand_out`] (check and carry out); the
+//! allocator answers in between ([`GoodsQueue::hand_out`]), or, paused at a decision point, a
+//! caller outside the engine does (`decision_point.rs`).
 //!
 //! Goods put back by the threshold rule return to the front of the queue.
 
-use crate::alloc::{AllocView, Assignment, Decisions, Goods};
+use crate::alloc::{AllocView, Allocator, Assignment, Decisions, Goods};
 use crate::error::{Error, Result};
+use crate::fleet::placement::Homes;
 use crate::fleet::robot::{Robots, State, Target};
-use crate::fleet::route::service_target;
+use crate::fleet::route::{self, service_target};
 use crate::ids::{CellId, GoodsId, NodeId, RobotId};
 use crate::input::scenario::Orders;
+use crate::people::People;
 use crate::record::events::{Event, EventKind};
 use crate::rules::paper::lifelong::{Lifelong, OrderWindow, StockEvent};
-use crate::rules::paper::{Paper, Params};
+use crate::rules::paper::state::{Record, Stations};
+use crate::rules::paper::Params;
 use crate::world::World;
 use std::collections::VecDeque;
 
-/// Goods not yet taken, and which cells hold goods.
+/// Goods not yet taken, which cells hold goods, the lifelong orders that bring more, and
+/// phase 1's state.
 #[derive(Clone, Debug)]
 pub(crate) struct GoodsQueue {
     /// Goods not yet taken, front first.
@@ -47,6 +51,10 @@ pub(crate) struct GoodsQueue {
     /// Paused at a decision point: phase 1 of the current step waits for decisions from
     /// outside the engine.
     pub(crate) pending: bool,
+    /// An allocation event is due: robots became idle or goods joined the queue.
+    pub(crate) alloc_due: bool,
+    /// Lifelong orders and restocks (`None`: the task list is all there is).
+    pub(crate) lifelong: Option<Lifelong>,
 }
 
 /// What the queue knows of one goods item, in 4 bytes: its cell (below 2^30,
@@ -91,7 +99,7 @@ impl Slot {
 impl GoodsQueue {
     /// The queue at the start of a run: the task list in order, or, with lifelong orders, a
     /// stocked warehouse whose task list arrives as the first orders.
-    pub fn new(cell_count: usize, task_cells: &[u32], orders: Option<&Orders>, csv: Vec<(u64, u32)>) -> (GoodsQueue, Option<Lifelong>) {
+    pub fn new(cell_count: usize, task_cells: &[u32], orders: Option<&Orders>, csv: Vec<(u64, u32)>) -> GoodsQueue {
         let mut cells_full = vec![false; cell_count];
         let mut queue: VecDeque<Goods> = VecDeque::with_capacity(cell_count.max(task_cells.len()));
         let mut lifelong = None;
@@ -112,7 +120,7 @@ impl GoodsQueue {
             slots.reach(gd.id.index(), Slot::EMPTY);
             slots[gd.id.index()] = Slot::queued(gd.cell);
         }
-        let gq = GoodsQueue {
+        GoodsQueue {
             queue,
             cells_full,
             slots,
@@ -123,17 +131,19 @@ impl GoodsQueue {
             decisions: Decisions { assign: Vec::new(), charge: Vec::new() },
             taken: Vec::new(),
             pending: false,
-        };
-        (gq, lifelong)
+            alloc_due: true,
+            lifelong,
+        }
     }
 
-    /// Phase 0 of a lifelong run: restocks and the orders of step `t` arrive; the orders
-    /// whose cells can serve them join the queue. Returns whether any did.
-    pub fn take_orders(&mut self, ll: &mut Lifelong, t: u64, events: &mut Vec<Event>) -> bool {
-        let GoodsQueue { queue, cells_full, slots, .. } = self;
+    /// Phase 0 (lifelong): restocks and the orders of this step arrive; the orders whose
+    /// cells can serve them join the queue, and make an allocation event due.
+    pub(crate) fn arrive(&mut self, record: &mut Record) {
+        let (t, events) = (record.tally.t, &mut record.events);
+        let GoodsQueue { queue, cells_full, slots, lifelong, alloc_due, .. } = self;
+        let Some(ll) = lifelong.as_mut() else { return };
         // Orders delivered before the oldest open one are done with.
         slots.drop_below(ll.first_open());
-        let mut grew = false;
         ll.begin_step(
             t,
             cells_full,
@@ -142,7 +152,7 @@ impl GoodsQueue {
                 let k = id.index();
                 slots.reach(k, Slot::EMPTY);
                 slots[k] = Slot::queued(cell);
-                grew = true;
+                *alloc_due = true;
             },
             &mut |e| {
                 let (kind, cell) = match e {
@@ -152,7 +162,16 @@ impl GoodsQueue {
                 events.push(Event::of_cell(t, kind, cell));
             },
         );
-        grew
+        record.tally.goods_total = ll.ordered();
+    }
+
+    /// A robot picked up the goods of `cell` at step `t`: the cell is empty (and restocks,
+    /// in a lifelong run).
+    pub(crate) fn picked(&mut self, t: u64, cell: u32) {
+        self.cells_full[cell as usize] = false;
+        if let Some(ll) = self.lifelong.as_mut() {
+            ll.picked(t, cell);
+        }
     }
 
     /// Goods put back by the threshold rule go to the front of the queue.
@@ -231,113 +250,133 @@ impl GoodsQueue {
     }
 }
 
-impl Paper {
-    /// Phase 0 (lifelong): restocks and arrivals of this step join the queue.
-    pub(super) fn orders(&mut self) {
-        let Some(ll) = self.lifelong.as_mut() else { return };
-        if self.goods.take_orders(ll, self.tally.t, &mut self.events) {
-            self.alloc_due = true;
-        }
-        self.tally.goods_total = ll.ordered();
-    }
-
+impl GoodsQueue {
     /// Phase 1 with the allocator: idle robots get goods or go to charge, or go home when no
     /// goods are open.
-    pub(crate) fn hand_out(&mut self) -> Result<()> {
-        if self.begin_hand_out() {
-            let mut decisions = std::mem::take(&mut self.goods.decisions);
-            let view = view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t).with_people(self.people.as_deref());
-            let asked = self.allocator.allocate(&view, &mut decisions);
-            self.goods.decisions = decisions;
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn hand_out(
+        &mut self,
+        allocator: &mut dyn Allocator,
+        p: &Params,
+        world: &World,
+        robots: &mut Robots,
+        stations: &mut Stations,
+        record: &mut Record,
+        people: Option<&People>,
+    ) -> Result<()> {
+        if self.begin_hand_out(robots) {
+            let mut decisions = std::mem::take(&mut self.decisions);
+            let view = self.view(robots, world, stations.homes.unload, p, record.tally.t).with_people(people);
+            let asked = allocator.allocate(&view, &mut decisions);
+            self.decisions = decisions;
             asked?;
         }
-        self.finish_hand_out().map_err(|reason| Error::Allocator { strategy: self.allocator.name().to_string(), reason })
+        self.finish_hand_out(p, world, robots, stations, record).map_err(|reason| Error::Allocator { strategy: allocator.name().to_string(), reason })
     }
 
     /// Phase 1, first half: at an allocation event, parked robots wake (lifelong runs, when
     /// orders are open) and the idle robots are listed. Returns whether the event needs
     /// decisions: idle robots and open goods. The decisions start empty.
-    pub(crate) fn begin_hand_out(&mut self) -> bool {
+    pub(crate) fn begin_hand_out(&mut self, robots: &mut Robots) -> bool {
         if !self.alloc_due {
             return false;
         }
-        let gq = &mut self.goods;
-        gq.idle.clear();
-        gq.woken.clear();
-        gq.decisions.clear();
+        self.idle.clear();
+        self.woken.clear();
+        self.decisions.clear();
         // Lifelong: robots parked for want of orders go back to work when orders are open.
-        let wake = self.lifelong.is_some() && !gq.queue.is_empty();
-        for (i, s) in self.robots.state.iter_mut().enumerate() {
+        let wake = self.lifelong.is_some() && !self.queue.is_empty();
+        for (i, s) in robots.state.iter_mut().enumerate() {
             let woken = wake && *s == State::Parked;
             if woken {
                 *s = State::Idle;
             }
             if *s == State::Idle {
-                gq.idle.push(RobotId(i as u32));
-                gq.woken.push(woken);
+                self.idle.push(RobotId(i as u32));
+                self.woken.push(woken);
             }
         }
-        if gq.idle.is_empty() {
+        if self.idle.is_empty() {
             self.alloc_due = false;
             return false;
         }
-        gq.queue.make_contiguous();
-        !gq.queue.is_empty()
+        self.queue.make_contiguous();
+        !self.queue.is_empty()
     }
 
-    /// What deciders see between the two halves of phase 1 (the queue is contiguous then).
-    pub(crate) fn pending_view_unchecked(&self) -> AllocView<'_> {
-        view_of(&self.goods, &self.robots, &self.world, self.homes.unload, &self.p, self.tally.t).with_people(self.people.as_deref())
+    /// What deciders see between the two halves of phase 1 (the queue is contiguous then),
+    /// from the fields it reads (so that the allocator itself can be borrowed beside it).
+    pub(crate) fn view<'a>(&'a self, robots: &'a Robots, world: &'a World, unload: NodeId, p: &Params, t: u64) -> AllocView<'a> {
+        AllocView {
+            step: t,
+            idle: &self.idle,
+            goods: self.queue.as_slices().0,
+            robots,
+            layout: &world.layout,
+            graph: &world.graph,
+            unload,
+            energy_full: p.energy_full,
+            threshold: p.threshold,
+            consumption: p.consumption,
+            speed: p.speed,
+            people_x: &[],
+            people_y: &[],
+        }
     }
 
     /// Phase 1, second half: checks the decisions, then carries them out (assignments, then
     /// robots sent to charge, in the order given); idle robots left go home when no goods
     /// are open. A refused answer changes nothing and comes back as the reason.
-    pub(crate) fn finish_hand_out(&mut self) -> std::result::Result<(), String> {
+    pub(crate) fn finish_hand_out(
+        &mut self,
+        p: &Params,
+        world: &World,
+        robots: &mut Robots,
+        stations: &mut Stations,
+        record: &mut Record,
+    ) -> std::result::Result<(), String> {
         if !self.alloc_due {
             return Ok(());
         }
-        let gq = &mut self.goods;
-        if !gq.decisions.is_empty() {
-            gq.check(&self.robots, self.p.energy_full)?;
+        if !self.decisions.is_empty() {
+            self.check(robots, p.energy_full)?;
         }
-        if !gq.decisions.assign.is_empty() {
-            gq.remove_handed();
+        if !self.decisions.assign.is_empty() {
+            self.remove_handed();
         }
-        for k in 0..self.goods.decisions.assign.len() {
-            let Assignment { robot, goods } = self.goods.decisions.assign[k];
-            self.goods.slots[goods.index()].set(Slot::HANDED, false);
-            let cell = self.goods.cell_of(goods);
+        for k in 0..self.decisions.assign.len() {
+            let Assignment { robot, goods } = self.decisions.assign[k];
+            self.slots[goods.index()].set(Slot::HANDED, false);
+            let cell = self.cell_of(goods);
             let i = robot.index();
-            let r = &mut self.robots;
-            r.goods[i] = goods.0;
-            r.cell[i] = cell.0;
-            r.state[i] = State::ToPickup;
-            let target = service_target(&self.world.layout, cell);
-            self.route(i, target);
-            self.event(EventKind::Assign, i, cell.0);
+            robots.goods[i] = goods.0;
+            robots.cell[i] = cell.0;
+            robots.state[i] = State::ToPickup;
+            route::assign(robots, &world.graph, i, service_target(&world.layout, cell));
+            record.event(EventKind::Assign, i, cell.0);
         }
-        for k in 0..self.goods.decisions.charge.len() {
-            let i = self.goods.decisions.charge[k].index();
-            self.send_to_charge(i);
+        for k in 0..self.decisions.charge.len() {
+            let i = self.decisions.charge[k].index();
+            stations.send_to_charge(world, robots, i, record.tally.t);
         }
-        if self.goods.queue.is_empty() {
-            for k in 0..self.goods.idle.len() {
-                let i = self.goods.idle[k].index();
-                if self.robots.state[i] == State::Idle {
-                    self.robots.state[i] = State::ToHome;
-                    if self.goods.woken[k] {
+        if self.queue.is_empty() {
+            let homes = &stations.homes;
+            for k in 0..self.idle.len() {
+                let i = self.idle[k].index();
+                if robots.state[i] == State::Idle {
+                    robots.state[i] = State::ToHome;
+                    if self.woken[k] {
                         // Woken from its slot and left idle: it parked on arrival there, and
                         // nothing has moved it or changed its route since, so routing it home
                         // again would write what its fields hold (a route of length zero). At
                         // the large size that is a quarter of the fleet each step.
                         if cfg!(any(test, debug_assertions)) {
-                            assert!(self.route_home_changes_nothing(i), "robot {i} woken away from its route home");
+                            assert!(route_home_changes_nothing(world, homes, robots, i), "robot {i} woken away from its route home");
                         }
                         continue;
                     }
-                    let home: Target = self.homes.target(&self.robots, i);
-                    self.route(i, home);
+                    let home: Target = homes.target(robots, i);
+                    route::assign(robots, &world.graph, i, home);
                 }
             }
         }
@@ -346,37 +385,14 @@ impl Paper {
     }
 }
 
-impl Paper {
-    /// Whether routing robot `i` home would leave its fields as they are (checked in debug
-    /// builds and in the crate's own tests, which run optimised).
-    fn route_home_changes_nothing(&self, i: usize) -> bool {
-        let r = &self.robots;
-        let p = crate::fleet::route::plan(&self.world.graph, crate::fleet::route::Place::of(r, i), self.homes.target(r, i));
-        !p.moving
-            && !r.routing[i]
-            && (p.goal, p.has_final, p.final_x.to_bits(), p.final_y.to_bits(), p.final_v)
-                == (r.goal[i], r.has_final[i], r.final_x[i].to_bits(), r.final_y[i].to_bits(), r.final_v[i])
-    }
-}
-
-/// The allocator's view of phase 1, from the fields it reads (so that the allocator itself
-/// can be borrowed beside it).
-fn view_of<'a>(gq: &'a GoodsQueue, robots: &'a Robots, world: &'a World, unload: NodeId, p: &Params, t: u64) -> AllocView<'a> {
-    AllocView {
-        step: t,
-        idle: &gq.idle,
-        goods: gq.queue.as_slices().0,
-        robots,
-        layout: &world.layout,
-        graph: &world.graph,
-        unload,
-        energy_full: p.energy_full,
-        threshold: p.threshold,
-        consumption: p.consumption,
-        speed: p.speed,
-        people_x: &[],
-        people_y: &[],
-    }
+/// Whether routing robot `i` home would leave its fields as they are (checked in debug
+/// builds and in the crate's own tests, which run optimised).
+fn route_home_changes_nothing(world: &World, homes: &Homes, r: &Robots, i: usize) -> bool {
+    let p = route::plan(&world.graph, route::Place::of(r, i), homes.target(r, i));
+    !p.moving
+        && !r.routing[i]
+        && (p.goal, p.has_final, p.final_x.to_bits(), p.final_y.to_bits(), p.final_v)
+            == (r.goal[i], r.has_final[i], r.final_x[i].to_bits(), r.final_y[i].to_bits(), r.final_v[i])
 }
 
 #[cfg(test)]
@@ -401,6 +417,6 @@ mod tests {
             woken += before.iter().enumerate().filter(|&(i, &(st, e))| st == State::Parked && r.state[i] == State::Parked && r.energy[i] < e).count();
         }
         assert!(woken > 1000, "{woken} woken and parked again");
-        assert!(sim.tally.delivered > 0);
+        assert!(sim.record.tally.delivered > 0);
     }
 }

@@ -1,16 +1,21 @@
 //! The paper rules (`rules = "paper"`, `docs/model.md`): the engine [`Paper`], and the step,
-//! the phases of the model in their order (spec section 4), each in its own file.
+//! the phases of the model in their order (spec section 4). The step is a pipeline
+//! (`pipeline.rs`): one function calls the phases in this order, each taking as arguments
+//! the parts of the run's state it touches (`state.rs` splits them by concern).
 //!
-//! | phase | what | where |
-//! | --- | --- | --- |
-//! | 0 | lifelong orders and restocks arrive | `goods_queue.rs`, `lifelong.rs` |
-//! | 1 | idle robots get goods, or go home | `goods_queue.rs`, [`crate::alloc`] (or a caller, `decision_point.rs`) |
-//! | 2 | who wants to move, and where each is heading | `intend.rs` |
-//! | 3 | collision waiting and the count S, or a traffic policy | `moves.rs`, [`crate::collision`], [`crate::traffic`] |
-//! | 4 | robots that may move travel along their routes | `moves.rs`, [`crate::fleet::route`] |
-//! | 5, 6 | dwell counters; charging and consumption | `moves.rs`, `params.rs`, [`crate::fleet::energy`] |
-//! | 7 | the task cycle, then the charging rules | `tasks.rs`, `charging.rs` |
-//! | 8 | completion, then the step limit; the result | `end.rs` |
+//! | spec | `Phase` | what | where |
+//! | --- | --- | --- | --- |
+//! | 0 | `Arrive` | the step count; lifelong orders and restocks arrive | `goods_queue.rs`, `lifelong.rs` |
+//! | 1 | `HandOut` | idle robots get goods or go to charge, or go home | `goods_queue.rs`, [`crate::alloc`] (or a caller, `decision_point.rs`) |
+//! | 2 | `Intend` | who wants to move, and where each is heading; who stands in a bay | `intend.rs`, [`crate::fleet::bay`] |
+//! | – | `PeopleGuard` | robots stop, or slow down, for people near them | [`crate::people`] |
+//! | 3 | `Decide` | collision waiting, or a traffic policy; robots step into and out of bays | `moves.rs`, [`crate::collision`], [`crate::traffic`] |
+//! | 4–6 | `Travel` | the count S; travel along the routes; dwell counters, charging and consumption | `moves.rs`, [`crate::fleet::route`], `params.rs` |
+//! | – | `Contacts` | contacts after the moves | `moves.rs`, [`crate::collision`] |
+//! | – | `PeopleWalk` | people walk, pick or rest; the safety figures | [`crate::people`] |
+//! | – | `PeopleAloneWalk` | the same people on a floor with no robot (output only) | [`crate::people`] |
+//! | 7 | `Tasks` | the task cycle, then the charging rules | `tasks.rs`, `charging.rs` |
+//! | 8 | `End` | completion, stalls, then the step limit; the result | `end.rs` |
 //!
 //! Stretches of quiet steps run in one pass (`cruise.rs`). Start positions, parking and
 //! unloading zones are in [`crate::fleet::placement`]; what T, S, C and the other figures mean
@@ -25,28 +30,29 @@ mod intend;
 pub mod lifelong;
 mod moves;
 mod params;
+mod pipeline;
+mod state;
 mod tasks;
 
 use params::livelock_after;
 pub(crate) use params::Params;
 
 use crate::alloc::Allocator;
-use crate::collision::Collisions;
 use crate::error::{Error, Result};
-use crate::fleet::placement::{self, Homes};
-use crate::fleet::robot::{Robots, Target};
+use crate::fleet::placement;
+use crate::fleet::robot::Robots;
 use crate::fleet::route;
 use crate::input::csv::Tables;
-use crate::input::scenario::{CostWeights, Scenario, Traffic};
+use crate::input::scenario::Scenario;
 use crate::people::People;
-use crate::record::events::{Event, EventKind};
+use crate::record::events::Event;
 use crate::record::metrics::{Outcome, RobotStats, RunResult, Tally};
 use crate::rules::paper::goods_queue::GoodsQueue;
 use crate::rules::Engine;
-use crate::traffic::TrafficState;
 use crate::world::World;
 use charging::{Asked, Chargers};
-use lifelong::Lifelong;
+use pipeline::Pipeline;
+use state::{Crowd, Record, Stations};
 use std::sync::Arc;
 
 /// The cells a scenario can ask for: its task list, and with Poisson orders every cell (CSV
@@ -65,50 +71,21 @@ fn asked_cells(scenario: &Scenario, tasks: &[u32], cell_count: usize) -> Vec<Ask
     out
 }
 
-/// A run under the paper rules (`rules = "paper"`), in progress. Users drive it through
-/// [`crate::Simulation`], which also runs the original rules.
+/// A run under the paper rules (`rules = "paper"`), in progress, its state split by concern
+/// (`state.rs`). Users drive it through [`crate::Simulation`], which also runs the original
+/// rules.
 pub(crate) struct Paper {
     world: Arc<World>,
     p: Params,
-    cost_weights: CostWeights,
     robots: Robots,
     goods: GoodsQueue,
-    homes: Homes,
-    chargers: Chargers,
-    lifelong: Option<Lifelong>,
-    tally: Tally,
-    outcome: Option<Outcome>,
+    stations: Stations,
+    record: Record,
+    crowd: Crowd,
     allocator: Box<dyn Allocator>,
-    /// An allocation event is due: robots became idle or goods joined the queue.
-    alloc_due: bool,
     /// Set when a step failed part-way: the run cannot go on.
     failure: Option<String>,
-    collisions: Collisions,
-    /// The `gate` and `reserve` traffic policies (`None`: the paper's collision waiting).
-    traffic: Option<TrafficState>,
-    /// Phase 2's answer: who wants to move (the heading it wants is `robots.heading`).
-    wants: Vec<bool>,
-    /// Whether anything happened this step: a robot moved, dwelt or charged, or stock
-    /// changed (no progress for long while work remains is a gridlock).
-    progress: bool,
-    /// The fleet's largest radius and twice its top speed, for counting contacts (robots
-    /// keep both for the whole run).
-    contact_reach: (f64, f64),
-    /// How busy each resource was, and its queues (`record/resources.rs`); the nodes that
-    /// are unloading zones or chargers.
-    usage: crate::record::resources::Usage,
-    service_nodes: Vec<bool>,
-    /// Whether chargers are shared and goods go to the nearest unloading zone (what the
-    /// bottleneck's remedy depends on).
-    shared_and_nearest: (bool, bool),
-    /// The last step's contacts and closest approach (`None` before the first count).
-    last_contacts: Option<(u64, f64)>,
-    events: Vec<Event>,
-    /// People on the floor (docs/people.md); `None`: none, and every rule as without them.
-    people: Option<Box<People>>,
-    /// The same people with the fleet removed, stepped beside the run: output only (what
-    /// robots cost people, docs/people.md); nothing of the run reads it.
-    people_alone: Option<Box<People>>,
+    pipeline: Pipeline,
 }
 
 impl Paper {
@@ -143,38 +120,17 @@ impl Paper {
             None => Vec::new(),
         };
         let n = robots.len();
-        let (goods, lifelong) = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv);
-        let reach = 2.0 * scenario.robot.radius + scenario.collision.margin;
+        let goods = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv);
         let people = match &scenario.humans {
             Some(h) => People::new(h, &world, tables, &robots)?.map(Box::new),
             None => None,
         };
-        let people_alone = people.as_ref().map(|p| Box::new(p.alone()));
-        Ok(Paper {
-            people,
-            people_alone,
-            p: Params::of(scenario),
-            cost_weights: scenario.cost.clone(),
+        let alone = people.as_ref().map(|p| Box::new(p.alone()));
+        let record = Record {
             tally: Tally::new(n, goods.queue.len() as u64, &scenario.metrics).with_livelock_after(livelock_after(scenario)),
-            progress: false,
-            goods,
-            homes,
-            chargers: Chargers::new(&world, scenario),
-            lifelong,
+            events: Vec::new(),
             outcome: None,
-            allocator,
-            alloc_due: true,
-            failure: None,
-            collisions: Collisions::new(world.reach_bounds(), reach, n),
-            traffic: (scenario.traffic != Traffic::Wait)
-                .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
-            wants: vec![false; n],
-            last_contacts: None,
             usage: crate::record::resources::Usage::new(&world.layout),
-            shared_and_nearest: (
-                scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
-                scenario.unload == crate::input::scenario::Unload::Nearest,
-            ),
             service_nodes: {
                 let mut v = vec![false; world.layout.nodes.len()];
                 for n in world.layout.unloading.iter().chain(&world.layout.chargers) {
@@ -182,8 +138,21 @@ impl Paper {
                 }
                 v
             },
-            contact_reach: (robots.radius.iter().copied().fold(0.0, f64::max), 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
-            events: Vec::new(),
+            shared_and_nearest: (
+                scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
+                scenario.unload == crate::input::scenario::Unload::Nearest,
+            ),
+            cost_weights: scenario.cost.clone(),
+        };
+        Ok(Paper {
+            pipeline: Pipeline::new(&world, scenario, &robots, homes.spread()),
+            p: Params::of(scenario),
+            stations: Stations { chargers: Chargers::new(&world, scenario), homes },
+            crowd: Crowd { people, alone },
+            goods,
+            record,
+            allocator,
+            failure: None,
             robots,
             world,
         })
@@ -202,7 +171,7 @@ impl Paper {
     /// (`crate::rules::paper::cruise`).
     pub fn steps(&mut self, max: u64) -> Result<u64> {
         let mut done = 0;
-        while done < max && self.outcome.is_none() {
+        while done < max && self.record.outcome.is_none() {
             let k = self.cruise(max - done);
             if k == 0 {
                 self.step()?;
@@ -214,69 +183,74 @@ impl Paper {
         Ok(done)
     }
 
-    /// Runs one step (all eight phases). Does nothing once the run has ended.
+    /// Runs one step (every phase, `pipeline.rs`). Does nothing once the run has ended.
     pub fn step(&mut self) -> Result<()> {
-        if !self.begin_step()? {
+        if !self.may_step()? {
             return Ok(());
         }
-        if let Err(e) = self.hand_out() {
+        let stepped = self.pipeline.step(
+            &mut *self.allocator,
+            &self.p,
+            &self.world,
+            &mut self.robots,
+            &mut self.goods,
+            &mut self.stations,
+            &mut self.record,
+            &mut self.crowd,
+        );
+        if let Err(e) = &stepped {
             self.failure = Some(e.to_string());
-            return Err(e);
         }
-        self.finish_step();
-        Ok(())
+        stepped
     }
 
     /// A new step up to phase 1: the step count, then phase 0. Returns `false` once the run
-    /// has ended. Phase 1 comes next: [`Paper::hand_out`] with the allocator, or decisions
-    /// from outside (`decision_point.rs`).
+    /// has ended. Decisions from outside the engine make phase 1 (`decision_point.rs`).
     pub(crate) fn begin_step(&mut self) -> Result<bool> {
-        if self.outcome.is_some() {
+        if !self.may_step()? {
+            return Ok(false);
+        }
+        self.pipeline.begin(&mut self.goods, &mut self.record);
+        Ok(true)
+    }
+
+    /// Whether a new step may begin: `false` once the run has ended; an error after a failed
+    /// step, or while decisions are pending.
+    fn may_step(&self) -> Result<bool> {
+        if self.record.outcome.is_some() {
             return Ok(false);
         }
         if let Some(failure) = &self.failure {
             // Phases after the allocator's error never ran: carrying on would skip them.
             return Err(Error::Allocator {
                 strategy: self.allocator.name().to_string(),
-                reason: format!("the run stopped at step {}: {failure}", self.tally.t),
+                reason: format!("the run stopped at step {}: {failure}", self.record.tally.t),
             });
         }
         if self.goods.pending {
-            return Err(Error::Decision { step: self.tally.t, reason: "decisions are pending: decide() finishes this step first".into() });
-        }
-        self.tally.t += 1;
-        self.events.clear();
-        self.progress = false;
-        if self.lifelong.is_some() {
-            self.orders();
-            self.progress = !self.events.is_empty();
+            return Err(Error::Decision { step: self.record.tally.t, reason: "decisions are pending: decide() finishes this step first".into() });
         }
         Ok(true)
     }
 
+    /// Phase 1, first half (see [`GoodsQueue::begin_hand_out`]).
+    pub(crate) fn begin_hand_out(&mut self) -> bool {
+        self.goods.begin_hand_out(&mut self.robots)
+    }
+
+    /// Phase 1, second half (see [`GoodsQueue::finish_hand_out`]).
+    pub(crate) fn finish_hand_out(&mut self) -> std::result::Result<(), String> {
+        self.goods.finish_hand_out(&self.p, &self.world, &mut self.robots, &mut self.stations, &mut self.record)
+    }
+
     /// Phases 2 to 8, after phase 1.
     pub(crate) fn finish_step(&mut self) {
-        self.intend();
-        if let Some(people) = self.people.as_mut() {
-            people.guard(&self.robots, &self.wants);
-        }
-        self.block_and_move();
-        if let Some(people) = self.people.as_mut() {
-            people.step(&self.robots);
-        }
-        if let Some(alone) = self.people_alone.as_mut() {
-            alone.step_alone();
-        }
-        self.transitions();
-        self.end();
+        self.pipeline.finish(&self.p, &self.world, &mut self.robots, &mut self.goods, &mut self.stations, &mut self.record, &mut self.crowd);
     }
 
-    pub(crate) fn event(&mut self, kind: EventKind, robot: usize, cell: u32) {
-        self.events.push(Event { step: self.tally.t, kind, robot: robot as u32, cell });
-    }
-
-    pub(crate) fn route(&mut self, i: usize, target: Target) {
-        route::assign(&mut self.robots, &self.world.graph, i, target);
+    /// What deciders see between the two halves of phase 1 (the queue is contiguous then).
+    pub(crate) fn pending_view_unchecked(&self) -> crate::alloc::AllocView<'_> {
+        self.goods.view(&self.robots, &self.world, self.stations.homes.unload, &self.p, self.record.tally.t).with_people(self.crowd.people.as_deref())
     }
 }
 
@@ -290,7 +264,7 @@ impl Paper {
 
     /// The unloading zone that goods from `cell` go to.
     pub(crate) fn unload_of(&self, cell: u32) -> crate::ids::NodeId {
-        self.homes.unload_of(cell)
+        self.stations.homes.unload_of(cell)
     }
 }
 
@@ -305,31 +279,31 @@ impl Engine for Paper {
         Paper::result(self)
     }
     fn t(&self) -> u64 {
-        self.tally.t
+        self.record.tally.t
     }
     fn outcome(&self) -> Option<Outcome> {
-        self.outcome
+        self.record.outcome
     }
     fn s(&self) -> u64 {
-        self.tally.s
+        self.record.tally.s
     }
     fn c(&self) -> u64 {
-        self.tally.c
+        self.record.tally.c
     }
     fn delivered(&self) -> u64 {
-        self.tally.delivered
+        self.record.tally.delivered
     }
     fn goods_total(&self) -> u64 {
-        self.tally.goods_total
+        self.record.tally.goods_total
     }
     fn robots(&self) -> &Robots {
         &self.robots
     }
     fn people(&self) -> Option<&People> {
-        self.people.as_deref()
+        self.crowd.people.as_deref()
     }
     fn stats(&self) -> &RobotStats {
-        &self.tally.stats
+        &self.record.tally.stats
     }
     fn cells_full(&self) -> &[bool] {
         &self.goods.cells_full
@@ -338,7 +312,7 @@ impl Engine for Paper {
         self.goods.queue.iter().map(|g| g.cell.0).collect()
     }
     fn events(&self) -> &[Event] {
-        &self.events
+        &self.record.events
     }
     fn world(&self) -> &Arc<World> {
         &self.world
@@ -353,7 +327,7 @@ impl Engine for Paper {
         route::remaining(&self.robots, &self.world.graph, i)
     }
     fn queues(&self) -> crate::record::resources::Queues {
-        self.usage.queues(&self.world.layout)
+        self.record.usage.queues(&self.world.layout)
     }
 }
 

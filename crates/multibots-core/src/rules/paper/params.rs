@@ -59,11 +59,11 @@ impl Params {
 
     /// Whether phase 7 would change anything for a robot (`marked` by the threshold rule):
     /// [`Params::due`] less robots below the threshold that the threshold rule has nothing
-    /// left to do for (`Paper::energy_rules`): marked already, or going to charge, charging,
-    /// waiting for a charger, parked or going home. A robot fetching goods below it counts as
-    /// acting (whether it puts them back depends on where it is). A charging robot below the
-    /// threshold is due every step until it is full: without this, no run of steps could
-    /// cruise through a charge.
+    /// left to do for (`Cycle::energy_rules`, `charging.rs`): marked already, or going to
+    /// charge, charging, waiting for a charger, parked or going home. A robot fetching goods
+    /// below it counts as acting (whether it puts them back depends on where it is). A
+    /// charging robot below the threshold is due every step until it is full: without this,
+    /// no run of steps could cruise through a charge.
     #[inline]
     pub(crate) fn acts(&self, state: State, routing: bool, dwell: u32, e: f64, marked: bool) -> bool {
         let threshold = energy::below(e, self.threshold)

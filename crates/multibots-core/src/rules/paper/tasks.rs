@@ -7,27 +7,42 @@
 //! after unloading instead of becoming idle.
 
 use crate::fleet::energy;
-use crate::fleet::robot::{State, Target};
+use crate::fleet::robot::{Robots, State, Target};
+use crate::fleet::route;
 use crate::ids::NONE;
 use crate::record::events::EventKind;
-use crate::rules::paper::Paper;
+use crate::rules::paper::goods_queue::GoodsQueue;
+use crate::rules::paper::state::{Record, Stations};
+use crate::rules::paper::Params;
+use crate::world::World;
 
-impl Paper {
-    /// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
-    pub(crate) fn transitions(&mut self) {
-        let p = self.p;
-        for i in 0..self.robots.len() {
-            let r = &self.robots;
-            if p.due(r.state[i], r.routing[i], r.dwell[i], r.energy[i]) {
-                self.task_transition(i);
-                self.energy_rules(i);
-            }
-            self.tally.stats.state_steps[i][self.robots.state[i] as usize] += 1;
+/// Phase 7: at most one state transition per robot, then the threshold and stranding rules.
+pub(crate) fn transitions(p: &Params, world: &World, robots: &mut Robots, goods: &mut GoodsQueue, stations: &mut Stations, record: &mut Record) {
+    let mut cycle = Cycle { p, world, robots, goods, stations, record };
+    for i in 0..cycle.robots.len() {
+        let r = &cycle.robots;
+        if p.due(r.state[i], r.routing[i], r.dwell[i], r.energy[i]) {
+            cycle.task_transition(i);
+            cycle.energy_rules(i);
         }
+        cycle.record.tally.stats.state_steps[i][cycle.robots.state[i] as usize] += 1;
     }
+}
 
+/// What phase 7 touches, for one robot at a time: the task cycle (here) and the charging
+/// rules (`charging.rs`).
+pub(crate) struct Cycle<'a> {
+    pub p: &'a Params,
+    pub world: &'a World,
+    pub robots: &'a mut Robots,
+    pub goods: &'a mut GoodsQueue,
+    pub stations: &'a mut Stations,
+    pub record: &'a mut Record,
+}
+
+impl Cycle<'_> {
     /// The task transition of robot `i` in phase 7, if one is due.
-    pub(crate) fn task_transition(&mut self, i: usize) {
+    fn task_transition(&mut self, i: usize) {
         let arrived = !self.robots.routing[i];
         match self.robots.state[i] {
             State::ToPickup if arrived => self.begin_dwell(i, State::Loading),
@@ -49,37 +64,36 @@ impl Paper {
     /// Loading is done: the cell is empty and the robot heads for its unloading zone.
     fn pick_up(&mut self, i: usize) {
         let cell = self.robots.cell[i];
-        self.tally.last_work = self.tally.t;
-        self.goods.cells_full[cell as usize] = false;
-        if let Some(ll) = self.lifelong.as_mut() {
-            ll.picked(self.tally.t, cell);
-        }
+        let t = self.record.tally.t;
+        self.record.tally.last_work = t;
+        self.goods.picked(t, cell);
         self.robots.carrying[i] = true;
         self.robots.state[i] = State::ToDrop;
-        self.event(EventKind::Pickup, i, cell);
-        let zone = self.homes.unload_of(cell);
-        self.route(i, Target::Node(zone));
+        self.record.event(EventKind::Pickup, i, cell);
+        let zone = self.stations.homes.unload_of(cell);
+        route::assign(self.robots, &self.world.graph, i, Target::Node(zone));
     }
 
     /// Unloading is done: one delivery; the robot is idle, or goes to charge if marked.
     fn deliver(&mut self, i: usize) {
         let cell = self.robots.cell[i];
-        self.tally.last_work = self.tally.t;
-        self.tally.delivered += 1;
-        self.tally.stats.delivered[i] += 1;
-        if let Some(ll) = self.lifelong.as_mut() {
-            ll.delivered(self.tally.t, self.robots.goods[i]);
+        let tally = &mut self.record.tally;
+        tally.last_work = tally.t;
+        tally.delivered += 1;
+        tally.stats.delivered[i] += 1;
+        if let Some(ll) = self.goods.lifelong.as_mut() {
+            ll.delivered(tally.t, self.robots.goods[i]);
         }
-        self.event(EventKind::Deliver, i, cell);
+        self.record.event(EventKind::Deliver, i, cell);
         self.robots.goods[i] = NONE;
         self.robots.cell[i] = NONE;
         self.robots.carrying[i] = false;
         if self.robots.marked[i] {
             self.robots.marked[i] = false;
-            self.send_to_charge(i);
+            self.stations.send_to_charge(self.world, self.robots, i, self.record.tally.t);
         } else {
             self.robots.state[i] = State::Idle;
-            self.alloc_due = true;
+            self.goods.alloc_due = true;
         }
     }
 }
