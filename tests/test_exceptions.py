@@ -54,3 +54,16 @@ def test_a_missing_extra_names_it():
     e = multibots.MissingExtraError("multibots render", "render")
     assert str(e) == "multibots render needs the 'render' extra: pip install 'multibots[render]'"
     assert e.extra == "render"
+
+
+def test_every_exception_of_the_engine_is_exported_by_the_package():
+    # Defined once, in the binding: whatever it registers, `import multibots` has, under the
+    # same name, in `__all__`, and in the exceptions module.
+    engine = {name: obj for name, obj in vars(_core).items() if inspect.isclass(obj) and issubclass(obj, BaseException)}
+    assert {"MultibotsError", "ScenarioError", "DecisionError"} <= set(engine), sorted(engine)
+    from multibots import exceptions
+
+    for name, cls in engine.items():
+        assert getattr(multibots, name) is cls, name
+        assert getattr(exceptions, name) is cls, name
+        assert name in multibots.__all__ and name in exceptions.__all__, name

@@ -21,6 +21,7 @@ from typing import Any
 
 from multibots.exceptions import (
     AllocatorError,
+    DecisionError,
     EngineError,
     InputError,
     LayoutError,
@@ -41,6 +42,7 @@ from multibots.strategies import Allocator
 __all__ = [
     "Allocator",
     "AllocatorError",
+    "DecisionError",
     "EngineError",
     "InputError",
     "LayoutError",

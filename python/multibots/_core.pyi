@@ -16,6 +16,7 @@ __all__ = [
     "STATE_MASK", "HEADING_STEPS", "ENERGY_SCALE", "STATE_NAMES", "EVENT_NAMES", "MOVING_STATES", "PAPER_TASKS",
     "decode_chunk", "inflate_chunk",
     "DecisionError", "CHARGE", "Dispatcher", "Fleet", "VectorDispatch", "observation_features", "no_action",
+    "LORR_PLANNERS", "LORR_SCHEDULERS", "LIMITS",
 ]
 
 BYTES_PER_ROBOT_STEP: int
@@ -33,6 +34,12 @@ MOVING_STATES: tuple[int, ...]
 PAPER_TASKS: tuple[list[int], ...]
 BUILT_INS: tuple[str, ...]
 CHARGE: str
+#: The League of Robot Runners' built-in planners and schedulers, (name, what it does), the
+#: default first.
+LORR_PLANNERS: tuple[tuple[str, str], ...]
+LORR_SCHEDULERS: tuple[tuple[str, str], ...]
+#: The engine's limits (docs/limits.md), by the name of what they bound.
+LIMITS: dict[str, int]
 
 class MultibotsError(Exception): ...
 class ScenarioError(MultibotsError): ...

@@ -7,6 +7,8 @@ here; the errors that only the Python side raises are defined below, under the s
     ├── ScenarioError       a scenario field or file the model cannot run with (engine)
     ├── LayoutError         a layout robots cannot use (engine)
     ├── AllocatorError      a strategy's answer the engine cannot carry out (engine)
+    ├── DecisionError       decisions from outside (a learning environment's action) that the
+    │                       engine cannot carry out; the run is unchanged (engine)
     ├── EngineError         an internal error of the engine: a bug (engine)
     ├── InputError          a command-line option or study parameter out of range
     ├── ReplayError         a replay file that cannot be read
@@ -21,6 +23,7 @@ from __future__ import annotations
 
 from multibots._core import (
     AllocatorError,
+    DecisionError,
     EngineError,
     LayoutError,
     MultibotsError,
@@ -29,6 +32,7 @@ from multibots._core import (
 
 __all__ = [
     "AllocatorError",
+    "DecisionError",
     "EngineError",
     "InputError",
     "LayoutError",

@@ -18,15 +18,17 @@ from pathlib import Path
 from typing import Any, Callable, Optional, Union
 
 from multibots import _core
+from multibots._text import shown
+from multibots.exceptions import InputError
 
-__all__ = ["PLANNERS", "SCHEDULERS", "LorrResult", "run"]
+__all__ = ["ABOUT", "PLANNERS", "SCHEDULERS", "LorrResult", "check_option", "run"]
 
-#: The built-in planners; the first is the default.
-PLANNERS: tuple[str, ...] = (
-    "auto", "pibt", "pibt-no-lanes", "pibt-one-way", "pibt-no-highways", "rpibt", "rpibt-pp", "lookahead",
-)
+#: The built-in planners, as the engine names them; the first is the default.
+PLANNERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_PLANNERS)
 #: The built-in schedulers (2024 rules); the first is the default.
-SCHEDULERS: tuple[str, ...] = ("spread", "nearest", "greedy", "hungarian", "auction")
+SCHEDULERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_SCHEDULERS)
+#: One line on what each built-in planner and scheduler does, by name.
+ABOUT: dict[str, str] = dict(_core.LORR_PLANNERS + _core.LORR_SCHEDULERS)
 
 #: Steps between two calls of ``progress``.
 PROGRESS_EVERY = 50
@@ -92,15 +94,12 @@ def run(
     Raises:
         ScenarioError: a problem file that cannot be read (the message names the file and
             the line), or an unknown planner or scheduler.
+        InputError: an option out of its range (:func:`check_option`).
     """
-    if steps < 0:
-        raise ValueError(f"steps = {steps}: must be at least 0")
-    if not 0 <= seed < 2**64:
-        raise ValueError(f"seed = {seed}: must be from 0 to 2^64 - 1")
-    if plan_time_limit_ms is not None and not 1 <= plan_time_limit_ms < 2**64:
-        raise ValueError(f"plan_time_limit_ms = {plan_time_limit_ms}: must be at least 1")
-    if robots is not None and not 1 <= robots < 2**32:
-        raise ValueError(f"robots = {robots}: must be at least 1")
+    # The engine names an unknown planner or scheduler itself, when the run is made.
+    for name, value in (("steps", steps), ("seed", seed), ("plan_time_limit_ms", plan_time_limit_ms),
+                        ("robots", robots)):
+        check_option(name, value)
     recorded = None if record is None else os.fspath(record)
     engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded)
     while engine.t < steps:
@@ -128,3 +127,32 @@ def run(
 def figures_path(out: Path) -> Path:
     """Where MultiBots' figures go beside a result file."""
     return out.with_name(out.name + ".multibots.json")
+
+
+def check_option(name: str, value: Any, where: Optional[str] = None) -> None:
+    """Checks one option of a LoRR run against the engine's names and limits
+    (``_core.LORR_PLANNERS``, ``_core.LIMITS``, docs/limits.md): the one check that
+    :func:`run`, ``multibots lorr`` and LoRR sweeps share.
+
+    Raises:
+        InputError: one line naming ``where`` (the parameter, a flag or a sweep's key; by
+            default ``name``) and the value.
+    """
+    limits = _core.LIMITS
+
+    def bad(expected: str) -> InputError:
+        return InputError(f"{where or name} = {shown(repr(value))}: {expected}")
+
+    whole = isinstance(value, int) and not isinstance(value, bool)
+    if name == "planner" and value not in PLANNERS:
+        raise bad(f"not a planner (known: {', '.join(PLANNERS)})")
+    if name == "scheduler" and value not in SCHEDULERS:
+        raise bad(f"not a scheduler (known: {', '.join(SCHEDULERS)})")
+    if name == "robots" and not (value is None or (whole and 1 <= value <= limits["robots"])):
+        raise bad(f"expected a number of robots from 1 to {limits['robots']:,}")
+    if name == "steps" and not (whole and 0 <= value <= limits["lorr_steps"]):
+        raise bad(f"expected a number of steps from 0 to {limits['lorr_steps']:,}")
+    if name == "seed" and not (whole and 0 <= value < 2**64):
+        raise bad("expected an integer from 0 to 2^64 - 1")
+    if name == "plan_time_limit_ms" and not (value is None or (whole and 1 <= value <= limits["plan_time_limit_ms"])):
+        raise bad(f"expected milliseconds from 1 to {limits['plan_time_limit_ms']:,}")

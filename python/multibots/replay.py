@@ -35,7 +35,7 @@ VERSION = _core.REPLAY_VERSION
 # A header or footer larger than this is not a replay we wrote.
 _MAX_JSON = 256 * 1024 * 1024
 # Fleets and frame counts past these are not replays the engine can write (docs/limits.md).
-_MAX_ROBOTS = 1_000_000
+_MAX_ROBOTS: int = _core.LIMITS["robots"]
 _MAX_FRAMES = 1 << 40
 _MISSING = object()
 

@@ -11,6 +11,7 @@ from typing import Any, Callable, NoReturn, Optional
 
 import typer
 
+from multibots import _core
 from multibots._io import load_toml, read_input
 from multibots._text import inert, shown
 from multibots.exceptions import EngineError, InputError, MissingExtraError, MultibotsError, RenderError
@@ -80,8 +81,8 @@ def parse_names(value: str, flag: str = "--starts") -> list[str]:
 
 #: The engine's limits (crates/multibots-core/src/input/limits.rs, docs/limits.md) for flags that
 #: would otherwise reach it as out-of-range integers.
-MAX_ROBOTS = 1_000_000
-MAX_STEPS = 4_294_967_295
+MAX_ROBOTS: int = _core.LIMITS["robots"]
+MAX_STEPS: int = _core.LIMITS["steps"]
 
 
 def parse_number(value: Optional[str], flag: str, kind: type, most: Optional[float] = None) -> Any:

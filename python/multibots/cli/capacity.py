@@ -11,7 +11,7 @@ from typing import Optional
 import typer
 
 from multibots._io import check_folder
-from multibots.cli._common import ALLOW_CODE, check_code, parse_number
+from multibots.cli._common import ALLOW_CODE, MAX_ROBOTS, MAX_STEPS, check_code, parse_number
 from multibots.exceptions import InputError
 
 __all__ = ["capacity"]
@@ -64,7 +64,7 @@ def capacity(
     n_seeds = parse_number(seeds, "--seeds", int, 1000)
     if n_seeds < 1:
         raise InputError(f"--seeds = {n_seeds}: must be at least 1")
-    steps = parse_number(horizon, "--horizon", int, 4_294_967_295)
+    steps = parse_number(horizon, "--horizon", int, MAX_STEPS)
     rate = parse_number(robots_for, "--robots-for", float)
     if rate is not None and rate <= 0:
         raise InputError(f"--robots-for = {robots_for}: must be a rate above 0 (orders per step)")
@@ -88,7 +88,7 @@ def capacity(
     check_folder(out)
     check_code(scenario, allow_code, overridden=allocs is not None)
     base = Scenario.from_toml(scenario)
-    fleet = parse_number(robots, "--robots", int, 1_000_000)
+    fleet = parse_number(robots, "--robots", int, MAX_ROBOTS)
     if fleet is not None:
         if fleet < 1:
             raise InputError(f"--robots = {fleet}: must be at least 1")

@@ -10,11 +10,17 @@ from typing import Optional
 
 import typer
 
+from multibots import _core
 from multibots._io import check_target
 from multibots.cli._common import parse_number
 from multibots.exceptions import InputError, OutputError
 
 __all__ = ["lorr"]
+
+
+def _choices(table: tuple[tuple[str, str], ...]) -> str:
+    """The engine's built-ins as the help lists them: ``name (what it does)``."""
+    return "; ".join(f"{name} ({about})" for name, about in table)
 
 
 def lorr(
@@ -24,13 +30,10 @@ def lorr(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
     planner: str = typer.Option(
-        "auto",
-        "--planner",
-        help="Planner: auto (pibt-one-way, or pibt when robots fill more than 30 % of the free cells),"
-        " pibt (on highways), pibt-no-lanes, pibt-one-way, pibt-no-highways, rpibt, rpibt-pp (small maps), lookahead.",
+        _core.LORR_PLANNERS[0][0], "--planner", help=f"Planner: {_choices(_core.LORR_PLANNERS)}.",
     ),
     scheduler: str = typer.Option(
-        "spread", "--scheduler", help="Scheduler (2024): spread, nearest, greedy, hungarian, auction.",
+        _core.LORR_SCHEDULERS[0][0], "--scheduler", help=f"Scheduler (2024): {_choices(_core.LORR_SCHEDULERS)}.",
     ),
     plan_time_limit: Optional[str] = typer.Option(
         None, "--plan-time-limit", show_default=False,
@@ -55,15 +58,13 @@ def lorr(
         if record.resolve() in taken:
             raise InputError(f"--record = {str(record)!r}: the same file as --out or its figures; choose another path")
 
-    n_steps = parse_number(steps, "--steps", int, 4_294_967_295)
-    if n_steps < 0:
-        raise InputError(f"--steps = {n_steps}: must be at least 0")
-    limit = parse_number(plan_time_limit, "--plan-time-limit", int, 3_600_000)
-    if limit is not None and limit < 1:
-        raise InputError(f"--plan-time-limit = {limit}: must be at least 1 ms")
-    n_seed = parse_number(seed, "--seed", int, 2**64 - 1)
-    if n_seed < 0:
-        raise InputError(f"--seed = {n_seed}: must be at least 0")
+    n_steps = parse_number(steps, "--steps", int)
+    limit = parse_number(plan_time_limit, "--plan-time-limit", int)
+    n_seed = parse_number(seed, "--seed", int)
+    # The engine names an unknown planner or scheduler itself, when the run is made.
+    for name, value, flag in (("steps", n_steps, "--steps"), ("plan_time_limit_ms", limit, "--plan-time-limit"),
+                              ("seed", n_seed, "--seed")):
+        engine.check_option(name, value, flag)
     began = time.monotonic()
     # The bar only when a person watches: stdout on a terminal (not piped or redirected).
     if sys.stdout.isatty() and sys.stderr.isatty():

@@ -73,7 +73,7 @@ MAX_SIZES = 200
 MAX_SEEDS = 100_000
 MAX_RUNS = 1_000_000
 #: The engine's limit on a fleet.
-MAX_ROBOTS = 1_000_000
+MAX_ROBOTS: int = _core.LIMITS["robots"]
 
 
 @dataclass(frozen=True)

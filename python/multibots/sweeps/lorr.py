@@ -37,7 +37,6 @@ AXES = ("planner", "scheduler", "robots", "seed", "steps", "plan_time_limit_ms")
 #: What each run stores.
 FIGURES = ("finished", "finished_per_1000", "windows", "plan_ms_mean", "plan_ms_max", "errors", "action_errors",
            "schedule_errors", "timeouts", "steps", "team_size", "rules", "delivered", "throughput")
-_MAX = 2**32 - 1
 
 
 @dataclass(frozen=True)
@@ -95,22 +94,7 @@ def _check(name: str, value: Any, where: str) -> None:
     """One option's value, or a one-line error naming where it was and the value."""
     from multibots import lorr
 
-    def bad(expected: str) -> InputError:
-        return InputError(f"{where} = {shown(repr(value))}: {expected}")
-
-    whole = isinstance(value, int) and not isinstance(value, bool)
-    if name == "planner" and value not in lorr.PLANNERS:
-        raise bad(f"not a planner (known: {', '.join(lorr.PLANNERS)})")
-    if name == "scheduler" and value not in lorr.SCHEDULERS:
-        raise bad(f"not a scheduler (known: {', '.join(lorr.SCHEDULERS)})")
-    if name == "robots" and not (whole and 1 <= value <= _MAX):
-        raise bad("expected a number of robots, at least 1")
-    if name == "steps" and not (whole and 0 <= value <= _MAX):
-        raise bad("expected a number of steps, at least 0")
-    if name == "seed" and not (whole and 0 <= value < 2**64):
-        raise bad("expected an integer from 0 to 2^64 - 1")
-    if name == "plan_time_limit_ms" and not (value is None or (whole and 1 <= value <= 3_600_000)):
-        raise bad("expected milliseconds, at least 1")
+    lorr.check_option(name, value, where)
 
 
 def plan(base: LorrBase, axes: Mapping[str, list[Any]], combos: Sequence[tuple[Any, ...]],

@@ -1,5 +1,10 @@
-"""Running a sweep: the local backend (the engine's threads for built-in strategies, worker
-processes for Python ones) or Ray, with results stored batch by batch (store.py)."""
+"""Running a sweep, under any rules: the local backend or Ray, with results stored batch by
+batch (store.py). ``sweep``, ``capacity`` and ``compare`` all run here.
+
+Every point is a job (:func:`job_of`): a scenario with its strategy, or a League of Robot
+Runners problem with its run's options. Scenarios with built-in strategies run in batches on
+the engine's threads (one world per layout); every other job (a Python strategy, a LoRR run)
+runs one at a time by :func:`run_job`, in a worker process locally or in a Ray task."""
 
 from __future__ import annotations
 
@@ -21,7 +26,8 @@ from multibots.sweeps import lorr as lorr_sweep
 from multibots.sweeps.spec import Point
 from multibots.sweeps.store import Store
 
-__all__ = ["FIGURES", "PEOPLE_COSTS", "backlog_growth", "estimate_cost", "figures_of", "keys_of", "run_points"]
+__all__ = ["FIGURES", "PEOPLE_COSTS", "Job", "backlog_growth", "batched", "estimate_cost", "figures_of", "job_of",
+           "keys_of", "run_job", "run_points"]
 
 #: The figures stored for each run (docs/sweeps.md).
 FIGURES = ("T", "S", "C", "outcome", "steps", "delivered", "goods_total", "cost", "distance", "throughput",
@@ -88,9 +94,36 @@ def estimate_cost(s: Scenario) -> float:
     return robots * min(steps, int(d.get("step_limit", 100_000)))
 
 
-def _run_python(toml: str) -> dict[str, Any]:
-    """A worker process's job: one run with a Python strategy."""
-    return figures_of(_core.simulate(Scenario.from_toml_str(toml, "<sweep>")._core))
+#: A job: what a worker process or a Ray task needs to make one run, picklable. ``("scenario",
+#: (scenario JSON, strategy))`` or ``("lorr", LorrBase)``.
+Job = tuple[str, Any]
+
+
+def job_of(point: Any) -> Job:
+    """The job of a sweep's point."""
+    if isinstance(point, lorr_sweep.LorrPoint):
+        return ("lorr", point.run)
+    return ("scenario", (point.scenario._core.to_json(), point.allocator))
+
+
+def batched(job: Job) -> bool:
+    """Whether a job runs in the engine's batches: a scenario with a built-in strategy."""
+    return job[0] == "scenario" and not is_python_allocator(job[1][1])
+
+
+def cost_of(point: Any) -> float:
+    """Robot-steps a point's run is expected to take."""
+    if isinstance(point, lorr_sweep.LorrPoint):
+        return float(point.run.steps * (point.run.robots or 1000))
+    return estimate_cost(point.scenario)
+
+
+def run_job(job: Job) -> dict[str, Any]:
+    """One run of any rules, its stored figures: what a worker process or a Ray task does."""
+    kind, payload = job
+    if kind == "lorr":
+        return lorr_sweep.run_one(payload)
+    return figures_of(_core.simulate(_core.Scenario.from_json(payload[0])))
 
 
 def run_points(points: Sequence[Point], store: Store, workers: int = 0, backend: str = "local",
@@ -108,8 +141,6 @@ def run_points(points: Sequence[Point], store: Store, workers: int = 0, backend:
     if len(todo) < len(points):
         tick(len(points) - len(todo))
     if backend == "ray":
-        if any(isinstance(p, lorr_sweep.LorrPoint) for p in points):
-            raise InputError("--backend = 'ray': a League of Robot Runners sweep runs on the local backend")
         _run_ray(points, keys, todo, store, workers, ray_address, tick)
     elif backend == "local":
         _run_local(points, keys, todo, store, workers, tick)
@@ -190,24 +221,16 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
     # kill in between). The journal of `compare` writes each call's runs at once (its flush is 0).
     flush = float(os.environ.get("MULTIBOTS_SWEEP_FLUSH", getattr(store, "flush_seconds", FLUSH_SECONDS)))
     writer = _Writer(store, points, keys, flush)
-    lorr_jobs = [k for k in todo if isinstance(points[k], lorr_sweep.LorrPoint)]
-    todo = [k for k in todo if not isinstance(points[k], lorr_sweep.LorrPoint)]
-    engine_jobs = [k for k in todo if not is_python_allocator(points[k].allocator)]
-    python_jobs = [k for k in todo if is_python_allocator(points[k].allocator)]
+    jobs = {k: job_of(points[k]) for k in todo}
+    engine_jobs = [k for k in todo if batched(jobs[k])]
+    single_jobs = [k for k in todo if not batched(jobs[k])]
     try:
-        if lorr_jobs:
-            # A run each in worker processes, as Python strategies: Ctrl-C stops them at once,
-            # and a kill of the study leaves none behind.
-            with process_pool(min(workers, len(lorr_jobs))) as pool:
-                lorr_futures = {pool.submit(lorr_sweep.run_one, points[k].run): k  # type: ignore[attr-defined]
-                                for k in lorr_jobs}
-                for f in as_completed(lorr_futures):
-                    writer.put([lorr_futures[f]], [f.result()], raw=False)
-                    tick(1)
         _run_engine(points, engine_jobs, workers, writer, tick)
-        if python_jobs:
-            with process_pool(min(workers, len(python_jobs))) as pool:
-                futures = {pool.submit(_run_python, points[k].scenario.to_toml()): k for k in python_jobs}
+        if single_jobs:
+            # A run each in worker processes: Ctrl-C stops them at once, and a kill of the
+            # study leaves none behind.
+            with process_pool(min(workers, len(single_jobs))) as pool:
+                futures = {pool.submit(run_job, jobs[k]): k for k in single_jobs}
                 for f in as_completed(futures):
                     writer.put([futures[f]], [f.result()], raw=False)
                     tick(1)
@@ -248,24 +271,22 @@ def _ray() -> Any:
     return ray
 
 
-def _ray_batch(runs: list[tuple[str, str]]) -> list[dict[str, Any]]:
-    """A Ray task: a batch of runs (each scenario as JSON, and its strategy) on its worker."""
+def _ray_batch(jobs: list[Job]) -> list[dict[str, Any]]:
+    """A Ray task: a batch of jobs of any rules on its worker."""
     marker = os.environ.get("MULTIBOTS_TEST_KILL_ONCE")
     if marker and not os.path.exists(marker):
         # Tests: the first task to get here dies as a killed worker would.
         open(marker, "w").close()
         os._exit(1)
-    scenarios = [_core.Scenario.from_json(t) for t, _ in runs]
-    python = [is_python_allocator(a) for _, a in runs]
-    # Built-in strategies in one engine call (one world per layout), Python ones one by one.
-    engine = iter(_core.simulate_many([s for s, py in zip(scenarios, python) if not py], 1))
-    return [figures_of(_core.simulate(s) if py else next(engine)) for s, py in zip(scenarios, python)]
+    # Built-in strategies in one engine call (one world per layout), the others one by one.
+    engine = iter(_core.simulate_many([_core.Scenario.from_json(j[1][0]) for j in jobs if batched(j)], 1))
+    return [figures_of(next(engine)) if batched(j) else run_job(j) for j in jobs]
 
 
 def _batches(points: Sequence[Point], todo: Sequence[int], workers: int) -> list[list[int]]:
     """Runs grouped so each task holds at least RAY_BATCH_COST robot-steps (a task is never
     tiny), yet there are a few tasks per worker to balance the load."""
-    costs = [estimate_cost(points[k].scenario) for k in todo]
+    costs = [cost_of(points[k]) for k in todo]
     target = max(RAY_BATCH_COST, sum(costs) / max(1, 4 * workers))
     out: list[list[int]] = []
     cur: list[int] = []
@@ -297,8 +318,7 @@ def _run_ray(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], 
         # Retried when a worker dies (not when a run raises: that is an answer).
         task = ray.remote(max_retries=3, num_cpus=1)(_ray_batch)
         batches = _batches(points, todo, workers)
-        pending = {task.remote([(points[k].scenario._core.to_json(), points[k].allocator) for k in b]): b
-                   for b in batches}
+        pending = {task.remote([job_of(points[k]) for k in b]): b for b in batches}
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:

@@ -32,7 +32,7 @@ use std::sync::Arc;
 
 /// What a rule set's engine answers: how it steps, and what it shows of its state. A
 /// [`Simulation`] forwards to it; nothing outside asks which rule set runs.
-pub(crate) trait Engine {
+pub(crate) trait Engine: Send {
     /// Up to `max` steps, fewer if the run ends first; how many ran.
     fn steps(&mut self, max: u64) -> Result<u64>;
     /// One step; nothing once the run has ended.
@@ -286,14 +286,16 @@ impl Simulation {
     }
 }
 
-impl Run for Simulation {
+/// Every engine of the continuous model keeps the run contract through what it shows: the
+/// paper rules' and the original rules' alike.
+impl<E: Engine + ?Sized> Run for E {
     fn advance(&mut self, max: u64, sink: Option<&mut dyn FrameSink>) -> Result<u64> {
-        let Some(sink) = sink else { return self.steps(max) };
+        let Some(sink) = sink else { return Engine::steps(self, max) };
         // Step by step: a frame of every step (no cruising past one).
         let mut frame = Frame::default();
         let mut k = 0;
-        while k < max && !self.done() {
-            self.step()?;
+        while k < max && !Engine::done(self) {
+            Engine::step(self)?;
             self.emit(&mut frame, true);
             sink.frame(&frame)?;
             k += 1;
@@ -306,7 +308,7 @@ impl Run for Simulation {
     }
 
     fn done(&self) -> bool {
-        Simulation::done(self)
+        Engine::done(self)
     }
 
     fn emit(&self, f: &mut Frame, events: bool) {
@@ -368,5 +370,30 @@ impl Run for Simulation {
 
     fn queue_log(&self) -> Option<QueueLog> {
         Some(QueueLog::new(&self.world().layout))
+    }
+}
+
+/// A simulation keeps the run contract through the engine of its rules.
+impl Run for Simulation {
+    fn advance(&mut self, max: u64, sink: Option<&mut dyn FrameSink>) -> Result<u64> {
+        self.engine_mut().advance(max, sink)
+    }
+    fn time(&self) -> u64 {
+        self.engine().time()
+    }
+    fn done(&self) -> bool {
+        Run::done(self.engine())
+    }
+    fn emit(&self, frame: &mut Frame, events: bool) {
+        self.engine().emit(frame, events);
+    }
+    fn describe(&self) -> Value {
+        self.engine().describe()
+    }
+    fn summary(&self) -> Summary {
+        self.engine().summary()
+    }
+    fn queue_log(&self) -> Option<QueueLog> {
+        self.engine().queue_log()
     }
 }

@@ -37,7 +37,7 @@ pub(crate) struct Record {
     pub events: Vec<Event>,
     /// The verdict, once phase 8 gives one.
     pub outcome: Option<Outcome>,
-    /// How busy each resource was, and its queues (`output/resources.rs`); the nodes that
+    /// How busy each resource was, and its queues (`record/resources.rs`); the nodes that
     /// are unloading zones or chargers.
     pub usage: crate::record::resources::Usage,
     pub service_nodes: Vec<bool>,
