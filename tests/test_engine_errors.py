@@ -18,9 +18,9 @@ def test_stepping_after_the_end_is_harmless():
     sim = multibots.Simulation(multibots.Scenario.paper(robots=1, goods=[42]))
     sim.run()
     assert sim.step(10) == 0 and sim.t == 726
-    with pytest.raises(ValueError):
+    with pytest.raises(multibots.ArgumentError, match=r"n = -1: expected a whole number from 0"):
         sim.step(-1)
-    with pytest.raises(IndexError):
+    with pytest.raises(multibots.ArgumentError, match=r"robot = 5: expected a whole number from 0 to 0"):
         sim.route(5)
 
 

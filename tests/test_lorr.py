@@ -140,7 +140,8 @@ def test_bad_files_are_one_line_naming_file_and_line(cli, tmp_path):
         lorr.run(tmp_path / "p.json", steps=5)
     cli.assert_one_line_error(cli("lorr", tmp_path / "missing.json"), "missing.json")
     (tmp_path / "a.agents").write_text("2\n0\n1\n")
-    cli.assert_one_line_error(cli("lorr", tmp_path / "p.json", "--planner", "astar"), "planner = astar")
+    p = cli("lorr", tmp_path / "p.json", "--planner", "astar")
+    cli.assert_one_line_error(p, "--planner = 'astar': not a planner")
     cli.assert_one_line_error(cli("lorr", tmp_path / "p.json", "--plan-time-limit", "0"), "--plan-time-limit")
 
 

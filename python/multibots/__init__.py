@@ -21,6 +21,7 @@ from typing import Any
 
 from multibots.exceptions import (
     AllocatorError,
+    ArgumentError,
     DecisionError,
     EngineError,
     InputError,
@@ -42,6 +43,7 @@ from multibots.strategies import Allocator
 __all__ = [
     "Allocator",
     "AllocatorError",
+    "ArgumentError",
     "DecisionError",
     "EngineError",
     "InputError",

@@ -10,15 +10,16 @@ renaming over it would replace a device or folder with a file.
 from __future__ import annotations
 
 import contextlib
+import fnmatch
 import os
 import re
 import shutil
 import stat
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import Any, BinaryIO, Optional
 
 from multibots._text import inert, shown
 from multibots.exceptions import OutputError
@@ -30,11 +31,13 @@ else:  # pragma: no cover - the same parser, from PyPI
 
 __all__ = [
     "MAX_INPUT_BYTES",
+    "OutputSet",
     "atomic_open",
     "atomic_target",
     "atomic_write_bytes",
     "atomic_write_text",
     "check_folder",
+    "check_outputs",
     "check_target",
     "load_toml",
     "read_input",
@@ -287,3 +290,168 @@ def atomic_write_bytes(path: str | os.PathLike[str], data: bytes) -> Path:
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> Path:
     """Text version of :func:`atomic_write_bytes` (UTF-8)."""
     return atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def _identity(path: Path) -> tuple[Any, ...]:
+    """What a path names: the file itself (device and inode, whatever the spelling, symlinks or
+    hard links) where it exists, else its resolved path."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return ("path", os.path.realpath(path))
+    return ("file", st.st_dev, st.st_ino)
+
+
+def _writable(label: str, path: Path) -> None:
+    """Checks, before any run, that ``path`` can be written: a regular file or a new path, not
+    read-only, in a folder that exists and takes a new file (a file is made there and removed)."""
+    name = f"{label} = {os.fspath(path)!r}"
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise OutputError(f"{name}: cannot write ({e.strerror})") from None
+    if st is not None:
+        if not stat.S_ISREG(st.st_mode):
+            kind = "a directory" if stat.S_ISDIR(st.st_mode) else "not a regular file"
+            raise OutputError(f"{name}: is {kind}; refusing to replace it with an output file")
+        if not st.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH):
+            raise OutputError(f"{name}: is read-only; refusing to replace it")
+    folder = path.parent if os.fspath(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise OutputError(f"{name}: the folder {os.fspath(folder)!r} does not exist")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".probe", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as e:
+        raise OutputError(f"{name}: cannot write in {os.fspath(folder)!r} ({e.strerror})") from None
+
+
+def check_outputs(outputs: Sequence[tuple[str, Optional[Path]]], inputs: Sequence[tuple[str, Path]],
+                  folders: Sequence[tuple[str, Path, Sequence[str]]] = ()) -> None:
+    """Before any run: no output is a file the run reads, or another output of the same run
+    (the same file by any spelling, through symlinks or hard links), and every output can be
+    written. ``outputs`` are (option, file) pairs (None: not asked for); ``inputs`` (what,
+    file) pairs; ``folders`` (option, folder, names): an output folder and the file names
+    (shell patterns) the run writes in it.
+
+    Raises:
+        OutputError: one line naming the option, the path and the file it would replace.
+    """
+    read = {_identity(Path(p)): (what, p) for what, p in inputs if os.path.exists(p)}
+    taken: dict[tuple[Any, ...], str] = {}
+    for label, p in outputs:
+        if p is None:
+            continue
+        ident = _identity(Path(p))
+        if ident in read:
+            what, q = read[ident]
+            raise OutputError(f"{label} = {os.fspath(p)!r}: is the {what} {os.fspath(q)!r}, which the run reads; "
+                              "choose another path")
+        if ident in taken:
+            raise OutputError(f"{label} = {os.fspath(p)!r}: the same file as {taken[ident]}; each output needs its own "
+                              "path")
+        taken[ident] = label
+        _writable(label, Path(p))
+    for label, folder, names in folders:
+        folder = Path(folder)
+        for what, q in inputs:
+            try:
+                rel = Path(os.path.realpath(q)).relative_to(os.path.realpath(folder))
+            except ValueError:
+                continue
+            if any(fnmatch.fnmatch(rel.as_posix(), pattern) for pattern in names):
+                raise OutputError(f"{label} = {os.fspath(folder)!r}: the run writes {rel.as_posix()} there, which is "
+                                  f"the {what} {os.fspath(q)!r} it reads; choose another folder")
+        if folder.exists() and not folder.is_dir():
+            raise OutputError(f"{label} = {os.fspath(folder)!r}: exists and is not a folder; name a folder for the "
+                              "outputs")
+        # The folder is made when the outputs are written: its nearest existing ancestor must
+        # take a new file.
+        existing = next(p for p in [folder, *folder.absolute().parents] if p.exists())
+        try:
+            fd, probe = tempfile.mkstemp(prefix=f".{folder.name or 'out'}.{os.getpid()}.", suffix=".probe",
+                                         dir=existing)
+            os.close(fd)
+            os.unlink(probe)
+        except OSError as e:
+            raise OutputError(f"{label} = {os.fspath(folder)!r}: cannot write in {os.fspath(existing)!r} "
+                              f"({e.strerror})") from None
+
+
+class OutputSet:
+    """Outputs written as one set: each to a temporary file beside its target, then all moved
+    into place together when every one is whole, or none (a failure half-way puts back what
+    the moved ones replaced).
+
+    Example::
+
+        with OutputSet({"--out": out, "--record": record}) as tmp:
+            write(tmp["--out"]); write(tmp["--record"])
+    """
+
+    def __init__(self, targets: dict[str, Optional[Path]]) -> None:
+        self.targets = {k: Path(v) for k, v in targets.items() if v is not None}
+        self.temps: dict[str, Path] = {}
+
+    def __enter__(self) -> dict[str, Path]:
+        for label, target in self.targets.items():
+            _remove_stale(target)
+            try:
+                fd, name = tempfile.mkstemp(prefix=f".{target.name}.{os.getpid()}.", suffix=".tmp",
+                                            dir=target.parent if os.fspath(target.parent) else ".")
+            except OSError as e:
+                self._discard()
+                raise OutputError(f"{label} = {os.fspath(target)!r}: cannot write ({e.strerror})") from None
+            os.fchmod(fd, FILE_MODE)
+            os.close(fd)
+            # Writers that make their own temporary file and rename it here want no file yet.
+            os.unlink(name)
+            self.temps[label] = Path(name)
+        return dict(self.temps)
+
+    def _discard(self) -> None:
+        for tmp in self.temps.values():
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+
+    def __exit__(self, kind: Any, value: Any, tb: Any) -> None:
+        if kind is not None:
+            self._discard()
+            return
+        moved: list[tuple[Path, Optional[Path]]] = []
+        try:
+            for label, target in self.targets.items():
+                tmp = self.temps[label]
+                if not tmp.exists():
+                    raise OutputError(f"{label} = {os.fspath(target)!r}: was not written")
+                check_target(target)
+                backup = None
+                if target.exists():
+                    backup = target.with_name(f".{target.name}.{os.getpid()}.backup")
+                    os.replace(target, backup)
+                try:
+                    os.replace(tmp, target)
+                except OSError:
+                    if backup is not None:
+                        os.replace(backup, target)
+                    raise
+                moved.append((target, backup))
+        except BaseException as e:
+            # None of the set: the moved ones go back to what they replaced.
+            for target, backup in reversed(moved):
+                with contextlib.suppress(OSError):
+                    if backup is not None:
+                        os.replace(backup, target)
+                    else:
+                        target.unlink()
+            self._discard()
+            if isinstance(e, OSError) and not isinstance(e, OutputError):
+                raise OutputError(f"cannot write the outputs ({e.strerror})") from None
+            raise
+        for _, backup in moved:
+            if backup is not None:
+                with contextlib.suppress(OSError):
+                    backup.unlink()

@@ -11,6 +11,7 @@ here; the errors that only the Python side raises are defined below, under the s
     │                       engine cannot carry out; the run is unchanged (engine)
     ├── EngineError         an internal error of the engine: a bug (engine)
     ├── InputError          a command-line option or study parameter out of range
+    │   └── ArgumentError   an argument of the Python API of the wrong kind or out of range
     ├── ReplayError         a replay file that cannot be read
     ├── OutputError         an output path that cannot be written (or must not be replaced)
     ├── RenderError         a video export that cannot run (no browser, no encoder)
@@ -32,6 +33,7 @@ from multibots._core import (
 
 __all__ = [
     "AllocatorError",
+    "ArgumentError",
     "DecisionError",
     "EngineError",
     "InputError",
@@ -50,6 +52,14 @@ class InputError(MultibotsError, ValueError):
 
     The message names the option and the value, such as ``--robots = '3..1': the range 3..1
     is empty``.
+    """
+
+
+class ArgumentError(InputError, TypeError):
+    """An argument of the Python API of the wrong kind or out of range: the message names the
+    parameter and the value, such as ``steps = 1.5: expected a whole number from 0 to
+    4,294,967,295``. It is also a ``ValueError`` and a ``TypeError``, the errors a Python caller
+    would expect for a bad argument.
     """
 
 

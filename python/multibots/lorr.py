@@ -17,11 +17,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
 
-from multibots import _core
+from multibots import _args, _core
+from multibots._io import OutputSet, check_outputs
 from multibots._text import shown
-from multibots.exceptions import InputError
+from multibots.exceptions import ArgumentError, InputError
 
-__all__ = ["ABOUT", "PLANNERS", "SCHEDULERS", "LorrResult", "check_option", "run"]
+__all__ = ["ABOUT", "PLANNERS", "SCHEDULERS", "LorrResult", "check_files", "check_option", "run"]
 
 #: The built-in planners, as the engine names them; the first is the default.
 PLANNERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_PLANNERS)
@@ -93,26 +94,30 @@ def run(
 
     Raises:
         ScenarioError: a problem file that cannot be read (the message names the file and
-            the line), or an unknown planner or scheduler.
-        InputError: an option out of its range (:func:`check_option`).
+            the line).
+        ArgumentError: an argument of the wrong kind or out of its range, or an unknown
+            planner or scheduler (:func:`check_option`).
     """
-    # The engine names an unknown planner or scheduler itself, when the run is made.
-    for name, value in (("steps", steps), ("seed", seed), ("plan_time_limit_ms", plan_time_limit_ms),
-                        ("robots", robots)):
-        check_option(name, value)
-    recorded = None if record is None else os.fspath(record)
-    engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded)
-    while engine.t < steps:
-        engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
-        if progress is not None:
-            progress(engine.t, engine.finished)
-    written = None
-    if out is not None:
-        written = Path(out)
-        engine.write_result(written)
-        engine.write_figures(figures_path(written))
-    # The replay last: if a result file cannot be written, no replay is left either.
-    engine.finish_record()
+    problem = _args.path("problem", problem)
+    for name, value in (("steps", steps), ("planner", planner), ("scheduler", scheduler), ("seed", seed),
+                        ("plan_time_limit_ms", plan_time_limit_ms), ("robots", robots)):
+        check_option(name, value, error=ArgumentError)
+    out = _args.path("out", out, optional=True)
+    record = _args.path("record", record, optional=True)
+    progress = _args.function("progress", progress)
+    check_files(problem, out, record)
+    # The result, its figures and the replay are one set: all written, or none.
+    with OutputSet({"out": out, "figures": None if out is None else figures_path(out), "record": record}) as tmp:
+        recorded = os.fspath(tmp["record"]) if "record" in tmp else None
+        engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded)
+        while engine.t < steps:
+            engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
+            if progress is not None:
+                progress(engine.t, engine.finished)
+        if out is not None:
+            engine.write_result(tmp["out"])
+            engine.write_figures(tmp["figures"])
+        engine.finish_record()
     return LorrResult(
         finished=engine.finished,
         steps=engine.t,
@@ -120,8 +125,23 @@ def run(
         version=engine.version,
         planner=engine.planner,
         figures=json.loads(engine.figures_json()),
-        out=written,
+        out=out,
     )
+
+
+def check_files(problem: Path, out: Optional[Path], record: Optional[Path],
+                labels: tuple[str, str] = ("out", "record")) -> None:
+    """Before a run: no output (``out``, the figures beside it, ``record``; named by
+    ``labels``) is a file the run reads (the problem and the map, agents and tasks files it
+    names) or another output, and each can be written.
+
+    Raises:
+        OutputError: one line naming the output, its path and the file it would replace.
+    """
+    names = ("problem file", "map file", "agents file", "tasks file")
+    inputs = [(names[min(k, 3)], Path(p)) for k, p in enumerate(_core.lorr_files(problem))]
+    figures = None if out is None else figures_path(out)
+    check_outputs([(labels[0], out), (f"{labels[0]}'s figures", figures), (labels[1], record)], inputs)
 
 
 def figures_path(out: Path) -> Path:
@@ -129,19 +149,19 @@ def figures_path(out: Path) -> Path:
     return out.with_name(out.name + ".multibots.json")
 
 
-def check_option(name: str, value: Any, where: Optional[str] = None) -> None:
+def check_option(name: str, value: Any, where: Optional[str] = None, error: type[InputError] = InputError) -> None:
     """Checks one option of a LoRR run against the engine's names and limits
     (``_core.LORR_PLANNERS``, ``_core.LIMITS``, docs/limits.md): the one check that
     :func:`run`, ``multibots lorr`` and LoRR sweeps share.
 
     Raises:
-        InputError: one line naming ``where`` (the parameter, a flag or a sweep's key; by
-            default ``name``) and the value.
+        InputError: (``error``) one line naming ``where`` (the parameter, a flag or a sweep's
+            key; by default ``name``) and the value.
     """
     limits = _core.LIMITS
 
     def bad(expected: str) -> InputError:
-        return InputError(f"{where or name} = {shown(repr(value))}: {expected}")
+        return error(f"{where or name} = {shown(repr(value))}: {expected}")
 
     whole = isinstance(value, int) and not isinstance(value, bool)
     if name == "planner" and value not in PLANNERS:

@@ -23,8 +23,9 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional
 
-from multibots._io import atomic_target, check_target
-from multibots.exceptions import InputError, MissingExtraError, OutputError, RenderError
+from multibots import _args
+from multibots._io import atomic_target, check_outputs
+from multibots.exceptions import InputError, MissingExtraError, RenderError
 from multibots.replay import Replay
 
 __all__ = ["render", "RenderError", "chromium_path", "CHROMIUM_ARGS", "plan_frames"]
@@ -307,7 +308,8 @@ def render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps:
 def _render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps: int = 30, start: int = 0,
            end: Optional[int] = None, scale: float = 1.0, every: int = 1, progress: bool = True,
            on_frame: Optional[Callable[[int, int], None]] = None) -> Dict[str, Any]:
-    out = Path(out)
+    replay = _args.path("replay", replay)  # type: ignore[assignment]
+    out = _args.path("out", out)  # type: ignore[assignment]
     kind = out.suffix.lower()
     if kind not in (".mp4", ".gif"):
         raise InputError(f"--out {out}: the file name must end in .mp4 or .gif")
@@ -317,10 +319,7 @@ def _render(replay: "os.PathLike[str] | str", out: "os.PathLike[str] | str", fps
         raise InputError(f"--scale {scale}: must be from 0.25 to 4")
     if out.parent and not out.parent.exists():
         raise InputError(f"--out {out}: the folder {out.parent} does not exist")
-    try:
-        check_target(out)
-    except OutputError as exc:
-        raise InputError(f"--out {exc}") from None
+    check_outputs([("out", out)], [("replay", Path(replay))])
     with Replay(replay) as rp:
         frames = plan_frames(rp.frames, start, end, every)
     if kind == ".mp4":

@@ -19,7 +19,7 @@ from typing import Any, Dict, Iterator, List, Optional
 
 import numpy as np
 
-from multibots import _core
+from multibots import _args, _core
 from multibots._io import regular_file
 from multibots._text import shown
 from multibots.exceptions import MultibotsError, ReplayError
@@ -59,7 +59,7 @@ class Replay(ReplayState):
 
     def __init__(self, path: "os.PathLike[str] | str", cache_chunks: int = 8,
                  cache_bytes: int = 96 * 1024 * 1024) -> None:
-        self.path = os.fspath(path)
+        self.path = os.fspath(_args.path("path", path))  # type: ignore[arg-type]
         self._name = self.path
         regular_file(self.path, ReplayError, "replay file")
         try:

@@ -15,10 +15,10 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from multibots import _core
+from multibots import _args, _core
 from multibots._io import read_input
 from multibots._text import shown
-from multibots.exceptions import ScenarioError
+from multibots.exceptions import ArgumentError, ScenarioError
 from multibots.paper import PAPER_TASKS
 
 __all__ = ["Scenario"]
@@ -80,11 +80,13 @@ class Scenario:
         8.0
     """
 
-    __slots__ = ("_core",)
+    __slots__ = ("_core", "source")
 
     def __init__(self, core: _core.Scenario) -> None:
         core.validate()
         self._core = core
+        #: The file the scenario was read from, if any (what no output of its run may be).
+        self.source: Path | None = None
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> Scenario:
@@ -93,13 +95,20 @@ class Scenario:
         Raises:
             ScenarioError: the file is missing, unreadable, not TOML, or a field is invalid.
         """
-        p = Path(path)
+        p = _args.path("path", path)
+        assert p is not None
         text = read_input(p, ScenarioError, "scenario file")
-        return cls.from_toml_str(text, source=str(p))
+        out = cls.from_toml_str(text, source=str(p))
+        out.source = p
+        return out
 
     @classmethod
     def from_toml_str(cls, text: str, source: str = "<scenario>") -> Scenario:
         """Parses and validates TOML text; ``source`` names it in error messages."""
+        if not isinstance(text, str):
+            raise ArgumentError(f"text: expected the TOML text (str), got {type(text).__name__}")
+        if not isinstance(source, str):
+            raise ArgumentError(f"source: expected a name (str), got {type(source).__name__}")
         return cls(_core.Scenario.from_toml(text, source))
 
     @classmethod
@@ -113,6 +122,7 @@ class Scenario:
         (``_core.check_many``, which builds each layout once) before using any."""
         out = cls.__new__(cls)
         out._core = _parsed(data)
+        out.source = None
         return out
 
     @classmethod
@@ -144,6 +154,10 @@ class Scenario:
         """
         if goods is not None and "tasks" in fields:
             raise ScenarioError("Scenario.paper(): goods and tasks are the same field (the task list); give one")
+        if goods is not None:
+            goods = _args.sequence("goods", goods, int, "cell id")
+        if starts is not None:
+            starts = _args.sequence("starts", starts, str, "node name")
         data: dict[str, Any] = {
             "layout": "paper",
             "robots": robots,
@@ -158,7 +172,20 @@ class Scenario:
 
     def replace(self, **changes: Any) -> Scenario:
         """A copy with some fields changed; nested tables are merged."""
-        return Scenario.from_dict(_merge(self.to_dict(), changes))
+        out = Scenario.from_dict(_merge(self.to_dict(), changes))
+        out.source = self.source
+        return out
+
+    def files(self) -> list[tuple[str, Path]]:
+        """The files a run of this scenario reads, as (what, path): the scenario file itself
+        (when read from one), a layout file, the orders' and people's CSV tables, and a
+        strategy's source file (``allocator = "path/to/file.py:Class"``)."""
+        out = [("scenario file", self.source)] if self.source is not None else []
+        out += [(f"{f} file" if f == "layout" else f"{f} table", Path(p)) for f, p in self._core.files()]
+        module = self._core.allocator.rpartition(":")[0]
+        if module.endswith(".py"):
+            out.append(("strategy file", Path(module)))
+        return out
 
     def to_toml(self) -> str:
         """The scenario as TOML text, which :meth:`from_toml_str` reads back."""

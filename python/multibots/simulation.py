@@ -6,19 +6,27 @@ import json
 import os
 from collections.abc import Sequence
 from functools import cached_property
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from multibots import _core
+from multibots import _args, _core
+from multibots._io import check_outputs
+from multibots.exceptions import ArgumentError
 from multibots.result import Result
 from multibots.scenario import Scenario
 
-__all__ = ["Simulation", "simulate", "simulate_many", "layout_json"]
+__all__ = ["Simulation", "check_record", "simulate", "simulate_many", "layout_json"]
+
+#: The most worker threads a batch may ask for.
+MAX_WORKERS = 1024
 
 
-def _scenario(s: Scenario | str | os.PathLike[str]) -> Scenario:
-    return s if isinstance(s, Scenario) else Scenario.from_toml(s)
+def _scenario(s: Scenario | str | os.PathLike[str], name: str = "scenario") -> Scenario:
+    if isinstance(s, Scenario):
+        return s
+    return Scenario.from_toml(_args.path(name, s))  # type: ignore[arg-type]
 
 
 def simulate(
@@ -40,7 +48,20 @@ def simulate(
         726
     """
     s = _scenario(scenario)
-    return Result(_core.simulate(s._core, None if record is None else os.fspath(record), allocator))
+    out = _args.path("record", record, optional=True)
+    allocator = _args.allocator("allocator", allocator)
+    check_record(s, out)
+    return Result(_core.simulate(s._core, None if out is None else os.fspath(out), allocator))
+
+
+def check_record(scenario: Scenario, record: Path | None, label: str = "record") -> None:
+    """Before a run: the replay (``record``, named ``label``) is none of the files the run
+    reads (:meth:`Scenario.files`) and can be written.
+
+    Raises:
+        OutputError: one line naming the option, the path and the file it would replace.
+    """
+    check_outputs([(label, record)], scenario.files())
 
 
 def _built_in_name(allocator: Any) -> bool:
@@ -53,6 +74,9 @@ def simulate_many(scenarios: Sequence[Scenario], workers: int = 0, allocator: An
     ``allocator`` is as for :func:`simulate`. Built-in strategies run on the engine's threads;
     a Python strategy needs the interpreter, so those runs go one after another.
     """
+    scenarios = _args.sequence("scenarios", scenarios, Scenario, "Scenario")
+    workers = _args.whole("workers", workers, 0, MAX_WORKERS)
+    allocator = _args.allocator("allocator", allocator)
     if allocator is not None and _built_in_name(allocator):
         scenarios = [s.replace(allocator=allocator) for s in scenarios]
         allocator = None
@@ -63,7 +87,9 @@ def simulate_many(scenarios: Sequence[Scenario], workers: int = 0, allocator: An
 
 def layout_json(name: str = "paper") -> dict[str, Any]:
     """The layout JSON (``docs/replay-format.md``) of a named layout."""
-    return json.loads(_core.layout_json(name))
+    if not isinstance(name, (str, os.PathLike)) or not os.fspath(name):
+        raise ArgumentError(f"name: expected \"paper\" or a layout file's path, got {name!r:.60}")
+    return json.loads(_core.layout_json(os.fspath(name)))
 
 
 class Simulation:
@@ -81,13 +107,11 @@ class Simulation:
 
     def __init__(self, scenario: Scenario | str | os.PathLike[str], allocator: Any = None) -> None:
         self.scenario = _scenario(scenario)
-        self._sim = _core.Simulation(self.scenario._core, allocator)
+        self._sim = _core.Simulation(self.scenario._core, _args.allocator("allocator", allocator))
 
     def step(self, n: int = 1) -> int:
         """Runs ``n`` steps, fewer if the run ends first; returns how many ran."""
-        if n < 0:
-            raise ValueError(f"n = {n}: must be 0 or more")
-        return self._sim.step(n)
+        return self._sim.step(_args.whole("n", n))
 
     def run(self) -> Result:
         """Runs to the end and returns the result."""
@@ -236,7 +260,7 @@ class Simulation:
 
     def route(self, robot: int) -> np.ndarray:
         """(K, 2) waypoints of a robot's remaining route, starting at its position."""
-        return self._frozen(self._sim.route(robot))
+        return self._frozen(self._sim.route(_args.whole("robot", robot, 0, max(0, self.robot_count - 1))))
 
     def frame_chunk(self) -> bytes:
         """The current state as one frame of the replay codec (a decompressed one-frame chunk

@@ -101,6 +101,13 @@ impl PyLorrRun {
     }
 }
 
+/// The files a run of the problem at `path` reads: the problem, then the map, agents and
+/// tasks files it names (as far as its JSON can be read): what no output may be.
+#[pyfunction]
+pub(crate) fn lorr_files(path: PathBuf) -> Vec<PathBuf> {
+    multibots_core::input::lorr::problem_files(&path)
+}
+
 /// The built-in planners and schedulers, as `(name, what it does)`, the default first: the
 /// one list the command line, Python and the docs read.
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -108,5 +115,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("LORR_PLANNERS", pyo3::types::PyTuple::new(py, planner::BUILT_INS.iter().map(|b| (b.name, b.about)))?)?;
     m.add("LORR_SCHEDULERS", pyo3::types::PyTuple::new(py, schedule::BUILT_INS.iter().map(|b| (b.name, b.about)))?)?;
+    m.add_function(wrap_pyfunction!(lorr_files, m)?)?;
     Ok(())
 }

@@ -46,6 +46,11 @@ impl PyScenario {
         engine(py, move || Simulation::with_allocator(&s, alloc).map(drop))
     }
 
+    /// The files a run of the scenario reads, as (field, path): what no output may be.
+    fn files(&self) -> Vec<(&'static str, std::path::PathBuf)> {
+        self.inner.files()
+    }
+
     /// The scenario's task list as cell ids (random lists drawn).
     fn cells(&self, py: Python<'_>) -> PyResult<Vec<u32>> {
         let s = self.inner.clone();

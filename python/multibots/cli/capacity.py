@@ -10,9 +10,10 @@ from typing import Optional
 
 import typer
 
-from multibots._io import check_folder
+from multibots._io import check_folder, check_outputs
 from multibots.cli._common import ALLOW_CODE, MAX_ROBOTS, MAX_STEPS, check_code, parse_number
 from multibots.exceptions import InputError
+from multibots.sweeps.capacity import MAX_SEEDS
 
 __all__ = ["capacity"]
 
@@ -61,7 +62,7 @@ def capacity(
     from multibots.sweeps.store import polars
 
     polars()  # the extra, before any work
-    n_seeds = parse_number(seeds, "--seeds", int, 1000)
+    n_seeds = parse_number(seeds, "--seeds", int, MAX_SEEDS)
     if n_seeds < 1:
         raise InputError(f"--seeds = {n_seeds}: must be at least 1")
     steps = parse_number(horizon, "--horizon", int, MAX_STEPS)
@@ -88,6 +89,7 @@ def capacity(
     check_folder(out)
     check_code(scenario, allow_code, overridden=allocs is not None)
     base = Scenario.from_toml(scenario)
+    check_outputs([], base.files(), folders=[("--out", out, ("runs/*", "capacity.png"))])
     fleet = parse_number(robots, "--robots", int, MAX_ROBOTS)
     if fleet is not None:
         if fleet < 1:

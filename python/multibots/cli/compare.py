@@ -11,7 +11,7 @@ from typing import Optional
 
 import typer
 
-from multibots._io import check_folder, load_toml, read_input
+from multibots._io import check_folder, check_outputs, load_toml, read_input
 from multibots.cli._common import MAX_WORKERS, named_allocator, whole_flag
 from multibots.exceptions import InputError
 
@@ -95,6 +95,9 @@ def compare(
             base = Scenario.from_toml(scenario)
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
     runs = study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets, crowds, workers)
+    inputs = [("scenario file", scenario)] if scenario is not None else []
+    inputs += [("strategy file", Path(n.rpartition(":")[0])) for n in names if n.rpartition(":")[0].endswith(".py")]
+    check_outputs([], inputs, folders=[("--out", out, study.OUTPUTS)])
     total = len(runs)
     journal = out / "runs.jsonl"
     had_journal = journal.exists()

@@ -11,9 +11,7 @@ from typing import Optional
 import typer
 
 from multibots import _core
-from multibots._io import check_target
 from multibots.cli._common import parse_number
-from multibots.exceptions import InputError, OutputError
 
 __all__ = ["lorr"]
 
@@ -48,22 +46,15 @@ def lorr(
     """Run a League of Robot Runners problem, scored as the competition scores it."""
     from multibots import lorr as engine
 
-    for option, path in (("--out", out), ("--record", record)):
-        if path is not None:
-            _check_output(option, path)
-    if record is not None:
-        # The result, its figures beside it and the replay are three files: one path for two
-        # of them would leave neither whole.
-        taken = {out.resolve(), out.with_name(out.name + ".multibots.json").resolve()}
-        if record.resolve() in taken:
-            raise InputError(f"--record = {str(record)!r}: the same file as --out or its figures; choose another path")
+    # Before the run: no output is an input or another output, and each can be written.
+    engine.check_files(problem, out, record, labels=("--out", "--record"))
 
     n_steps = parse_number(steps, "--steps", int)
     limit = parse_number(plan_time_limit, "--plan-time-limit", int)
     n_seed = parse_number(seed, "--seed", int)
-    # The engine names an unknown planner or scheduler itself, when the run is made.
     for name, value, flag in (("steps", n_steps, "--steps"), ("plan_time_limit_ms", limit, "--plan-time-limit"),
-                              ("seed", n_seed, "--seed")):
+                              ("seed", n_seed, "--seed"), ("planner", planner, "--planner"),
+                              ("scheduler", scheduler, "--scheduler")):
         engine.check_option(name, value, flag)
     began = time.monotonic()
     # The bar only when a person watches: stdout on a terminal (not piped or redirected).
@@ -95,15 +86,3 @@ def lorr(
         print(f"result: {out} (figures: {engine.figures_path(out).name})")
     if record is not None:
         print(f"replay: {record} (multibots view {record})")
-
-
-def _check_output(option: str, path: Path) -> None:
-    """Refuses, before the run, an output file whose folder is missing or that names a
-    folder: one line naming the option and the value."""
-    folder = path.parent if str(path.parent) else Path(".")
-    if not folder.is_dir():
-        raise OutputError(f"{option} = {str(path)!r}: the folder {str(folder)!r} does not exist")
-    try:
-        check_target(path)
-    except OutputError as e:
-        raise OutputError(f"{option} = {str(path)!r}: {str(e).removeprefix(f'{path}: ')}") from None

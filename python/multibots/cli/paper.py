@@ -8,7 +8,7 @@ from pathlib import Path
 
 import typer
 
-from multibots._io import check_folder, staged_folder
+from multibots._io import check_folder, check_outputs, staged_folder
 from multibots.cli._common import MAX_WORKERS, finite_flag, whole_flag
 from multibots.exceptions import InputError
 
@@ -43,6 +43,7 @@ def paper(
     if chosen is None:
         raise InputError(f"--rules = {rules!r}: expected both, original or paper")
     check_folder(out)
+    check_outputs([], [], folders=[("--out", out, ())])  # the folder can be written, before the runs
     rows, seconds = run_paper(margin=margin, workers=workers, rules=chosen)
     published = published_rows()
     print(format_paper_table(rows, published))

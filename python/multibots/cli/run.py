@@ -65,7 +65,7 @@ def run(
     gridlocked, stranded or stalled; a lifelong run that reaches its horizon completes).
     """
     from multibots.result import Result
-    from multibots.simulation import simulate
+    from multibots.simulation import check_record, simulate
 
     check_code(scenario, allow_code, overridden=allocator is not None)
     s = quick_scenario(scenario, robots, goods, starts, unload, margin, step_limit, rules, traffic)
@@ -76,6 +76,7 @@ def run(
         if not lifelong:
             raise ScenarioError(f"--horizon = {horizon}: only for lifelong scenarios (with [orders])")
         s = s.replace(orders={"horizon": horizon})
+    check_record(s, record, "--record")
     result: Result = simulate(s, record=record)
     if as_json:
         print(json.dumps(result.to_dict(rounded=True), separators=(",", ":")))

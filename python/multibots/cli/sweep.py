@@ -9,7 +9,7 @@ from typing import List, Optional
 
 import typer
 
-from multibots._io import check_folder, load_toml, read_input
+from multibots._io import check_folder, check_outputs, load_toml, read_input
 from multibots.cli._common import ALLOW_CODE, MAX_WORKERS, named_allocator, whole_flag
 from multibots.exceptions import InputError
 
@@ -44,7 +44,7 @@ def sweep(
     run it again to resume (finished runs are reused, never repeated)."""
     from multibots.experiments.summary import progress_bar
     from multibots.strategies import is_python_allocator
-    from multibots.sweeps import load_spec, run_planned, write_outputs
+    from multibots.sweeps import OUTPUTS, inputs_of, load_spec, run_planned, write_outputs
     from multibots.sweeps.store import polars
 
     polars()  # the extra, before any work
@@ -65,6 +65,7 @@ def sweep(
     for p in plot:  # before any run: a bad --plot must not cost the study
         parse_plot(p, sp.axis_names, sp.axes)
     points = sp.points(workers)
+    check_outputs([], inputs_of(points, sp), folders=[("--out", out, OUTPUTS)])
     reuse: list[int] = []
     start = time.perf_counter()
     with progress_bar(len(points), enabled=not quiet) as bar:

@@ -51,6 +51,7 @@ from multibots.strategies import BUILT_INS, is_python_allocator
 from multibots.sweeps.runner import PEOPLE_COSTS
 
 __all__ = [
+    "OUTPUTS",
     "METRICS",
     "BASELINE",
     "TaskSpec",
@@ -67,6 +68,9 @@ __all__ = [
     "write_outputs",
     "progress_bar",
 ]
+
+#: What a study writes in its --out folder (shell patterns).
+OUTPUTS = ("results.csv", "summary.csv", "summary.txt", "strategy_*", "throughput_over_time.png", "runs.jsonl")
 
 #: Most fleet sizes, seeds and runs a study may plan (docs/limits.md).
 MAX_SIZES = 200

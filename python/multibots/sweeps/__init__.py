@@ -13,6 +13,10 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
 
+from multibots import _args
+from multibots._io import check_outputs
+from multibots.exceptions import ArgumentError
+from multibots.simulation import MAX_WORKERS
 from multibots.sweeps.spec import Point, Spec, load_spec, parse_spec
 from multibots.sweeps.store import Store, polars
 
@@ -32,14 +36,53 @@ def sweep(spec: Union[str, os.PathLike[str], Mapping[str, Any], Spec], out: Unio
     keeps column types strict, and loads a study of millions of runs quickly.
     """
     polars()  # the extra, before any work
+    out, workers, backend, ray_address, progress, reused = _checked(out, workers, backend, ray_address, progress,
+                                                                    reused)
     if isinstance(spec, Spec):
         sp = spec
     elif isinstance(spec, Mapping):
         sp = parse_spec(spec)
     else:
-        sp = load_spec(spec)
-    return run_planned(sp.points(workers), out, workers=workers, backend=backend, ray_address=ray_address,
+        sp = load_spec(_args.path("spec", spec))  # type: ignore[arg-type]
+    points = sp.points(workers)
+    check_outputs([], inputs_of(points, sp), folders=[("out", out, OUTPUTS)])
+    return run_planned(points, out, workers=workers, backend=backend, ray_address=ray_address,
                        progress=progress, reused=reused)
+
+
+def _checked(out: Any, workers: Any, backend: Any, ray_address: Any, progress: Any, reused: Any) -> tuple[Any, ...]:
+    """The arguments every study takes, checked (:mod:`multibots._args`)."""
+    if ray_address is not None and not isinstance(ray_address, str):
+        raise ArgumentError(f"ray_address: expected the cluster's address as text, got {type(ray_address).__name__}")
+    return (_args.path("out", out), _args.whole("workers", workers, 0, MAX_WORKERS),
+            _args.choice("backend", backend, ("local", "ray")), ray_address, _args.function("progress", progress),
+            _args.function("reused", reused))
+
+
+#: What a sweep writes in its --out folder (shell patterns).
+OUTPUTS = ("results.csv", "summary.csv", "tests.csv", "plot-*", "throughput-time-*", "runs/*")
+
+
+def inputs_of(points: list[Any], spec: Optional[Spec] = None) -> list[tuple[str, Path]]:
+    """Every file the sweep's runs read: the spec file, each scenario's files (its own file,
+    a layout file, CSV tables, a strategy's source) or each LoRR problem's."""
+    from multibots import _core
+    from multibots.sweeps import lorr as lorr_sweep
+
+    seen: dict[str, tuple[str, Path]] = {}
+    if spec is not None and spec.source and os.path.exists(spec.source):
+        seen[spec.source] = ("sweep spec", Path(spec.source))
+    base_file = getattr(spec.base, "source", None) if spec is not None else None
+    if base_file is not None:
+        seen[os.fspath(base_file)] = ("base scenario file", Path(base_file))
+    for p in points:
+        if isinstance(p, lorr_sweep.LorrPoint):
+            files = [("problem file", Path(f)) for f in _core.lorr_files(p.run.problem)]
+        else:
+            files = p.scenario.files()
+        for what, f in files:
+            seen.setdefault(os.fspath(f), (what, f))
+    return list(seen.values())
 
 
 def run_planned(points: list[Point], out: Union[str, os.PathLike[str]], workers: int = 0, backend: str = "local",

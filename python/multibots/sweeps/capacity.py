@@ -25,8 +25,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Optional, Union
 
-from multibots.exceptions import InputError, ScenarioError
+from multibots import _args, _core
+from multibots.exceptions import ArgumentError, InputError, ScenarioError
 from multibots.scenario import Scenario
+
+#: Most runs per rate (the command line's --seeds takes as many).
+MAX_SEEDS = 1000
 
 __all__ = ["Capacity", "Combination", "Level", "capacities", "capacity", "check", "fleet_for", "parse_names"]
 
@@ -138,6 +142,8 @@ def capacity(scenario: Union[Scenario, str, os.PathLike[str]], *, seeds: int = 3
     sustain, with the throughput-against-demand curve. ``seeds`` runs per rate, each
     ``horizon`` steps (the scenario's ``orders.horizon``, else 10,000); ``start``: the first
     rate tried (else one order per 1,000 steps per robot)."""
+    start = _args.number("start", start, above=0.0, optional=True)
+    _search_args(out, workers, backend, ray_address, progress)
     base, horizon, warmup = _prepared(scenario, horizon, seeds, served, precision)
     robots = int(base.to_dict()["robots"])
     first = start if start is not None else robots / 1000.0
@@ -161,8 +167,9 @@ def fleet_for(scenario: Union[Scenario, str, os.PathLike[str]], rate: float, *, 
               ray_address: Optional[str] = None, progress: Optional[Callable[[int], None]] = None) -> Capacity:
     """The smallest fleet (at most ``most`` robots) that sustains ``rate`` orders per step in
     ``scenario``'s warehouse; ``robots`` of the answer is None when even ``most`` does not."""
-    if not (math.isfinite(rate) and rate > 0):
-        raise InputError(f"rate = {rate}: must be above 0")
+    rate = _args.number("rate", rate, above=0.0)  # type: ignore[assignment]
+    most = _args.whole("most", most, 1, _core.LIMITS["robots"])  # type: ignore[assignment]
+    _search_args(out, workers, backend, ray_address, progress)
     base, horizon, warmup = _prepared(scenario, horizon, seeds, served, 0.05)
     base = base.replace(orders={"rate": rate})
     search = _Search(base, seeds, served, out, workers, backend, ray_address, progress)
@@ -281,6 +288,13 @@ def _bottleneck(scenario: Scenario) -> Optional[dict[str, Any]]:
     return dict(b) if b is not None else None
 
 
+def _search_args(out: Any, workers: Any, backend: Any, ray_address: Any, progress: Any) -> None:
+    """The arguments of a search's runs, checked (:mod:`multibots._args`)."""
+    from multibots.sweeps import _checked
+
+    _checked(out, workers, backend, ray_address, progress, None)
+
+
 def check(scenario: Union[Scenario, str, os.PathLike[str]], horizon: Optional[int] = None, seeds: int = 3,
           served: float = 0.95) -> None:
     """Raises what :func:`capacity` would raise about its arguments, before any run."""
@@ -291,13 +305,13 @@ def _prepared(scenario: Union[Scenario, str, os.PathLike[str]], horizon: Optiona
               precision: float) -> tuple[Scenario, int, int]:
     """The scenario as a lifelong run of ``horizon`` steps, with a warm-up of a fifth of it
     and windows that leave at least four after the warm-up."""
-    if seeds < 1:
-        raise InputError(f"seeds = {seeds}: must be at least 1")
-    if not 0 < served <= 1:
-        raise InputError(f"served = {served}: must be above 0 and at most 1")
-    if not (math.isfinite(precision) and 0 < precision < 1):
-        raise InputError(f"precision = {precision}: must be above 0 and below 1")
-    s = scenario if isinstance(scenario, Scenario) else Scenario.from_toml(scenario)
+    seeds = _args.whole("seeds", seeds, 1, MAX_SEEDS)  # type: ignore[assignment]
+    served = _args.number("served", served, high=1.0, above=0.0)  # type: ignore[assignment]
+    precision = _args.number("precision", precision, high=1.0, above=0.0)  # type: ignore[assignment]
+    if precision >= 1:
+        raise ArgumentError(f"precision = {precision}: expected a number above 0 and below 1")
+    horizon = _args.whole("horizon", horizon, 0, _core.LIMITS["steps"], optional=True)
+    s = scenario if isinstance(scenario, Scenario) else Scenario.from_toml(_args.path("scenario", scenario))
     d = s.to_dict()
     if d.get("tasks") and not d.get("orders"):
         raise InputError("tasks: capacity is a question about a stream of orders; the scenario has a fixed task "

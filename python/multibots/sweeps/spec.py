@@ -73,14 +73,18 @@ class Spec:
         point repeated with seeds 1..repeats when there is no seed axis. Every scenario is
         validated before this returns, on ``workers`` engine threads (0: one per core)."""
         names = list(self.axes)
+        reps = [None] if self.repeats == 1 or "seed" in self.axes else list(range(1, self.repeats + 1))
+        # Counted before anything is built: 10,000 × 10,000 values are a one-line refusal,
+        # not a list of 10^8 tuples.
+        sizes = [len(self.axes[n]) for n in names]
+        combos_count = min(sizes, default=1) if self.product == "zip" else math.prod(sizes)
+        total = combos_count * len(reps)
+        if total > MAX_POINTS:
+            raise InputError(f"{self.source}: the sweep plans {total:,} runs: at most {MAX_POINTS:,}")
         if self.product == "zip":
             combos: Sequence[tuple[Any, ...]] = list(zip(*(self.axes[n] for n in names)))
         else:
             combos = list(itertools.product(*(self.axes[n] for n in names)))
-        reps = [None] if self.repeats == 1 or "seed" in self.axes else list(range(1, self.repeats + 1))
-        total = len(combos) * len(reps)
-        if total > MAX_POINTS:
-            raise InputError(f"{self.source}: the sweep plans {total:,} runs: at most {MAX_POINTS:,}")
         if isinstance(self.base, lorr_sweep.LorrBase):
             return lorr_sweep.plan(self.base, self.axes, combos, reps, self.source)
         base = self.base.to_dict()

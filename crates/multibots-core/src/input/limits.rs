@@ -30,6 +30,15 @@ const _: () = assert!(MAX_STEPS <= u32::MAX as u64, "per-robot counters are u32 
 /// Start-Kit's).
 pub const MAX_LORR_STEPS: u64 = u32::MAX as u64;
 
+/// Most tasks a League of Robot Runners problem may reveal at once (2024: the pool of
+/// `int(numTasksReveal · teamSize)`; 2023: `int(numTasksReveal)` errands ahead of each robot),
+/// all allocated at the start: about 40 bytes each, 400 MB at this size.
+pub const MAX_REVEALED_TASKS: u64 = 10_000_000;
+
+/// Most cells of a League of Robot Runners map: about 60 bytes a cell once a planner has its
+/// tables (a 7,000 × 7,000 map, 49 million cells, takes 3 GB).
+pub const MAX_MAP_CELLS: u64 = 50_000_000;
+
 /// Longest plan time limit of a League of Robot Runners run, ms: an hour a round.
 pub const MAX_PLAN_TIME_LIMIT_MS: u64 = 3_600_000;
 

@@ -5,6 +5,7 @@
 use crate::error::{Error, Result};
 use crate::input::files::read_text;
 use crate::input::limits::MAX_INPUT_BYTES;
+use crate::input::limits::MAX_MAP_CELLS;
 use std::path::Path;
 
 /// A grid of cells, `row * cols + col`, each free or an obstacle.
@@ -43,8 +44,8 @@ impl GridMap {
         }
         let rows = header(1, "height")?;
         let cols = header(2, "width")?;
-        if u64::from(rows) * u64::from(cols) > 50_000_000 {
-            return Err((2, format!("{rows} x {cols} cells is more than the 50,000,000 this reader takes")));
+        if u64::from(rows) * u64::from(cols) > MAX_MAP_CELLS {
+            return Err((2, format!("{rows} x {cols} cells is more than the {MAX_MAP_CELLS} this reader takes (docs/limits.md)")));
         }
         if lines.get(3).map(|l| l.trim()) != Some("map") {
             return Err((4, "expected the line 'map'".into()));

@@ -14,7 +14,7 @@ pub use map::GridMap;
 
 use crate::error::{Error, Result};
 use crate::input::files::read_text;
-use crate::input::limits::MAX_INPUT_BYTES;
+use crate::input::limits::{MAX_INPUT_BYTES, MAX_REVEALED_TASKS, MAX_ROBOTS};
 use std::path::{Path, PathBuf};
 
 /// The largest task file read: the 2023 archive's task files hold up to 500,000 lines.
@@ -79,7 +79,22 @@ impl Problem {
         let text = read_text(path, MAX_INPUT_BYTES).map_err(|m| Error::input_file(path, None, m))?;
         // Nesting and key length checked before the parser recurses or allocates (docs/limits.md).
         crate::input::files::check_json_shape(&text).map_err(|m| Error::input_file(path, None, m))?;
-        let json: ProblemJson = serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
+        // serde would take a list as the fields in order: only an object is a problem.
+        let kind = match text.trim_start().chars().next() {
+            Some('{') => None,
+            Some('[') => Some("a list"),
+            Some('"') => Some("text"),
+            Some('n') => Some("null"),
+            Some('t' | 'f') => Some("true or false"),
+            Some(c) if c == '-' || c.is_ascii_digit() => Some("a number"),
+            Some(_) => Some("not JSON"),
+            None => Some("an empty file"),
+        };
+        if let Some(kind) = kind {
+            return Err(Error::input_file(path, Some(1), format!("expected a JSON object with mapFile, agentFile, taskFile and teamSize, not {kind}")));
+        }
+        let mut de = serde_json::Deserializer::from_str(&text);
+        let json: ProblemJson = serde_path_to_error::deserialize(&mut de).map_err(|e| field_error(path, &e))?;
         let line_of = |key: &str| text.lines().position(|l| l.contains(&format!("\"{key}\""))).map_or(1, |i| i + 1);
         let version = match (&json.version, &json.task_assignment_strategy) {
             (Some(v), _) if v.contains("2024") => Version::Y2024,
@@ -96,20 +111,43 @@ impl Problem {
             }
             (None, None) => Version::Y2023,
         };
-        if json.team_size < 1 || json.team_size > i64::from(u32::MAX) {
-            return Err(Error::input_file(path, Some(line_of("teamSize")), format!("teamSize {} must be at least 1", json.team_size)));
+        if json.team_size < 1 || json.team_size > i64::from(MAX_ROBOTS) {
+            return Err(Error::input_file(
+                path,
+                Some(line_of("teamSize")),
+                format!("teamSize = {}: expected a number of robots from 1 to {MAX_ROBOTS} (docs/limits.md)", json.team_size),
+            ));
         }
         if !(json.num_tasks_reveal.is_finite() && json.num_tasks_reveal > 0.0) {
             return Err(Error::input_file(
                 path,
                 Some(line_of("numTasksReveal")),
-                format!("numTasksReveal {} must be a positive number", json.num_tasks_reveal),
+                format!("numTasksReveal = {}: expected a number above 0", crate::error::number(json.num_tasks_reveal)),
             ));
         }
-        if team == Some(0) {
-            return Err(crate::error::Error::scenario("robots", 0, "must be at least 1"));
+        match team {
+            Some(0) => return Err(crate::error::Error::scenario("robots", 0, "must be at least 1")),
+            Some(t) if t > MAX_ROBOTS as usize => return Err(crate::error::Error::scenario("robots", t, format!("at most {MAX_ROBOTS}"))),
+            _ => {}
         }
         let n = team.unwrap_or(json.team_size as usize);
+        // The tasks revealed at the start are allocated before anything runs: 2024, the pool of
+        // int(numTasksReveal · teamSize); 2023, int(numTasksReveal) errands ahead of each robot.
+        let revealed = match version {
+            Version::Y2024 => json.num_tasks_reveal * n as f64,
+            Version::Y2023 => json.num_tasks_reveal.floor().max(1.0) * n as f64,
+        };
+        if revealed > MAX_REVEALED_TASKS as f64 {
+            return Err(Error::input_file(
+                path,
+                Some(line_of("numTasksReveal")),
+                format!(
+                    "numTasksReveal = {}: with {n} robots it reveals {} tasks at once; at most {MAX_REVEALED_TASKS} (docs/limits.md)",
+                    crate::error::number(json.num_tasks_reveal),
+                    crate::error::number(revealed.floor())
+                ),
+            ));
+        }
         let base = path.parent().unwrap_or(Path::new("."));
         let map = GridMap::load(&base.join(&json.map_file))?;
         let agent_path = base.join(&json.agent_file);
@@ -143,12 +181,45 @@ impl Problem {
     }
 }
 
+/// The files a problem names beside itself (map, agents, tasks), as far as its JSON can be
+/// read, after the problem file itself: what a run of it reads, and so what a command must
+/// never write over. A problem that cannot be read names only itself (its run then says why).
+#[must_use]
+pub fn problem_files(path: &Path) -> Vec<PathBuf> {
+    let mut out = vec![path.to_path_buf()];
+    let Ok(text) = read_text(path, MAX_INPUT_BYTES) else { return out };
+    let Ok(value) = serde_json::from_str::<serde_json::Value>(&text) else { return out };
+    let base = path.parent().unwrap_or(Path::new("."));
+    for key in ["mapFile", "agentFile", "taskFile"] {
+        if let Some(name) = value.get(key).and_then(serde_json::Value::as_str) {
+            out.push(base.join(name));
+        }
+    }
+    out
+}
+
 fn read(path: &Path, limit: u64) -> Result<String> {
     read_text(path, limit).map_err(|m| Error::input_file(path, None, m))
 }
 
-fn first_line(s: &str) -> String {
-    s.lines().next().unwrap_or_default().to_string()
+/// A problem JSON that does not fit its fields, in the words of the scenario errors: the
+/// field, the value as written and what was expected (`teamSize = "4": expected a whole
+/// number`), with the line; never serde's or Rust's words.
+fn field_error(path: &Path, e: &serde_path_to_error::Error<serde_json::Error>) -> Error {
+    let line = Some(e.inner().line().max(1));
+    let field = e.path().to_string();
+    let text = e.inner().to_string();
+    let text = text.lines().next().unwrap_or_default();
+    let text = text.rfind(" at line ").map_or(text, |k| &text[..k]).trim();
+    let syntax = matches!(e.inner().classify(), serde_json::error::Category::Syntax | serde_json::error::Category::Eof);
+    let message = if syntax {
+        format!("not JSON: {}", crate::error::inert(text))
+    } else if let Some(name) = text.strip_prefix("missing field `").and_then(|m| m.strip_suffix('`')) {
+        format!("{name}: missing (a problem names its mapFile, agentFile, taskFile and teamSize)")
+    } else {
+        crate::input::messages::plain(&field, text, None)
+    };
+    Error::input_file(path, line, message)
 }
 
 #[cfg(test)]

@@ -43,12 +43,34 @@ fn bad_files_name_the_file_and_line() {
         ("2\n0\n2\n", "3\n5\n3\n", P23, "t.tasks, line 3: the file says 3 tasks but holds 2"),
         ("2\n0\n2\n", "2\n5,9\n3\n", P24, "t.tasks, line 2: cell 9 is off the 2 x 3 map"),
         ("2\n0\n2\n", "2\n5,0\n3\n", &P23.replace("roundrobin", "greedy"), "p.json, line 1: taskAssignmentStrategy 'greedy'"),
-        ("2\n0\n2\n", "2\n5,0\n3\n", "{\n\"mapFile\": 3}", "p.json, line 2: invalid type"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", "{\n\"mapFile\": 3}", "p.json, line 2: mapFile = 3: expected text in quotes"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", &P23.replace("\"teamSize\": 2", "\"teamSize\": \"4\""), "p.json, line 1: teamSize = \"4\": expected a whole number"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", &P23.replace("\"teamSize\": 2", "\"teamSize\": 2.5"), "teamSize = 2.5: expected a whole number"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", "null", "p.json, line 1: expected a JSON object with mapFile, agentFile, taskFile and teamSize, not null"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", "[1, 2]", "p.json, line 1: expected a JSON object with mapFile, agentFile, taskFile and teamSize, not a list"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", "{\"mapFile\": ", "p.json, line 1: not JSON: EOF while parsing"),
+        ("2\n0\n2\n", "2\n5,0\n3\n", r#"{"mapFile": "m.map", "agentFile": "a.agents", "teamSize": 2}"#, "taskFile: missing (a problem names"),
+        (
+            "2\n0\n2\n",
+            "2\n5,0\n3\n",
+            &P24.replace("1.5", "1e12"),
+            "numTasksReveal = 1000000000000: with 2 robots it reveals 2000000000000 tasks at once; at most 10000000",
+        ),
+        (
+            "2\n0\n2\n",
+            "2\n5,0\n3\n",
+            &P23.replace("\"teamSize\": 2", "\"teamSize\": 2000001"),
+            "teamSize = 2000001: expected a number of robots from 1 to 1000000",
+        ),
     ];
     for (agents, tasks, problem, want) in cases {
         let e = tiny(&d, agents, tasks, problem).unwrap_err().to_string();
         assert!(e.contains(want), "{e} lacks {want}");
         assert!(!e.contains('\n'));
+        // The user's words, not serde's or Rust's.
+        for word in ["i64", "u32", "f64", "invalid type", "struct", "ProblemJson", "sequence"] {
+            assert!(!e.contains(word), "{e} says {word}");
+        }
     }
     write(&d, "m.map", "type octile\nheight 2\nwidth 3\nmap\n...\n.?.\n");
     let e = GridMap::load(&d.join("m.map")).unwrap_err().to_string();

@@ -185,6 +185,24 @@ impl Scenario {
         }
     }
 
+    /// The files a run of this scenario reads, by the field that names them: a layout file,
+    /// the orders' and the people's CSV tables (paths as written, relative to the working
+    /// directory). What a command must never write over.
+    #[must_use]
+    pub fn files(&self) -> Vec<(&'static str, std::path::PathBuf)> {
+        let mut out = Vec::new();
+        if self.layout_generate.is_none() && std::path::Path::new(&self.layout).extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
+            out.push(("layout", self.layout.clone().into()));
+        }
+        if let Some(csv) = self.orders.as_ref().and_then(|o| o.csv.as_ref()) {
+            out.push(("orders.csv", csv.into()));
+        }
+        if let Some(csv) = self.humans.as_ref().and_then(|h| h.csv.as_ref()) {
+            out.push(("humans.csv", csv.into()));
+        }
+        out
+    }
+
     /// Checks every field that does not depend on the layout.
     pub fn check_values(&self) -> Result<()> {
         let positive = |field: &str, v: f64| {
