@@ -475,3 +475,90 @@ def test_lorr_problems_are_run_or_refused_in_one_line(tmp_path_factory: pytest.T
         lorr.run(tmp / "p.json", steps=3)
     except Exception as e:  # the property: only a clean refusal
         assert_clean(e)
+
+
+RUST_WORDS = ("i64", "u32", "u64", "f64", "invalid type:", "ProblemJson", "struct ", "serde")
+
+
+@given(lorr_files())
+def test_lorr_problem_refusals_name_the_field_not_serde(tmp_path_factory: pytest.TempPathFactory, files) -> None:
+    from multibots import _core
+
+    tmp = tmp_path_factory.mktemp("lorr-words")
+    for name, text in files.items():
+        (tmp / name).write_text(text)
+    try:
+        _core.LorrRun(str(tmp / "p.json"))
+    except MultibotsError as e:
+        assert not any(w in str(e) for w in RUST_WORDS), str(e)
+
+
+# ---------------------------------------------------------------- the Python API (issue 43)
+
+def api_calls(tmp: Path) -> list[tuple[str, object, dict]]:
+    """(name, function, valid arguments) of the public API, each quick with valid arguments."""
+    from multibots import lorr
+
+    (tmp / "s.toml").write_text("robots = 1\ntasks = [42]\n")
+    files = {"p.json": '{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2, '
+                       '"numTasksReveal": 1.5, "version": "2024 LoRR"}',
+             "m.map": "type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n", "a.agents": "2\n0\n11\n",
+             "t.tasks": "# version for LoRR 2024\n3\n3,8\n11\n0,3\n"}
+    for name, text in files.items():
+        (tmp / name).write_text(text)
+    s = Scenario.paper(robots=1, goods=[42])
+    return [
+        ("simulate", multibots.simulate, {"scenario": s, "record": None, "allocator": None}),
+        ("simulate_many", multibots.simulate_many, {"scenarios": [s], "workers": 1, "allocator": None}),
+        ("step", lambda n: multibots.Simulation(s).step(n), {"n": 3}),
+        ("paper", Scenario.paper, {"robots": 1, "goods": [42], "margin": 0.0, "step_limit": 900}),
+        ("from_toml", Scenario.from_toml, {"path": tmp / "s.toml"}),
+        ("lorr", lorr.run, {"problem": tmp / "p.json", "steps": 2, "out": None, "planner": "pibt", "seed": 0,
+                            "plan_time_limit_ms": None, "robots": None, "record": None, "progress": None}),
+    ]
+
+
+@given(data=st.data())
+def test_api_arguments_are_used_or_refused_in_one_line(tmp_path_factory: pytest.TempPathFactory, data) -> None:
+    tmp = tmp_path_factory.mktemp("api")
+    name, fn, good = data.draw(st.sampled_from(api_calls(tmp)))
+    param = data.draw(st.sampled_from(sorted(good)))
+    value = data.draw(st.one_of(VALUES, st.sampled_from([object(), b"x", -1, 2**70, math.nan])))
+    if name == "lorr" and param == "steps" and isinstance(value, int) and not isinstance(value, bool):
+        assume(value < 1000)  # a valid long run is not a refusal, only slow
+    if name == "step" and isinstance(value, int) and not isinstance(value, bool):
+        value = min(value, 10**6) if value > 0 else value
+    try:
+        fn(**{**good, param: value})
+    except Exception as e:  # the property: only a clean refusal, naming the parameter when it is the argument
+        assert_clean(e)
+        if isinstance(e, multibots.ArgumentError):
+            assert param in str(e) or name == "step", (name, param, str(e))
+
+
+# ---------------------------------------------------------------- outputs that name inputs (issue 43)
+
+@given(st.sampled_from(["p.json", "./p.json", "m.map", "link.json", "hard.json", "a.agents", "t.tasks", "r.json",
+                        "sub/../p.json", "r.json.multibots.json"]),
+       st.sampled_from(["--out", "--record"]), st.sampled_from([None, "r.json", "p.json", "r.mbr"]))
+def test_no_output_is_ever_an_input(tmp_path_factory: pytest.TempPathFactory, target: str, flag: str,
+                                    other: str) -> None:
+    tmp = tmp_path_factory.mktemp("outin")
+    for name, text in {"p.json": '{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", '
+                                 '"teamSize": 2, "numTasksReveal": 1, "taskAssignmentStrategy": "roundrobin"}',
+                       "m.map": "type octile\nheight 3\nwidth 4\nmap\n....\n.@@.\n....\n", "a.agents": "2\n0\n11\n",
+                       "t.tasks": "3\n3\n8\n0\n"}.items():
+        (tmp / name).write_text(text)
+    (tmp / "sub").mkdir()
+    os.symlink("p.json", tmp / "link.json")
+    os.link(tmp / "p.json", tmp / "hard.json")
+    before = {n: (tmp / n).read_bytes() for n in ("p.json", "m.map", "a.agents", "t.tasks")}
+    argv = ["lorr", "p.json", "--steps", "3", flag, target]
+    other_flag = "--record" if flag == "--out" else "--out"
+    if other is not None:
+        argv += [other_flag, other]
+    code, err = run_cli(argv, tmp)
+    assert code in (0, 2), (argv, code, err)
+    assert {n: (tmp / n).read_bytes() for n in before} == before, argv
+    if code == 2:
+        assert err.count("\n") <= 1 and "Traceback" not in err, err

@@ -13,7 +13,8 @@ import queue
 import threading
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import as_completed
+from concurrent.futures import FIRST_COMPLETED
+from concurrent.futures import wait as wait_futures
 from typing import Any, Optional
 
 from multibots import _core
@@ -181,7 +182,8 @@ class _Writer:
     def close(self, quiet: bool = False) -> None:
         """Writes what is left and waits for the thread; raises its error unless ``quiet``."""
         self.inbox.put(None)
-        self.thread.join()
+        while self.thread.is_alive():
+            self.thread.join(POLL)
         if self.error is not None and not quiet:
             raise self.error
 
@@ -215,6 +217,21 @@ class _Writer:
             self.store.write([self.points[k] for k in ks], [self.keys[k] for k in ks], [r for _, r in runs])
 
 
+#: How often a thread waiting for runs looks up for Ctrl-C, seconds. A process-directed signal
+#: may land on any thread (the store's writer, the pool's manager): only the main thread
+#: raises KeyboardInterrupt, and only once its wait returns, so no wait is longer than this.
+POLL = 0.1
+
+
+def finished(futures: Any) -> Any:
+    """The futures as they finish, like ``as_completed``, waiting at most :data:`POLL` at a time
+    so that Ctrl-C is seen at once."""
+    pending = set(futures)
+    while pending:
+        done, pending = wait_futures(pending, timeout=POLL, return_when=FIRST_COMPLETED)
+        yield from done
+
+
 def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], store: Store, workers: int,
                tick: Callable[[int], None]) -> None:
     # MULTIBOTS_SWEEP_FLUSH: seconds a finished run may wait to be written (tests write often to
@@ -231,7 +248,7 @@ def _run_local(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int]
             # study leaves none behind.
             with process_pool(min(workers, len(single_jobs))) as pool:
                 futures = {pool.submit(run_job, jobs[k]): k for k in single_jobs}
-                for f in as_completed(futures):
+                for f in finished(futures):
                     writer.put([futures[f]], [f.result()], raw=False)
                     tick(1)
     except BaseException:
@@ -320,7 +337,7 @@ def _run_ray(points: Sequence[Point], keys: Sequence[str], todo: Sequence[int], 
         batches = _batches(points, todo, workers)
         pending = {task.remote([job_of(points[k]) for k in b]): b for b in batches}
         while pending:
-            ready, _ = ray.wait(list(pending), num_returns=1)
+            ready, _ = ray.wait(list(pending), num_returns=1, timeout=POLL)
             for ref in ready:
                 b = pending.pop(ref)
                 raws = ray.get(ref)

@@ -60,21 +60,23 @@ pub(crate) fn plain(path: &str, message: &str, written: Option<&str>) -> String 
 
 /// [`plain`] in parts: the value, when the message has one, and what is wrong with it.
 pub(crate) fn plain_parts(message: &str, written: Option<&str>) -> (Option<String>, String) {
-    let message = crate::error::inert(message);
-    let strip = |s: &str| s.replace('`', "");
+    // Parsed whole: the value it quotes may be long (it is shortened once found) and may itself
+    // hold ", expected " (what serde expected never does: the last one is serde's).
     if let Some(rest) = message.strip_prefix("invalid type: ").or_else(|| message.strip_prefix("invalid value: ")) {
-        if let Some((got, expected)) = rest.split_once(", expected ") {
+        if let Some((got, expected)) = rest.rsplit_once(", expected ") {
             let (value, float) = unexpected(got);
-            let mut want = expected_words(expected);
+            let mut want = crate::error::inert(&expected_words(expected));
             if float && want.starts_with("a whole number") {
                 want.push_str(", written without a decimal point or exponent");
             }
             return match value {
-                Ok(v) => (Some(v), format!("expected {want}")),
+                Ok(v) => (Some(crate::error::shown(&v)), format!("expected {want}")),
                 Err(kind) => (None, format!("expected {want}, not {kind}")),
             };
         }
     }
+    let message = crate::error::inert(message);
+    let strip = |s: &str| s.replace('`', "");
     if let Some(rest) = message.strip_prefix("unknown variant ") {
         let (name, expected) = rest.split_once(", expected ").unwrap_or((rest, "no value"));
         let (name, expected) = (strip(name), strip(expected));
