@@ -7,6 +7,7 @@ VENV := $(CURDIR)/.venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 EXT_STAMP := $(VENV)/.ext-built
+TOOLS_STAMP := $(VENV)/.tools-installed
 OUT ?= out/paper
 RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml 2>/dev/null) Cargo.toml
 export VIRTUAL_ENV := $(VENV)
@@ -20,12 +21,15 @@ schema: ## regenerate docs/schema/*.json and the field tables of docs/scenario-f
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | sed 's/:.*## /\t/'
 
-run: develop ## run the paper's 30-run experiment: table, results.csv and figures in out/paper
+run: $(EXT_STAMP) ## run the paper's 30-run experiment: table, results.csv and figures in out/paper
 	$(PY) -m multibots paper --out $(OUT)
 	$(PY) -m multibots layout --out $(OUT)/layout.png
 
 test: develop browser ## run every test: cargo, pytest (engine, CLI, viewer in Chromium)
-	cargo test --release --workspace --exclude multibots-py
+	@echo "== the engine's tests (cargo, profile test-fast)"
+	cargo test --profile test-fast --workspace --exclude multibots-py --lib --tests
+	cargo test --profile test-fast -p multibots-core --doc
+	@echo "== the package's tests (pytest)"
 	$(PY) -m pytest -q
 
 FUZZ_MINUTES ?= 10
@@ -48,7 +52,7 @@ lint: develop ## clippy, rustfmt, ruff, the generated schema and docs, and the s
 	$(PY) -m ruff check .
 	cd python && $(PY) -m mypy.stubtest multibots._core
 
-develop: $(EXT_STAMP) ## build the engine and install the package into .venv, with the test and lint extras
+develop: $(EXT_STAMP) $(TOOLS_STAMP) ## build the engine and install the package into .venv, with the test and lint extras
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -56,8 +60,19 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install -q 'maturin>=1.7,<2'
 	touch $@
 
+# The engine alone, with what `make run` needs; cargo shows its progress.
 $(EXT_STAMP): $(STAMP) $(RUST_SOURCES) pyproject.toml
-	cd $(CURDIR) && maturin develop --release --extras test,lint -q
+	@echo "== building the engine (Rust, release; a few minutes the first time)"
+	cd $(CURDIR) && maturin develop --release
+	touch $@
+
+# The test and lint extras (pytest, Playwright, Ray, ...), for `make test` and `make lint`.
+$(TOOLS_STAMP): $(STAMP) pyproject.toml | $(EXT_STAMP)
+	@echo "== installing the test and lint tools (the test and lint extras of pyproject.toml)"
+	$(PY) -c "import sys; t = __import__('tomllib' if sys.version_info >= (3, 11) else 'tomli'); \
+	  d = t.load(open('pyproject.toml', 'rb'))['project']['optional-dependencies']; \
+	  print('\n'.join(x for e in ('test', 'lint') for x in d[e]))" > $(VENV)/tools.txt
+	$(PY) -m pip install -q -r $(VENV)/tools.txt
 	touch $@
 
 browser: ## install Debian's chromium for the browser tests, if missing

@@ -18,7 +18,7 @@ echo "large 3000+100: $(fp benchmarks/sizes/large.toml 3000 100)"
 echo "huge 200+100: $(fp benchmarks/sizes/huge.toml 200 100)"
 echo "lifelong-1000 2000+0: $(fp benchmarks/sizes/lifelong-1000.toml 2000 0)"
 for traffic in gate reserve; do
-  sed "s/^robots = 1000/robots = 1000\ntraffic = \"$traffic\"/" scenarios/warehouse-1000.toml > "${TMPDIR:-/tmp}/mb-fp-$traffic.toml"
+  sed "s/^traffic = .*/traffic = \"$traffic\"/" scenarios/warehouse-1000.toml > "${TMPDIR:-/tmp}/mb-fp-$traffic.toml"
   echo "warehouse-1000 $traffic 3000+0: $(fp "${TMPDIR:-/tmp}/mb-fp-$traffic.toml" 3000 0)"
 done
 

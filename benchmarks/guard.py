@@ -37,8 +37,10 @@ def git(*args: str) -> str:
     return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True, check=True).stdout.strip()
 
 
-def build_base(rev: str) -> Path:
-    """The `scale` binary of revision `rev`, built in a worktree under target/guard/."""
+def build_base(rev: str) -> tuple[Path, Path]:
+    """The `scale` binary of revision `rev`, built in a worktree under target/guard/, and the
+    worktree (whose own size files it runs: a later revision may pin a choice in them that
+    an earlier one made by default, and the earlier parser may not know the key)."""
     sha = git("rev-parse", "--verify", f"{rev}^{{commit}}")
     tree = ROOT / "target" / "guard" / sha[:12]
     if not tree.exists():
@@ -50,7 +52,7 @@ def build_base(rev: str) -> Path:
     target = tree / "target"
     subprocess.run(["cargo", "build", "-q", "--release", "-p", "multibots-core", "--example", "scale",
                     "--target-dir", str(target)], cwd=tree, check=True)
-    return target / "release" / "examples" / "scale"
+    return target / "release" / "examples" / "scale", tree
 
 
 def build_head() -> Path:
@@ -59,8 +61,8 @@ def build_head() -> Path:
     return ROOT / "target" / "release" / "examples" / "scale"
 
 
-def run(binary: Path, size: str, steps: int) -> dict:
-    path = ROOT / "benchmarks" / "sizes" / f"{size}.toml"
+def run(binary: Path, size: str, steps: int, tree: Path = ROOT) -> dict:
+    path = tree / "benchmarks" / "sizes" / f"{size}.toml"
     out = subprocess.run([str(binary), str(path), str(steps)], capture_output=True, text=True, check=True)
     return json.loads(out.stdout.splitlines()[-1])
 
@@ -72,14 +74,14 @@ def main() -> None:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--steps", type=int, default=1000)
     a = ap.parse_args()
-    base, head = build_base(a.base), build_head()
+    (base, base_tree), head = build_base(a.base), build_head()
     sizes = [s.strip() for s in a.sizes.split(",") if s.strip()]
     speed: dict[tuple[str, str], list[float]] = {}
     prints: dict[tuple[str, str], set[str]] = {}
     for _ in range(a.repeats):
         for size in sizes:
-            for name, binary in (("base", base), ("head", head)):
-                r = run(binary, size, a.steps)
+            for name, binary, tree in (("base", base, base_tree), ("head", head, ROOT)):
+                r = run(binary, size, a.steps, tree)
                 speed.setdefault((name, size), []).append(r["robot_steps_per_s"])
                 prints.setdefault((name, size), set()).add(r.get("fingerprint", "?"))
     short = (git("rev-parse", "--short", a.base), git("rev-parse", "--short", "HEAD"))

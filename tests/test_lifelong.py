@@ -71,7 +71,8 @@ def test_cli_lifelong_errors_exit_2(cli, tmp_path):
         expected = f"--step-limit = {steps}: at most 4,294,967,295 (docs/limits.md)"
         assert p.returncode == 2 and p.stderr.strip().endswith(expected), p.stderr
         assert p.stderr.count("\n") == 1
-    bad.write_text('tasks = []\nplacement = "spread"\n[orders]\nrate = 1\n', encoding="utf-8")
+    bad.write_text('tasks = []\nplacement = "spread"\n[charging]\nchargers = "home"\n[orders]\nrate = 1\n',
+                   encoding="utf-8")
     p = cli("run", str(bad))
     assert p.returncode == 2 and 'placement = "spread": robots placed on aisles share chargers' in p.stderr
 

@@ -54,7 +54,7 @@ def test_python_errors_are_scenario_errors():
     with pytest.raises(ScenarioError, match=r"robot\.speed = 0: must be greater than 0"):
         Scenario.paper(robot={"speed": 0})
     with pytest.raises(ScenarioError, match="more robots than start nodes"):
-        Scenario.paper(robots=7)
+        Scenario.paper(robots=7, placement="departure")
     with pytest.raises(multibots.MultibotsError):
         Scenario.from_dict({"tasks": [1], "colour": "red"})
 

@@ -77,10 +77,17 @@ def people_costs(people: dict[str, Any]) -> dict[str, Optional[float]]:
     other = rates(alone) if alone else dict.fromkeys(mine)
     return {**mine, **{f"alone_{k}": v for k, v in other.items()}}
 
-def bottleneck_line(b: dict[str, Any]) -> str:
+def bottleneck_line(b: Optional[dict[str, Any]], outcome: Optional[str] = None) -> str:
     """A run's bottleneck (``Result.bottleneck``, docs/metrics.md) in one line: the resource,
-    its busy share, its mean and longest queue, and what would relieve it. ``multibots run``
-    prints it, and the viewer shows it."""
+    its busy share, its mean and longest queue, and what would relieve it; or, with none,
+    what the truth is instead: the fleet stranded out of energy, or no resource saturated.
+    ``multibots run`` prints it, and the viewer shows it."""
+    if b is None:
+        if outcome == "stranded":
+            return ("stranded: energy (robots ran out of energy with work left; the warning before the run, if any, "
+                    "gives the numbers: docs/charging.md)")
+        return ("no saturated resource (none busy half the steps with a queue that stays; the fleet's size and the "
+                "orders set the pace)")
     return (
         f"{b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue {b['mean_queue']:.1f} on average"
         f" ({b['longest_queue']} at most); relieve it with {b['relieve']}"

@@ -176,6 +176,18 @@ class Scenario:
         out.source = self.source
         return out
 
+    def warnings(self) -> list[str]:
+        """What to tell before a run, one line each, with the numbers and the fix: a fleet its
+        chargers cannot keep charged. Empty for a scenario that can run as it is."""
+        return self._core.warnings()
+
+    def resolved(self) -> Scenario:
+        """The scenario with every ``"auto"`` choice made for its layout (placement, chargers,
+        charging policy, unloading, traffic; docs/scenario-format.md): what a run of it does."""
+        out = Scenario(self._core.resolved())
+        out.source = self.source
+        return out
+
     def files(self) -> list[tuple[str, Path]]:
         """The files a run of this scenario reads, as (what, path): the scenario file itself
         (when read from one), a layout file, the orders' and people's CSV tables, and a

@@ -152,7 +152,7 @@ def test_a_tour_of_4294967295_cells_is_refused_not_an_abort(tmp_path: Path) -> N
     ("step_limit = 18446744073709551615",
      "s.toml: line 3: step_limit = 18446744073709551615: too large (TOML whole numbers are at most "
      "9223372036854775807)"),
-    ('traffic = "jam"', 's.toml: traffic = "jam": expected one of wait, gate, reserve'),
+    ('traffic = "jam"', 's.toml: traffic = "jam": expected one of auto, wait, gate, reserve'),
 ])
 def test_type_errors_are_in_the_users_words(tmp_path: Path, body: str, message: str) -> None:
     (tmp_path / "s.toml").write_text('layout = "paper"\ntasks = [11, 8]\n' + body + "\n")

@@ -92,7 +92,8 @@ BAD_FILES = {
                        ['unload = "Q2"', 'unknown node: the unloading zones are M, N, O, P, Q, R; or "nearest"']),
     "misspelt strategy": ('tasks = [1]\nallocator = "hungarain"\n',
                           ['allocator = "hungarain"', 'did you mean "hungarian"?']),
-    "too many robots": ("tasks = [1]\nrobots = 7\n", ["robots = 7", "more robots than start nodes"]),
+    "too many robots": ("tasks = [1]\nrobots = 7\nplacement = \"departure\"\n",
+                        ["robots = 7", "more robots than start nodes"]),
     "start not departure": ('tasks = [1]\nrobots = 2\nstarts = ["A", "M"]\n', ['starts[1] = "M"', "departure zone"]),
     "repeated start": ('tasks = [1]\nrobots = 2\nstarts = ["B", "B"]\n', ['starts[1] = "B"', "distinct"]),
     "unload not unloading": ('tasks = [1]\nunload = "A"\n',
@@ -236,7 +237,7 @@ def test_a_lifelong_run_past_its_fleet_says_how_to_find_the_rate_it_carries(cli,
 
 def test_robots_stranding_while_the_rest_deliver_exit_3_with_when_and_where(cli, tmp_path):
     # A layout nobody tuned whose threshold charging strands robots one by one from step
-    # ~6,700 while the rest keep delivering (crates/multibots-core/tests/outcomes.rs has the
+    # ~6,700 while the rest keep delivering (crates/multibots-core/tests/engine/outcomes.rs has the
     # engine's side): the run is not a normal `horizon`.
     scenario = tmp_path / "untuned.toml"
     scenario.write_text(

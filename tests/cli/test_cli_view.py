@@ -26,7 +26,7 @@ def test_bad_input_is_one_line_and_exit_2(cli, args, words, small_run, tmp_path)
 
 
 def test_bad_scenarios_are_reported_by_field(cli, tmp_path):
-    proc = cli("view", "--live", "--robots", "9", "--goods", "11,8", "--no-browser")
+    proc = cli("view", "--live", "--robots", "9", "--goods", "11,8", "--rules", "original", "--no-browser")
     cli.assert_one_line_error(proc, "robots = 9")
     bad = tmp_path / "bad.toml"
     bad.write_text("robots = 3\ntasks = [11, 11]\n")

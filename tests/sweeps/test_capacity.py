@@ -94,7 +94,7 @@ def test_the_command_prints_one_json_object_with_the_rate_and_the_curve(tmp_path
     (["--robots", "0"], "--robots = 0: must be at least 1"),
     (["--robots", "x"], "--robots = 'x': not an integer"),
     (["--allocators", "nearest,closest"], "--allocators = 'closest': unknown; expected one of in-turn"),
-    (["--traffic", "wait,honk"], "--traffic = 'honk': unknown; expected one of wait, gate, reserve"),
+    (["--traffic", "wait,honk"], "--traffic = 'honk': unknown; expected one of auto, wait, gate, reserve"),
     (["--traffic", "wait,wait"], "--traffic = 'wait': named twice"),
     (["--allocators", "hungarain"], "(did you mean hungarian?)"),
 ])
@@ -114,9 +114,8 @@ def test_a_fixed_task_list_is_refused_with_what_to_do(tmp_path):
 
 
 def test_past_the_knee_the_single_unloading_zone_is_named_with_its_relief(tmp_path):
-    # The generator's default: one unloading zone for the whole warehouse.
-    one_zone = {**BASE, "unload": "M", "layout_generate": {**BASE["layout_generate"], "unloading_rows": 1}}
-    one_zone.pop("unload")
+    # Every goods to one unloading zone for the whole warehouse.
+    one_zone = {**BASE, "unload": "first", "layout_generate": {**BASE["layout_generate"], "unloading_rows": 1}}
     answer = mb.capacity(Scenario.from_dict(one_zone), out=tmp_path, seeds=2)
     b = answer.bottleneck
     assert answer.sustainable_rate is not None and b is not None, answer.to_dict()

@@ -36,11 +36,12 @@ def test_compare_and_sweep_run_the_same_runs(tmp_path: Path) -> None:
 
 
 def test_a_python_strategy_under_several_traffic_policies(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    # Each arm is labelled "strategy/policy"; the strategy is still loaded by its own name.
+    # Each arm is labelled "strategy/policy", the strategy by its ``name``; it is still loaded
+    # by its module and class.
     monkeypatch.chdir(ROOT)
     closest = "tests/strategies_example/closest.py:Closest"
     rows = study.run_study([closest, "in-turn"], [2], study.parse_tasks("random:4"), seeds=2, workers=2,
                            traffic=["wait", "reserve"], journal=tmp_path / "runs.jsonl")
     arms = {r["strategy"] for r in rows}
-    assert arms == {f"{closest}/wait", f"{closest}/reserve", "in-turn/wait", "in-turn/reserve"}
+    assert arms == {"closest/wait", "closest/reserve", "in-turn/wait", "in-turn/reserve"}
     assert all(r["outcome"] == "complete" for r in rows)

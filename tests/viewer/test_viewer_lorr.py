@@ -70,6 +70,11 @@ def test_a_lorr_replay_is_drawn_and_played(page, tmp_path):
     with Viewer.for_replay(str(path)) as viewer:
         open_viewer(page, viewer)
         assert page.evaluate("() => window.mbViewer.meta().layout.grid.cols") == 9
+        # The side panel names what a grid's counters count, and has no row that would mean
+        # nothing here (no charging, no task time).
+        rows = page.evaluate("() => [...document.querySelectorAll('#counters dt')]"
+                             ".filter(e => e.checkVisibility()).map(e => e.textContent)")
+        assert rows == ["step", "errors", "finished"]
         assert page.evaluate(f"() => window.mbViewer.seek({f})") == f
         page.wait_for_function(f"() => window.mbViewer.state().frame === {f}")
         shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")

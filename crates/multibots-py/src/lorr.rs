@@ -104,6 +104,7 @@ impl PyLorrRun {
 /// The files a run of the problem at `path` reads: the problem, then the map, agents and
 /// tasks files it names (as far as its JSON can be read): what no output may be.
 #[pyfunction]
+#[allow(clippy::needless_pass_by_value)] // PyO3 converts the argument into an owned path
 pub(crate) fn lorr_files(path: PathBuf) -> Vec<PathBuf> {
     multibots_core::input::lorr::problem_files(&path)
 }

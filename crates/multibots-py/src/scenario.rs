@@ -46,6 +46,19 @@ impl PyScenario {
         engine(py, move || Simulation::with_allocator(&s, alloc).map(drop))
     }
 
+    /// What the scenario should be told before it runs (a fleet its chargers cannot keep
+    /// charged), one line each.
+    fn warnings(&self, py: Python<'_>) -> PyResult<Vec<String>> {
+        let s = self.inner.clone();
+        engine(py, move || multibots_core::rules::warnings(&s))
+    }
+
+    /// The scenario with every "auto" choice made for its layout.
+    fn resolved(&self, py: Python<'_>) -> PyResult<PyScenario> {
+        let s = self.inner.clone();
+        engine(py, move || multibots_core::rules::resolved(&s)).map(|inner| PyScenario { inner })
+    }
+
     /// The files a run of the scenario reads, as (field, path): what no output may be.
     fn files(&self) -> Vec<(&'static str, std::path::PathBuf)> {
         self.inner.files()

@@ -228,16 +228,22 @@ def quick_scenario(
 # The quick-run flags, shared by `run` and `view --live`. Numbers arrive as text so that a bad
 # one is reported with its value.
 ROBOTS = typer.Option(None, "--robots", help="Number of robots N.", show_default=False, metavar="N")
-GOODS = typer.Option(None, "--goods", help="Cells to fetch, in order, such as 11,8,39.", show_default=False)
-STARTS = typer.Option(None, "--starts", help="Start nodes, such as A,B,C (default A, B, C, ...).", show_default=False)
-UNLOAD = typer.Option(None, "--unload", help="Unloading zone: a node name, such as M.", show_default=False)
+GOODS = typer.Option(None, "--goods", metavar="CELLS",
+                     help="Cells to fetch, in order, such as 11,8,39.", show_default=False)
+STARTS = typer.Option(None, "--starts", metavar="NODES",
+                      help="Start nodes, such as A,B,C (default A, B, C, ...).", show_default=False)
+UNLOAD = typer.Option(None, "--unload", metavar="NODE",
+                      help="Unloading zone: a node name, such as M.", show_default=False)
 MARGIN = typer.Option(None, "--margin", help="Collision margin, px (default 0).", show_default=False, metavar="PX")
 TRAFFIC = typer.Option(
-    None, "--traffic", help="Traffic policy: wait (the paper's collision waiting, the default), gate or reserve "
-    "(docs/traffic.md).", show_default=False,
+    None, "--traffic", metavar="NAME",
+    help="Traffic policy: auto (the default: wait for the paper's fleets, reserve for "
+    "fleets spread along the aisles), wait (the paper's collision waiting), gate or reserve (docs/traffic.md).",
+    show_default=False,
 )
 RULES = typer.Option(
-    None, "--rules", help="Rule set: paper (docs/model.md, the default) or original (the authors' code).",
+    None, "--rules", metavar="NAME",
+    help="Rule set: paper (docs/model.md, the default) or original (the authors' code).",
     show_default=False,
 )
 ALLOW_CODE = typer.Option(
@@ -256,6 +262,36 @@ def _fail(message: str, code: int, prefix: str = "error: ") -> NoReturn:
     sys.exit(code)
 
 
+class _ReaderMayLeave:
+    """Standard output for a reader that may stop reading (``multibots run ... | head -1``):
+    once the pipe is closed, the rest goes to the null device and the command ends with its
+    own exit code (3 for a run that stranded, say), not the internal error's."""
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return int(self._stream.write(text))
+        except BrokenPipeError:
+            self._drop()
+            return len(text)
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            self._drop()
+
+    def _drop(self) -> None:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, self._stream.fileno())
+        os.close(null)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 def run_app(app: typer.Typer, argv: Optional[list[str]] = None) -> None:
     """Runs ``app`` and turns every error into one line on stderr and an exit code.
 
@@ -264,6 +300,18 @@ def run_app(app: typer.Typer, argv: Optional[list[str]] = None) -> None:
     its line; anything else is an internal error, with the traceback only when
     ``MULTIBOTS_DEBUG`` is set.
     """
+    out = sys.stdout
+    if out is not None and not isinstance(out, _ReaderMayLeave):
+        sys.stdout = _ReaderMayLeave(out)
+    try:
+        _run_app(app, argv)
+    finally:
+        if sys.stdout is not None:
+            sys.stdout.flush()
+        sys.stdout = out
+
+
+def _run_app(app: typer.Typer, argv: Optional[list[str]]) -> None:
     try:
         rv = app(args=argv, prog_name=PROG, standalone_mode=False)
     except MissingExtraError as e:
@@ -279,7 +327,7 @@ def run_app(app: typer.Typer, argv: Optional[list[str]] = None) -> None:
         _fail("interrupted", EXIT_INTERRUPTED, "")
     except typer.Exit as e:
         sys.exit(e.exit_code)
-    except BrokenPipeError:
+    except BrokenPipeError:  # a pipe other than standard output: the reader left
         sys.exit(EXIT_INTERNAL)
     except Exception as e:
         # Usage errors of the (vendored) click parser carry these two attributes.

@@ -21,34 +21,40 @@ __all__ = ["capacity"]
 def capacity(
     scenario: Path = typer.Argument(..., help="A scenario with lifelong orders ([orders]): warehouse, fleet, "
                                     "strategy, traffic policy."),
-    seeds: str = typer.Option("3", "--seeds", help="Runs per level, with seeds 1..N."),
+    seeds: str = typer.Option("3", "--seeds", metavar="INT", help="Runs per level, with seeds 1..N."),
     robots: Optional[str] = typer.Option(None, "--robots", help="The fleet size (default: the scenario's robots).",
                                          show_default=False, metavar="N"),
-    horizon: Optional[str] = typer.Option(None, "--horizon", help="Steps per run (default: the scenario's "
+    horizon: Optional[str] = typer.Option(None, "--horizon", metavar="STEPS",
+                                          help="Steps per run (default: the scenario's "
                                           "orders.horizon, else 10000).", show_default=False),
     robots_for: Optional[str] = typer.Option(
         None, "--robots-for", help="RATE: the smallest fleet that sustains RATE orders per step, instead of the "
         "highest rate for the scenario's fleet.", show_default=False, metavar="RATE",
     ),
-    start: Optional[str] = typer.Option(None, "--start", help="The first rate tried (default: robots / 1000).",
+    start: Optional[str] = typer.Option(None, "--start", metavar="RATE",
+                                        help="The first rate tried (default: robots / 1000).",
                                         show_default=False),
-    served: str = typer.Option("0.95", "--served", help="The share of the demand a settled fleet must deliver "
+    served: str = typer.Option("0.95", "--served", metavar="SHARE",
+                               help="The share of the demand a settled fleet must deliver "
                                "for a rate to count as sustained."),
     out: Path = typer.Option(Path("out/capacity"), "--out", help="Folder for the run store (runs/, reused by "
                              "the next search) and capacity.png."),
-    workers: str = typer.Option("0", "--workers", help="Threads (0: one per core); Ray: CPUs of a local cluster."),
-    backend: str = typer.Option("local", "--backend", help="local (this machine's cores) or ray."),
-    ray_address: Optional[str] = typer.Option(None, "--ray-address", help="A Ray cluster to join.",
+    workers: str = typer.Option("0", "--workers", metavar="INT",
+                                help="Threads (0: one per core); Ray: CPUs of a local cluster."),
+    backend: str = typer.Option("local", "--backend", metavar="NAME", help="local (this machine's cores) or ray."),
+    ray_address: Optional[str] = typer.Option(None, "--ray-address", metavar="ADDRESS", help="A Ray cluster to join.",
                                               show_default=False),
     as_json: bool = typer.Option(False, "--json", help="Print one JSON object (sustainable_rate, robots, curve) "
                                  "instead of the table."),
     quiet: bool = typer.Option(False, "--quiet", help="No progress bar."),
     allocators: Optional[str] = typer.Option(
-        None, "--allocators", help="Strategies to compare, such as nearest,hungarian: one search per strategy and "
+        None, "--allocators", metavar="NAMES",
+        help="Strategies to compare, such as nearest,hungarian: one search per strategy and "
         "traffic policy (default: the scenario's).", show_default=False,
     ),
     traffic: Optional[str] = typer.Option(
-        None, "--traffic", help="Traffic policies to compare, such as wait,reserve (default: the scenario's).",
+        None, "--traffic", metavar="NAMES",
+        help="Traffic policies to compare, such as wait,reserve (default: the scenario's).",
         show_default=False,
     ),
     allow_code: bool = ALLOW_CODE,
@@ -160,7 +166,7 @@ def _combinations(base: object, allocs: Optional[list[str]], policies: Optional[
         delivered = f"{knee['throughput_per_1000']:.1f}" if knee else "-"
         waiting = f"{knee['wait_share']:.0%}" if knee else "-"
         b = a.bottleneck
-        neck = f"{b['kind']} {b['node']} (busy {b['busy']:.0%})" if b else "-"
+        neck = f"{b['kind']} {b['node']} (busy {b['busy']:.0%})" if b else ("none saturated" if a.knee else "-")
         print(f"{c.label:<{w}} {value:>11} {delivered:>9} {p50:>11} {p95:>6} {waiting:>7} {a.runs:>5}  {neck}")
     ok = [c for c in combos if (c.answer.sustainable_rate if rate is None else c.answer.robots) is not None]
     if ok and len(combos) > 1:
@@ -194,6 +200,9 @@ def _print(answer: object, scenario: Path, seconds: float) -> None:
               f"{d['served']:>6.0%}{mark} {d['backlog_growth_per_1000']:>9.1f} {p50:>11} {p95:>6} "
               f"{d['wait_share']:>7.0%}  {', '.join(d['outcomes'])}")
     b = answer.bottleneck
+    if b is None and answer.knee is not None:
+        print("past the knee no resource is saturated (none busy half the steps with a queue that stays: "
+              "docs/metrics.md); the fleet's size and the orders set the pace")
     if b is not None:
         print(f"past the knee the bottleneck is {b['kind']} {b['node']}: busy {b['busy']:.0%} of steps, queue "
               f"{b['mean_queue']:.1f} on average ({b['longest_queue']} at most); relieve it with {b['relieve']}")

@@ -22,29 +22,35 @@ DEFAULT_STRATEGIES = "in-turn,nearest,hungarian,auction,energy-aware,min-cost"
 
 def compare(
     strategies: str = typer.Option(
-        DEFAULT_STRATEGIES, "--strategies",
+        DEFAULT_STRATEGIES, "--strategies", metavar="NAMES",
         help="Comma-separated strategies: built-ins, package.module:Class, module:Class or path/to/file.py:Class.",
     ),
     robots: str = typer.Option(
-        "1..6", "--robots", help="Fleet sizes: a range such as 1..6 (inclusive) or a list such as 1,2,4."
+        "1..6", "--robots", metavar="RANGE",
+        help="Fleet sizes: a range such as 1..6 (inclusive) or a list such as 1,2,4."
     ),
     tasks: str = typer.Option(
-        "paper", "--tasks",
+        "paper", "--tasks", metavar="SPEC",
         help="paper (TABLE III's five lists), random:K (K goods per list, one list per seed) or scenario (the "
         "--scenario file's own tasks or orders; with orders, one order stream per seed).",
     ),
     seeds: int = typer.Option(
         30, "--seeds", help="With --tasks random:K or scenario: how many lists or order streams (seeds 1..SEEDS).",
-        parser=whole_flag("--seeds", 0, 100_000),
+        parser=whole_flag("--seeds", 0, 100_000), metavar="INT",
     ),
-    traffic: str = typer.Option(
-        "wait", "--traffic", help="Traffic policies to compare too, comma-separated: wait, gate, reserve."
+    traffic: Optional[str] = typer.Option(
+        None, "--traffic", metavar="NAMES",
+        help="Traffic policies to compare too, comma-separated: auto (wait for the paper's "
+        "fleets, reserve for fleets spread along the aisles), wait, gate, reserve (default: the scenario's, "
+        "else auto).", show_default=False,
     ),
     rules: str = typer.Option(
-        "paper", "--rules", help="Rule sets to compare too, comma-separated: paper, original (in-turn only)."
+        "paper", "--rules", metavar="NAMES",
+        help="Rule sets to compare too, comma-separated: paper, original (in-turn only)."
     ),
     humans: str = typer.Option(
-        "", "--humans", help="People on the floor to compare too, comma-separated counts such as 0,20,40 "
+        "", "--humans", metavar="COUNTS",
+        help="People on the floor to compare too, comma-separated counts such as 0,20,40 "
         "(the scenario's [humans] table, or its defaults: docs/people.md).",
     ),
     out: Path = typer.Option(
@@ -53,7 +59,7 @@ def compare(
     ),
     workers: int = typer.Option(
         0, "--workers", help="Threads (built-ins) or processes (Python strategies); 0: one per core.",
-        parser=whole_flag("--workers", 0, MAX_WORKERS),
+        parser=whole_flag("--workers", 0, MAX_WORKERS), metavar="INT",
     ),
     scenario: Optional[Path] = typer.Option(
         None, "--scenario", show_default=False,
@@ -73,7 +79,6 @@ def compare(
 
     check_folder(out)
     names = study.parse_strategies(strategies)
-    traffics = study.parse_choices(traffic, "--traffic", ("wait", "gate", "reserve"))
     rule_sets = study.parse_choices(rules, "--rules", ("paper", "original"))
     crowds = study.parse_humans(humans)
     ns = study.parse_robots(robots)
@@ -93,6 +98,9 @@ def compare(
             base = Scenario.from_dict(data)
         else:
             base = Scenario.from_toml(scenario)
+    own = "auto" if base is None else str(base.to_dict().get("traffic") or "auto")
+    traffics = study.parse_choices(traffic if traffic is not None else own, "--traffic",
+                                   ("auto", "wait", "gate", "reserve"))
     # Validates every scenario (fleet sizes, Python strategies' imports) before any run.
     runs = study.plan_runs(names, ns, spec, seeds, base, traffics, rule_sets, crowds, workers)
     inputs = [("scenario file", scenario)] if scenario is not None else []

@@ -26,7 +26,7 @@ def layout(
     out: Path = typer.Option(Path("layout.png"), "--out", help="Figure file: .png, .svg or .pdf."),
     name: str = typer.Option("paper", "--layout", help="Layout to draw: a name or a layout file."),
     goods: Optional[str] = typer.Option(
-        None, "--goods", help="Cells to draw full (red), such as 11,8,39.", show_default=False
+        None, "--goods", metavar="CELLS", help="Cells to draw full (red), such as 11,8,39.", show_default=False
     ),
     as_json: bool = typer.Option(False, "--json", help="Print the layout JSON instead of drawing."),
 ) -> None:
@@ -88,28 +88,34 @@ def _rows_or_auto(value: Any) -> Union[int, str]:
 def generate(
     out: Path = typer.Option(Path("layout.toml"), "--out", help="Layout file to write (TOML)."),
     group_rows: int = typer.Option(2, "--group-rows", help="Rows of storage groups (R).",
-                                   parser=whole_flag("--group-rows", 0, MAX_GROUPS, _TOO_LARGE)),
+                                   parser=whole_flag("--group-rows", 0, MAX_GROUPS, _TOO_LARGE), metavar="INT"),
     group_cols: int = typer.Option(5, "--group-cols", help="Columns of storage groups (C).",
-                                   parser=whole_flag("--group-cols", 0, MAX_GROUPS, _TOO_LARGE)),
-    group_size: str = typer.Option("2x4", "--group-size", help="Cells across x down a group (across: 1 or 2)."),
-    aisle: float = typer.Option(50.0, "--aisle", help="Aisle width, px.", parser=finite_flag("--aisle")),
-    cell: float = typer.Option(50.0, "--cell", help="Side of a storage cell, px.", parser=finite_flag("--cell")),
+                                   parser=whole_flag("--group-cols", 0, MAX_GROUPS, _TOO_LARGE), metavar="INT"),
+    group_size: str = typer.Option("2x4", "--group-size", metavar="SIZE",
+                                   help="Cells across x down a group (across: 1 or 2)."),
+    aisle: float = typer.Option(50.0, "--aisle", help="Aisle width, px.", parser=finite_flag("--aisle"),
+                                metavar="NUMBER"),
+    cell: float = typer.Option(50.0, "--cell", help="Side of a storage cell, px.", parser=finite_flag("--cell"),
+                               metavar="NUMBER"),
     chargers: Optional[int] = typer.Option(
         None, "--chargers", help="Chargers, spread evenly over the crossings of the walls --charger-walls names "
         "(default C + 1).", show_default=False,
-        parser=whole_flag("--chargers", 0, 4 * (MAX_GROUPS + 1), _TOO_LARGE),
+        parser=whole_flag("--chargers", 0, 4 * (MAX_GROUPS + 1), _TOO_LARGE), metavar="INT",
     ),
-    charger_walls: str = typer.Option("top", "--charger-walls", help="Walls with chargers, on spurs out of the "
+    charger_walls: str = typer.Option("top", "--charger-walls", metavar="NAME",
+                                      help="Walls with chargers, on spurs out of the "
                                       "warehouse, at crossings first, then midway between two of the top and bottom "
                                       "rows: top (the paper's, at most 2C + 1), top-bottom (at most 2(2C + 1)) or all "
                                       "(also left and right: at most 2(2C + 1) + 2(R + 1))."),
-    spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur")),
-    name: str = typer.Option("generated", "--name", help="The layout's name."),
+    spur: float = typer.Option(40.0, "--spur", help="Length of a charger's spur, px.", parser=finite_flag("--spur"),
+                               metavar="NUMBER"),
+    name: str = typer.Option("generated", "--name", metavar="TEXT", help="The layout's name."),
     unloading_rows: str = typer.Option(
         "auto", "--unloading-rows", help="Rows of crossings that are unloading zones, spread from the bottom up; "
-        "auto: one per four rows of groups.", parser=_rows_or_auto,
+        "auto: one per four rows of groups.", parser=_rows_or_auto, metavar="N|auto",
     ),
-    aisles: str = typer.Option("auto", "--aisles", help="Horizontal aisle directions: paper (every row east but "
+    aisles: str = typer.Option("auto", "--aisles", metavar="NAME",
+                               help="Horizontal aisle directions: paper (every row east but "
                                "the bottom one), alternate (rows alternate east and west), or auto (paper up to "
                                "two rows of groups, alternate beyond)."),
 ) -> None:

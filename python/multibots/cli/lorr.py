@@ -23,21 +23,23 @@ def _choices(table: tuple[tuple[str, str], ...]) -> str:
 
 def lorr(
     problem: Path = typer.Argument(..., help="A LoRR problem file (JSON), 2023 or 2024.", show_default=False),
-    steps: str = typer.Option("5000", "--steps", help="Steps to run (the competition's budget is usually 5000)."),
+    steps: str = typer.Option("5000", "--steps", metavar="STEPS",
+                              help="Steps to run (the competition's budget is usually 5000)."),
     out: Optional[Path] = typer.Option(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
     planner: str = typer.Option(
-        _core.LORR_PLANNERS[0][0], "--planner", help=f"Planner: {_choices(_core.LORR_PLANNERS)}.",
+        _core.LORR_PLANNERS[0][0], "--planner", metavar="NAME", help=f"Planner: {_choices(_core.LORR_PLANNERS)}.",
     ),
     scheduler: str = typer.Option(
-        _core.LORR_SCHEDULERS[0][0], "--scheduler", help=f"Scheduler (2024): {_choices(_core.LORR_SCHEDULERS)}.",
+        _core.LORR_SCHEDULERS[0][0], "--scheduler", metavar="NAME",
+        help=f"Scheduler (2024): {_choices(_core.LORR_SCHEDULERS)}.",
     ),
     plan_time_limit: Optional[str] = typer.Option(
-        None, "--plan-time-limit", show_default=False,
+        None, "--plan-time-limit", metavar="MS", show_default=False,
         help="The competition's planning time limit per step, in ms: past it every robot waits a step (T).",
     ),
-    seed: str = typer.Option("0", "--seed", help="Seed of the planner's tie-breaks."),
+    seed: str = typer.Option("0", "--seed", metavar="INT", help="Seed of the planner's tie-breaks."),
     record: Optional[Path] = typer.Option(
         None, "--record", show_default=False,
         help="Write a replay of every step to this file (.mbr); multibots view plays it.",

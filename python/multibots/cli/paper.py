@@ -19,11 +19,12 @@ def paper(
     out: Path = typer.Option(Path("out/paper"), "--out", help="Folder for results.csv and the figures."),
     margin: float = typer.Option(
         0.0, "--margin", help="Collision margin of the paper rules, px (the authors' code used 8).",
-        parser=finite_flag("--margin"),
+        parser=finite_flag("--margin"), metavar="NUMBER",
     ),
-    rules: str = typer.Option("both", "--rules", help="Rule sets to run: both, original (the authors' code) or paper."),
+    rules: str = typer.Option("both", "--rules", metavar="NAME",
+                              help="Rule sets to run: both, original (the authors' code) or paper."),
     workers: int = typer.Option(
-        0, "--workers", help="Threads (0: one per core).", parser=whole_flag("--workers", 0, MAX_WORKERS)
+        0, "--workers", help="Threads (0: one per core).", parser=whole_flag("--workers", 0, MAX_WORKERS), metavar="INT"
     ),
 ) -> None:
     """Run the paper's 30 runs (N = 1..6 × TABLE III) under the original and the paper rules,

@@ -18,15 +18,16 @@ __all__ = ["render"]
 def render(
     replay: Path = typer.Argument(..., metavar="REPLAY", help="The replay (.mbr) to export."),
     out: Path = typer.Option(..., "--out", "-o", help="Output file: .mp4 or .gif."),
-    fps: int = typer.Option(30, "--fps", help="Video frames per second.", parser=whole_flag("--fps", 1, 120)),
+    fps: int = typer.Option(30, "--fps", help="Video frames per second.", parser=whole_flag("--fps", 1, 120),
+                            metavar="INT"),
     start: int = typer.Option(0, "--from", help="First replay frame (step) to export.",
-                              parser=whole_flag("--from", 0, MAX_FRAMES)),
+                              parser=whole_flag("--from", 0, MAX_FRAMES), metavar="INT"),
     end: Optional[int] = typer.Option(None, "--to", help="Last replay frame (step) to export (default: the last).",
-                                      parser=whole_flag("--to", 0, MAX_FRAMES)),
+                                      parser=whole_flag("--to", 0, MAX_FRAMES), metavar="INT"),
     scale: float = typer.Option(1.0, "--scale", help="Pixels per warehouse px (0.25 to 4).",
-                                parser=finite_flag("--scale")),
+                                parser=finite_flag("--scale"), metavar="NUMBER"),
     every: int = typer.Option(1, "--every", help="Export every K-th step (1 = every step).",
-                              parser=whole_flag("--every", 1, MAX_FRAMES)),
+                              parser=whole_flag("--every", 1, MAX_FRAMES), metavar="INT"),
     quiet: bool = typer.Option(False, "--quiet", "-q", help="No progress bar."),
 ) -> None:
     """Export a replay to MP4 or GIF, drawn exactly as the viewer page draws it.

@@ -49,13 +49,13 @@ def run(
         None, "--record", help="Write a replay of every step to this file.", show_default=False
     ),
     allocator: Optional[str] = typer.Option(
-        None, "--allocator", show_default=False,
+        None, "--allocator", metavar="NAME", show_default=False,
         help="Task-allocation strategy: a built-in (in-turn, nearest, hungarian, auction, energy-aware, min-cost), "
         "package.module:Class, module:Class for a module in the current folder, or path/to/file.py:Class.",
     ),
     horizon: Optional[int] = typer.Option(
         None, "--horizon", help="Lifelong scenarios: steps to run (overrides orders.horizon).", show_default=False,
-        parser=whole_flag("--horizon", 1, MAX_STEPS),
+        parser=whole_flag("--horizon", 1, MAX_STEPS), metavar="INT",
     ),
     allow_code: bool = ALLOW_CODE,
 ) -> None:
@@ -77,6 +77,8 @@ def run(
             raise ScenarioError(f"--horizon = {horizon}: only for lifelong scenarios (with [orders])")
         s = s.replace(orders={"horizon": horizon})
     check_record(s, record, "--record")
+    for line in s.warnings():
+        print(f"multibots: warning: {line}", file=sys.stderr)
     result: Result = simulate(s, record=record)
     if as_json:
         print(json.dumps(result.to_dict(rounded=True), separators=(",", ":")))
@@ -141,9 +143,9 @@ def flow_lines(result: Any) -> list[str]:
     if g is not None:
         where = ", ".join(f"{name} ({k})" for name, k in g["crossings"][:5])
         lines.append(f"gridlock     at step {g['step']}: {len(g['waiting'])} robots waiting, at {where}")
-    b = getattr(result, "bottleneck", None)
-    if b is not None:
-        lines.append(f"bottleneck   {bottleneck_line(b)}")
+    if getattr(result, "resources", None):
+        # Rules that measure their resources (the paper's): a verdict either way.
+        lines.append(f"bottleneck   {bottleneck_line(getattr(result, 'bottleneck', None), result.outcome)}")
     c = getattr(result, "collapse", None)
     if c is not None:
         where = ", ".join(f"{name} ({k})" for name, k in c["crossings"][:5]) or "-"

@@ -20,17 +20,19 @@ def sweep(
     spec: Path = typer.Argument(..., help="The sweep spec (TOML): base scenario and axes."),
     out: Path = typer.Option(Path("out/sweep"), "--out", help="Folder for the run store (runs/), results.csv, "
                              "summary.csv, tests.csv and plots."),
-    backend: str = typer.Option("local", "--backend", help="local (this machine's cores) or ray."),
+    backend: str = typer.Option("local", "--backend", metavar="NAME", help="local (this machine's cores) or ray."),
     ray_address: Optional[str] = typer.Option(
-        None, "--ray-address", help="A Ray cluster to join (default: a local one started for the study).",
+        None, "--ray-address", metavar="ADDRESS",
+        help="A Ray cluster to join (default: a local one started for the study).",
         show_default=False,
     ),
     workers: int = typer.Option(
         0, "--workers", help="Threads or processes (0: one per core); Ray: CPUs of a local cluster.",
-        parser=whole_flag("--workers", 0, MAX_WORKERS),
+        parser=whole_flag("--workers", 0, MAX_WORKERS), metavar="INT",
     ),
     baseline: Optional[str] = typer.Option(
-        None, "--baseline", help="AXIS=VALUE: paired tests of every other value of AXIS against VALUE (tests.csv).",
+        None, "--baseline", metavar="AXIS=VALUE",
+        help="AXIS=VALUE: paired tests of every other value of AXIS against VALUE (tests.csv).",
         show_default=False,
     ),
     plot: List[str] = typer.Option(

@@ -44,10 +44,11 @@ def view(
     live: bool = typer.Option(False, "--live", help="Run a simulation and stream it to the page."),
     port: Optional[int] = typer.Option(
         None, "--port", help=f"Port to listen on (default {DEFAULT_PORT}, or a free one if taken).",
-        parser=whole_flag("--port", 0, 65535),
+        parser=whole_flag("--port", 0, 65535), metavar="INT",
     ),
     host: str = typer.Option(
-        "127.0.0.1", "--host", help="Address to listen on. Only change it if you mean to share the viewer."
+        "127.0.0.1", "--host", metavar="ADDRESS",
+        help="Address to listen on. Only change it if you mean to share the viewer."
     ),
     no_browser: bool = typer.Option(False, "--no-browser", help="Print the URL; do not open a browser."),
     allow_host: List[str] = typer.Option(
@@ -56,7 +57,7 @@ def view(
         "forwarding); repeatable.",
     ),
     speed: float = typer.Option(1.0, "--speed", help="Live: starting speed, 0.25 to 64 (1x = 30 steps per second).",
-                                parser=finite_flag("--speed")),
+                                parser=finite_flag("--speed"), metavar="NUMBER"),
     paused: bool = typer.Option(False, "--paused", help="Live: start paused."),
     robots: Optional[str] = ROBOTS,
     goods: Optional[str] = GOODS,

@@ -168,6 +168,8 @@ class Run:
     N: int
     list_id: int
     scenario: Scenario
+    #: The traffic policy the run plays: ``auto`` resolved for its fleet size (wait for the
+    #: paper's fleets, reserve for spread ones: docs/traffic.md).
     traffic: str = "wait"
     rules: str = "paper"
     #: People on the floor (``[humans] count``); None: as the scenario says.
@@ -206,7 +208,7 @@ def parse_choices(text: str, flag: str, known: Sequence[str]) -> list[str]:
 
 def plan_runs(
     strategies: Sequence[str], robots: Sequence[int], spec: TaskSpec, seeds: int, base: Optional[Scenario] = None,
-    traffic: Sequence[str] = ("wait",), rules: Sequence[str] = ("paper",), humans: Sequence[Optional[int]] = (None,),
+    traffic: Sequence[str] = ("auto",), rules: Sequence[str] = ("paper",), humans: Sequence[Optional[int]] = (None,),
     workers: int = 0,
 ) -> list[Run]:
     """Every (strategy, traffic policy, rule set, N, task list) combination, in that order;
@@ -222,8 +224,12 @@ def plan_runs(
     for key in ("robots", "allocator", "starts", "traffic", "rules") + (("tasks",) if spec.kind != "scenario" else ()):
         template.pop(key, None)
     runs = []
+    played_by_n: dict[int, str] = {}
+    from multibots.strategies import strategy_labels
+
+    labels = strategy_labels(list(strategies))
     for s, tr, ru, hu in ((s, tr, ru, hu) for s in strategies for tr in traffic for ru in rules for hu in humans):
-        arm = "/".join([s] + ([tr] if len(traffic) > 1 else []) + ([ru] if len(rules) > 1 else [])
+        arm = "/".join([labels[s]] + ([tr] if len(traffic) > 1 else []) + ([ru] if len(rules) > 1 else [])
                        + ([f"{hu} people"] if len(humans) > 1 else []))
         for n in robots:
             for list_id, tasks in lists:
@@ -242,7 +248,8 @@ def plan_runs(
                     scenario = Scenario._parsed_only(fields)
                 except ScenarioError as e:
                     raise ScenarioError(f"{arm}, N = {n}: {e}") from None
-                runs.append(Run(arm, n, list_id, scenario, tr, ru, hu, s))
+                played = tr if tr != "auto" else _played_traffic(scenario, played_by_n, n)
+                runs.append(Run(arm, n, list_id, scenario, played, ru, hu, s))
     # All at once: each layout is built once, not once per run.
     failed = _core.check_many([r.scenario._core for r in runs], workers)
     if failed is not None:
@@ -251,6 +258,17 @@ def plan_runs(
             raise e
         raise ScenarioError(f"{runs[k].strategy}, N = {runs[k].N}: {e}") from None
     return runs
+
+
+def _played_traffic(scenario: Scenario, known: dict[int, str], n: int) -> str:
+    """The policy ``traffic = "auto"`` plays at fleet size ``n`` (the layout is the same for
+    every run of a study, so once per size)."""
+    if n not in known:
+        try:
+            known[n] = str(scenario.resolved().to_dict().get("traffic", "wait"))
+        except ScenarioError:
+            known[n] = "auto"  # check_many reports the scenario's error below
+    return known[n]
 
 
 def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:
@@ -298,7 +316,7 @@ def run_study(
     progress: Optional[Callable[[int], None]] = None,
     journal: Optional[str | os.PathLike[str]] = None,
     reused: Optional[Callable[[int, int], None]] = None,
-    traffic: Sequence[str] = ("wait",),
+    traffic: Sequence[str] = ("auto",),
     rules: Sequence[str] = ("paper",),
     humans: Sequence[Optional[int]] = (None,),
     runs: Optional[Sequence[Run]] = None,

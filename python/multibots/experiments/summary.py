@@ -60,7 +60,7 @@ RESULT_FIELDS = [
     "people_alone_blocked_share",
 ]
 SUMMARY_FIELDS = [
-    "strategy", "N", "metric", "n", "mean", "sd", "ci_low", "ci_high",
+    "strategy", "N", "metric", "n", "runs", "not_complete", "mean", "sd", "ci_low", "ci_high",
     "pairs", "diff_vs_in_turn", "rel_diff_pct", "p_ttest", "p_wilcoxon",
 ]
 _NAMES = {
@@ -126,11 +126,15 @@ def summarize(rows: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     for s in strategies:
         for n in [*ns, "all"]:
             keys = [(s, m, li) for m in (ns if n == "all" else [n]) for li in lists]
+            runs = [by_key[k] for k in keys if k in by_key]
+            # Runs that ended short of their goal (stranded, jammed, out of steps): T and
+            # Cost_total have no value for them, and every mean says how many it leaves out.
+            short = sum(1 for r in runs if r.get("outcome") not in ("complete", "horizon"))
             for metric in METRICS:
                 vals = [v for k in keys if k in by_key and (v := _value(by_key[k], metric)) is not None]
                 mean, sd, lo, hi = interval(vals, metric)
                 row: dict[str, Any] = {
-                    "strategy": s, "N": n, "metric": metric, "n": len(vals),
+                    "strategy": s, "N": n, "metric": metric, "n": len(vals), "runs": len(runs), "not_complete": short,
                     "mean": mean, "sd": sd, "ci_low": lo, "ci_high": hi,
                     "pairs": None, "diff_vs_in_turn": None, "rel_diff_pct": None, "p_ttest": None, "p_wilcoxon": None,
                 }
@@ -262,6 +266,14 @@ def format_summary(summary: Sequence[dict[str, Any]], spec_label: str = "") -> s
                 cells[s, f"N={n}"] = _fmt(r["mean"], digits) + ci
         lines.append("")
         lines += _grid(f"{_NAMES[metric]}: mean [95% CI]", strategies, [f"N={n}" for n in ns], cells)
+    if any(r["not_complete"] for r in summary):
+        # Said before any mean can mislead: a strategy whose runs strand has its T over the
+        # few that finished.
+        cells = {(s, f"N={n}"): f"{idx[(s, n, 'S')]['not_complete']} of {idx[(s, n, 'S')]['runs']}"
+                 for s in strategies for n in ns}
+        lines.append("")
+        lines += _grid("runs that did not complete (stranded, jammed, out of steps; left out of T, Cost_total)",
+                       strategies, [f"N={n}" for n in ns], cells)
     if any(r["pairs"] for r in summary):
         lines += ["", f"against {base_name}, pooled over N (paired; diff = strategy - {base_name};",
                   "negative is better, but for throughput, sustained throughput, utilisation, picks):"]

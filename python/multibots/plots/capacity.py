@@ -39,7 +39,7 @@ def draw_capacity(answer: Any, path: str | os.PathLike[str]) -> Path:
         if knee is not None:
             kx = knee.demand if by_rate else knee.robots
             ax.plot([kx], [knee.to_dict()["throughput_per_1000"]], "*", markersize=14, color="C3",
-                    label="knee (highest sustained)")
+                    label="knee (highest sustained)" if by_rate else "answer (smallest fleet that sustains)")
         ax.set_ylabel("delivered per 1,000 steps")
         ax.legend()
         fig.tight_layout()

@@ -96,20 +96,37 @@ def draw_strategy_comparison(summary_rows: Iterable[Mapping[str, Any]],
             ax = fig.add_subplot()
             ax.set_gid("panel-a")
             all_n: set[Any] = set()
+            marked = False
             for i, s in enumerate(strategies):
                 pts = sorted(
-                    ((r["N"], num(r["mean"]), num(r.get("ci_low")), num(r.get("ci_high")))
+                    ((r["N"], num(r["mean"]), num(r.get("ci_low")), num(r.get("ci_high")),
+                      int(r.get("not_complete") or 0) if r.get("n") != r.get("runs", r.get("n")) else 0, r.get("runs"))
                      for r in rows
                      if r["metric"] == metric and r["strategy"] == s and not is_missing(r["mean"])),
                     key=lambda p: p[0])
                 if not pts:
                     continue
-                ns, mean, lo, hi = (np.array(c, dtype=float) for c in zip(*pts))
+                ns, mean, lo, hi = (np.array(c, dtype=float) for c in list(zip(*pts))[:4])
                 all_n.update(p[0] for p in pts)
                 style = series_style(i)
                 ax.fill_between(ns, lo, hi, color=style["color"], alpha=0.18,
                                 linewidth=0, gid=f"strategy-band-{i}")
-                ax.plot(ns, mean, label=str(s), gid=f"strategy-line-{i}", **style)
+                # Whiskers as well as the band: a band over one N is invisible.
+                bar = ax.errorbar(ns, mean, yerr=[np.nan_to_num(mean - lo), np.nan_to_num(hi - mean)], label=str(s),
+                                  capsize=3, **style)
+                bar[0].set_gid(f"strategy-line-{i}")
+                bar[2][0].set_gid(f"strategy-whiskers-{i}")
+                for n, m, _, _, short, runs in pts:
+                    if short:
+                        # Runs left out of this mean: said on the point, never hidden.
+                        marked = True
+                        ax.plot([n], [m], marker="o", markersize=11, markerfacecolor="none", markeredgecolor="red",
+                                linestyle="none", gid=f"strategy-short-{i}")
+                        ax.annotate(f"{short}/{runs} not complete", (n, m), textcoords="offset points", xytext=(6, 6),
+                                    fontsize=7, color="red")
+            if marked:
+                ax.text(0.01, 0.01, "red rings: means over the runs that completed; the others are counted on "
+                        "the point", transform=ax.transAxes, fontsize=7, color="red")
             ax.set_xlabel("Number of robots N")
             ax.set_ylabel(ylabel)
             ax.set_title(f"{name} by strategy (mean and 95% CI)")

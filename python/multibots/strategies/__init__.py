@@ -31,9 +31,10 @@ import re
 from typing import Any, Union
 
 from multibots import _core
-from multibots.strategies.loading import is_python_allocator, load_strategy, strategy_source
+from multibots.strategies.loading import is_python_allocator, load_strategy, strategy_labels, strategy_source
 
-__all__ = ["Allocator", "AllocView", "BUILT_INS", "Answer", "is_python_allocator", "load_strategy", "strategy_source"]
+__all__ = ["Allocator", "AllocView", "BUILT_INS", "Answer", "is_python_allocator", "load_strategy", "strategy_labels",
+           "strategy_source"]
 
 #: The built-in strategies, by the names TOML, the command line and Python share.
 BUILT_INS: tuple[str, ...] = tuple(_core.BUILT_INS)

@@ -20,6 +20,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any, Optional
 
+from multibots import _core
 from multibots.exceptions import ScenarioError
 
 __all__ = ["is_python_allocator", "load_strategy", "strategy_source"]
@@ -149,6 +150,25 @@ def load_strategy(name: str) -> Any:
     if not callable(obj):
         raise ScenarioError(f'allocator = "{name}": {attr} is not a class or function')
     return obj
+
+
+def strategy_labels(names: list[str]) -> dict[str, str]:
+    """What tables and figures call each strategy: a built-in by its name, a Python strategy
+    by its ``name`` (``Allocator.name``), or by ``module:Class`` where it has none or where
+    two strategies (or a built-in) would share one."""
+    labels = {n: n for n in names}
+    for n in names:
+        if is_python_allocator(n):
+            own = getattr(load_strategy(n), "name", None)
+            if isinstance(own, str) and own.strip():
+                labels[n] = own.strip()
+    taken = [labels[n] for n in names]
+    built_in = set(_core.BUILT_INS)
+
+    def clear(n: str, label: str) -> bool:
+        return label == n or (taken.count(label) == 1 and label not in names and label not in built_in)
+
+    return {n: (label if clear(n, label) else n) for n, label in labels.items()}
 
 
 def strategy_source(name: str) -> bytes:

@@ -129,6 +129,8 @@ def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Pa
     """``METRIC:AXIS[:BY]``: the metric's mean (with its 95% interval) against an axis (its
     values as categories when they are not numbers), one line per value of BY (default: the
     first other axis with several values). The title names the axes the means are taken over."""
+    import numpy as np
+
     from multibots.plots._common import new_figure, save_atomic
 
     metric, axis, by = parse_plot(spec, axes)
@@ -145,24 +147,41 @@ def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Pa
     fig = new_figure(figsize=(7, 4.5))
     ax = fig.add_subplot()
     lines = sorted({repr(r.get(by)) for r in rows}) if by else ["all"]
+    marked = False
     for line in lines:
         members = [r for r in rows if by is None or repr(r.get(by)) == line]
         xs = sorted({x_of(r) for r in members})
-        means, los, his = [], [], []
+        means, los, his, short = [], [], [], []
         for x in xs:
-            vals = [v for v in (_number(r.get(metric)) for r in members if x_of(r) == x) if v is not None]
+            at = [r for r in members if x_of(r) == x]
+            vals = [v for v in (_number(r.get(metric)) for r in at) if v is not None]
             mean, _, lo, hi = interval(vals, metric)
             means.append(mean if mean is not None else math.nan)
             los.append(lo if lo is not None else means[-1])
             his.append(hi if hi is not None else means[-1])
+            # Runs the mean leaves out (a stranded run has no T): counted on the point.
+            short.append((len(at) - len(vals), len(at)))
         label = f"{by} = {line.strip(chr(39))}" if by else metric
-        ax.plot(xs, means, marker="o", label=label)
-        ax.fill_between(xs, los, his, alpha=0.15)
+        mean_a, lo_a, hi_a = (np.array(v, dtype=float) for v in (means, los, his))
+        bar = ax.errorbar(xs, means, yerr=[np.nan_to_num(mean_a - lo_a), np.nan_to_num(hi_a - mean_a)], marker="o",
+                          capsize=3, label=label)
+        ax.fill_between(xs, los, his, alpha=0.15, color=bar[0].get_color())
+        for x, m, (missing, total) in zip(xs, means, short):
+            if missing:
+                marked = True
+                shown_at = m if not math.isnan(m) else 0.0
+                ax.plot([x], [shown_at], marker="o", markersize=11, markerfacecolor="none", markeredgecolor="red",
+                        linestyle="none")
+                ax.annotate(f"{missing}/{total} not in mean", (x, shown_at), textcoords="offset points",
+                            xytext=(6, 6), fontsize=7, color="red")
     if not numeric:
         ax.set_xticks(range(len(ticks)), ticks)
     ax.set_xlabel(axis)
     ax.set_ylabel(f"{metric} (mean, 95% interval)")
-    ax.set_title(f"mean over {', '.join(over)}" if over else "one run per point", fontsize=9)
+    title = f"mean over {', '.join(over)}" if over else "one run per point"
+    if marked:
+        title += f"; red rings: runs with no {metric} (not complete) left out of the mean, counted on the point"
+    ax.set_title(title, fontsize=8 if marked else 9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     path = out / f"plot-{metric}-{axis.replace('.', '_')}.png"

@@ -115,9 +115,14 @@ class Capacity:
 
     @property
     def knee(self) -> Optional[Level]:
-        """The highest level that was sustained."""
+        """The level the answer stands on: the highest rate sustained, or (a fleet-size
+        question) the smallest fleet that sustains the rate, the one ``robots`` names."""
         ok = [lv for lv in self.curve if lv.sustained(self.served)]
-        return ok[-1] if ok else None
+        if not ok:
+            return None
+        if self.question == "robots":
+            return next((lv for lv in ok if lv.robots == self.robots), ok[0])
+        return ok[-1]
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -214,17 +219,20 @@ class Combination:
     allocator: str
     traffic: str
     answer: Capacity
+    #: What tables call the strategy: its ``name`` for a Python strategy
+    #: (:func:`multibots.strategies.strategy_labels`).
+    strategy: str = ""
 
     @property
     def label(self) -> str:
-        return f"{self.allocator}/{self.traffic}"
+        return f"{self.strategy or self.allocator}/{self.traffic}"
 
     def to_dict(self) -> dict[str, Any]:
         return {"allocator": self.allocator, "traffic": self.traffic, **self.answer.to_dict()}
 
 
 #: The traffic policies (docs/traffic.md).
-TRAFFIC = ("wait", "gate", "reserve")
+TRAFFIC = ("auto", "wait", "gate", "reserve")
 
 
 def parse_names(text: str, flag: str, known: Sequence[str], python_ok: bool = False) -> list[str]:
@@ -258,7 +266,7 @@ def capacities(scenario: Union[Scenario, str, os.PathLike[str]], allocators: Opt
     s = scenario if isinstance(scenario, Scenario) else Scenario.from_toml(scenario)
     d = s.to_dict()
     allocs = list(allocators) if allocators is not None else [str(d.get("allocator") or "in-turn")]
-    policies = list(traffic) if traffic is not None else [str(d.get("traffic") or "wait")]
+    policies = list(traffic) if traffic is not None else [str(d.get("traffic") or "auto")]
     for name, values in (("allocators", allocs), ("traffic", policies)):
         if not values:
             raise InputError(f"{name}: give at least one")
@@ -269,6 +277,9 @@ def capacities(scenario: Union[Scenario, str, os.PathLike[str]], allocators: Opt
     variants = [s.replace(allocator=a, traffic=t) for a, t in combos]
     for v in variants:
         check(v, kwargs.get("horizon"), kwargs.get("seeds", 3), kwargs.get("served", 0.95))
+    from multibots.strategies import strategy_labels
+
+    labels = strategy_labels(allocs)
     out = []
     for (a, t), v in zip(combos, variants):
         if robots_for is None:
@@ -276,7 +287,7 @@ def capacities(scenario: Union[Scenario, str, os.PathLike[str]], allocators: Opt
         else:
             kwargs.pop("start", None)
             answer = fleet_for(v, robots_for, **kwargs)
-        out.append(Combination(a, t, answer))
+        out.append(Combination(a, t, answer, labels[a]))
     return out
 
 

@@ -124,7 +124,8 @@ impl Homes {
 pub(crate) fn unload_zone(layout: &Layout, unload: &Unload) -> Result<NodeId> {
     let first = *layout.unloading.first().ok_or_else(|| Error::layout("unloading", "the layout has no unloading zone"))?;
     match unload {
-        Unload::First | Unload::Nearest => Ok(first),
+        // `auto` is resolved before a run is built; alone, it means the first zone too.
+        Unload::Auto | Unload::First | Unload::Nearest => Ok(first),
         Unload::Node(name) => {
             let zones = || layout.unloading.iter().map(|&n| layout.nodes[n.index()].name.as_str()).collect::<Vec<_>>();
             let hint = || format!("the unloading zones are {}; or \"nearest\"", listed(&zones()));

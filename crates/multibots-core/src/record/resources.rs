@@ -2,24 +2,31 @@
 //! crossing and lane was, how long the queue before it grew, and which one limits the fleet.
 //!
 //! Each step (phase 8) a node is **busy** while a robot unloads or charges at it (unloading
-//! zones, chargers), or while a robot waits to enter it (crossings: congestion, as a
-//! crossing serves robots in a step). Its **queue** is the robots waiting at collisions (or
+//! zones, chargers), or while a robot waits to enter it (any node: a crossing serves robots
+//! in a step, and a zone with a line is turning over to the next robot). Its **queue** is the robots waiting at collisions (or
 //! held by a traffic policy) whose next node it is: the node they stand at or drive
 //! towards. Robots queued for a shared charger (WAIT_CHARGER) form one more queue, the
 //! charger pool's. A **lane** (an edge of the highway graph, one aisle between two crossings)
 //! is busy while robots stand held on it, and its queue is those robots: the part of the
 //! crossing's queue that stands on that lane, which says which way the queue reaches back.
-//! Unloading zones nobody unloaded at count as crossings. The **bottleneck**
-//! is the busiest saturated service (an unloading zone or the chargers, busy at least half
-//! the steps, with a mean queue of at least half a robot), or the only unloading zone in use
-//! where it has such a queue: the queues at crossings upstream of it are its symptoms. Without one, it is the crossing
-//! with the longest mean queue (at least half a robot). It names what would relieve it.
+//! Unloading zones nobody unloaded at count as crossings.
+//!
+//! The **bottleneck** is the binding constraint, named only when one is saturated: busy at
+//! least half the steps, with a queue that has not drained (half a robot or more on average
+//! over the later part of the run: from the run's last doubling of steps, so at least its
+//! last quarter). Services (an unloading zone, a charger, the shared chargers' queue) come
+//! first, the busiest; the queues at crossings upstream of a saturated service are its
+//! symptoms. Without one, the saturated crossing with the longest queue. Without that,
+//! nothing limits the fleet but its size and the orders, and none is named; nor when the
+//! fleet stranded, out of energy (the run's own verdict says so). The remedy names only the
+//! scenario keys this scenario has and has not set already ([`Setting`]).
 //!
 //! The queues of the last step ([`Queues`]) are what viewers draw; a replay keeps them, for
 //! the resources its run reported, as the frames where they changed ([`QueueLog`]).
 
 use crate::fleet::robot::{Robots, State};
 use crate::ids::{NodeId, NONE};
+use crate::input::layout_params::{ChargerWalls, LayoutParams};
 use crate::world::layout::Layout;
 use serde_json::{json, Value};
 
@@ -105,13 +112,42 @@ pub struct Queues {
     pub lanes: Vec<(NodeId, NodeId, u32)>,
 }
 
-/// The shortest mean queue that makes a bottleneck: half a robot waiting, on average, at
-/// every step. Below it robots rarely wait for anything and nothing limits the fleet but
-/// its size and the orders.
+/// The shortest mean queue, over the later part of the run, that makes a bottleneck: half a
+/// robot waiting, on average, at every step. Below it robots rarely wait for anything and
+/// nothing limits the fleet but its size and the orders.
 const MIN_QUEUE: f64 = 0.5;
 
-/// The busy share from which a service with a queue is saturated.
+/// The busy share from which a resource with a standing queue is saturated.
 const SATURATED: f64 = 0.5;
+
+/// The first step count at which the queues' sums are kept for the later part of the run;
+/// then at every doubling.
+const FIRST_CHECKPOINT: u64 = 64;
+
+/// What the scenario of a run already chose, which a bottleneck's remedy depends on: only
+/// keys it has, and has not set already, are suggested.
+#[derive(Clone, Debug, Default)]
+#[allow(clippy::struct_excessive_bools)] // four independent choices of the scenario, each on or off
+pub struct Setting {
+    /// The generator's parameters, for a generated layout (None: a layout file or a named one).
+    pub generated: Option<LayoutParams>,
+    /// `charging.chargers = "shared"`.
+    pub shared_chargers: bool,
+    /// `charging.policy = "staggered"`.
+    pub staggered: bool,
+    /// `unload = "nearest"`.
+    pub unload_nearest: bool,
+    /// `traffic = "reserve"`.
+    pub reserve: bool,
+}
+
+/// The queues' running sums at one step count: where the later part of the run starts.
+#[derive(Clone, Debug, Default)]
+struct Checkpoint {
+    steps: u64,
+    queued: Vec<u64>,
+    pool: u64,
+}
 
 /// The running sums, per node, per lane (slots after the nodes', one per edge of the layout)
 /// and for the charger queue.
@@ -126,15 +162,22 @@ pub(crate) struct Usage {
     stamp: u64,
     busy: Vec<u64>,
     busy_at: Vec<u64>,
+    /// Per node, the steps a robot unloaded or charged at it: which zones and chargers served.
+    served: Vec<u64>,
     queued: Vec<u64>,
     longest: Vec<u32>,
     now: Vec<u32>,
     touched: Vec<u32>,
     pool_queued: u64,
     pool_longest: u32,
+    /// Robot-steps holding a charger: charging at it, or driving to the one claimed.
+    pool_held: u64,
     /// The last observation's queues (node, robots), and the charger queue's.
     last: Vec<(u32, u32)>,
     last_pool: u32,
+    /// The sums at the last two doublings of the step count, and the next one's step.
+    checkpoints: [Checkpoint; 2],
+    next_checkpoint: u64,
 }
 
 impl Usage {
@@ -150,9 +193,11 @@ impl Usage {
             lanes_from,
             busy: vec![0; slots],
             busy_at: vec![u64::MAX; slots],
+            served: vec![0; nodes],
             queued: vec![0; slots],
             longest: vec![0; slots],
             now: vec![0; slots],
+            next_checkpoint: FIRST_CHECKPOINT,
             ..Usage::default()
         }
     }
@@ -173,15 +218,18 @@ impl Usage {
         self.last.clear();
         let t = self.stamp;
         let mut pool = 0u32;
+        let mut holding = 0u64;
         for (i, &held) in waits[..r.len()].iter().enumerate() {
             let state = r.state[i];
             pool += u32::from(state == State::WaitCharger);
+            holding += u64::from(matches!(state, State::Charging | State::ToCharger));
             if matches!(state, State::Unloading | State::Charging) {
                 // It stands at the end of its route: the zone or the charger.
                 let k = r.goal[i] as usize;
                 if r.goal[i] != NONE && unloading_or_charger[k] && self.busy_at[k] != t {
                     self.busy_at[k] = t;
                     self.busy[k] += times;
+                    self.served[k] += times;
                 }
             }
             let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
@@ -205,9 +253,10 @@ impl Usage {
             self.queued[k] += u64::from(q) * times;
             self.longest[k] = self.longest[k].max(q);
             self.last.push((node, q));
-            if (k >= self.nodes || !unloading_or_charger[k]) && self.busy_at[k] != t {
+            if self.busy_at[k] != t {
                 // A crossing is busy while robots wait to enter it, a lane while robots
-                // stand held on it.
+                // stand held on it, a zone or charger while robots wait for it too: it is
+                // then taken up by turning over to the next robot in line.
                 self.busy_at[k] = t;
                 self.busy[k] += times;
             }
@@ -215,8 +264,33 @@ impl Usage {
         }
         self.touched.clear();
         self.pool_queued += u64::from(pool) * times;
+        self.pool_held += holding * times;
         self.pool_longest = self.pool_longest.max(pool);
         self.last_pool = pool;
+        if self.steps >= self.next_checkpoint {
+            let [older, newer] = &mut self.checkpoints;
+            std::mem::swap(older, newer);
+            newer.steps = self.steps;
+            newer.queued.clone_from(&self.queued);
+            newer.pool = self.pool_queued;
+            self.next_checkpoint = self.steps.saturating_mul(2);
+        }
+    }
+
+    /// Where the later part of the run starts: the last doubling that leaves at least a
+    /// quarter of the run after it (the start, for a run too short to have one).
+    fn later_part(&self) -> Option<&Checkpoint> {
+        self.checkpoints.iter().rev().find(|c| c.steps > 0 && 4 * (self.steps - c.steps) >= self.steps)
+    }
+
+    /// Slot `k`'s mean queue over the later part of the run (`None`: the charger queue).
+    fn late_queue(&self, k: Option<usize>) -> f64 {
+        let (total, from) = match k {
+            Some(k) => (self.queued.get(k).copied().unwrap_or(0), self.later_part().map_or((0, 0), |c| (c.steps, c.queued.get(k).copied().unwrap_or(0)))),
+            None => (self.pool_queued, self.later_part().map_or((0, 0), |c| (c.steps, c.pool))),
+        };
+        let (start, before) = from;
+        (total - before) as f64 / (self.steps - start).max(1) as f64
     }
 
     /// The queues of the last step observed.
@@ -233,8 +307,8 @@ impl Usage {
 
     /// Every unloading zone and charger, the charger queue where robots queued, and the ten
     /// crossings and the ten lanes with the longest mean queue (of those with any); then the
-    /// bottleneck.
-    pub fn report(&self, layout: &Layout, shared_chargers: bool, unload_nearest: bool, reserve: bool) -> (Vec<ResourceUse>, Option<Bottleneck>) {
+    /// bottleneck (none for a fleet that `stranded`, out of energy).
+    pub fn report(&self, layout: &Layout, setting: &Setting, stranded: bool) -> (Vec<ResourceUse>, Option<Bottleneck>) {
         let steps = self.steps.max(1) as f64;
         let of = |kind, k: usize| ResourceUse {
             kind,
@@ -249,47 +323,50 @@ impl Usage {
             longest_queue: self.longest.get(k).copied().unwrap_or(0),
         };
         // Unloading zones and chargers nobody used are crossings (robots only pass them).
-        let used = |n: &crate::ids::NodeId| self.busy.get(n.index()).is_some_and(|&b| b > 0);
-        let mut out: Vec<ResourceUse> = layout.unloading.iter().filter(|n| used(n)).map(|n| of(ResourceKind::Unloading, n.index())).collect();
-        let zones_used = out.len();
-        out.extend(layout.chargers.iter().map(|n| of(ResourceKind::Charger, n.index())));
+        let used = |n: &crate::ids::NodeId| self.served.get(n.index()).is_some_and(|&b| b > 0);
+        // Each resource with its slot (None: the charger queue), for its queue's later part.
+        let mut out: Vec<(ResourceUse, Option<usize>)> =
+            layout.unloading.iter().filter(|n| used(n)).map(|n| (of(ResourceKind::Unloading, n.index()), Some(n.index()))).collect();
+        out.extend(layout.chargers.iter().map(|n| (of(ResourceKind::Charger, n.index()), Some(n.index()))));
         if self.pool_longest > 0 {
-            out.push(ResourceUse {
+            // The pool's share: of the chargers' time, how much a robot held one (charging
+            // at it, or driving to the one it claimed, which no other robot may take).
+            let chargers = layout.chargers.len().max(1) as f64;
+            let busy = (self.pool_held as f64 / (steps * chargers)).min(1.0);
+            let pool = ResourceUse {
                 kind: ResourceKind::ChargerQueue,
                 node: "chargers".into(),
-                busy: 0.0,
+                busy,
                 mean_queue: self.pool_queued as f64 / steps,
                 longest_queue: self.pool_longest,
-            });
-            // The chargers' own share, for the pool: the mean over them.
-            let chargers = layout.chargers.len().max(1) as f64;
-            let last = out.len() - 1;
-            out[last].busy = layout.chargers.iter().map(|n| self.busy.get(n.index()).map_or(0.0, |&b| b as f64 / steps)).sum::<f64>() / chargers;
+            };
+            out.push((pool, None));
         }
         let special: std::collections::HashSet<usize> = layout.unloading.iter().filter(|n| used(n)).chain(&layout.chargers).map(|n| n.index()).collect();
         let longest_ten = |kind, slots: std::ops::Range<usize>| {
-            let mut v: Vec<ResourceUse> = slots.filter(|k| !special.contains(k) && self.queued[*k] > 0).map(|k| of(kind, k)).collect();
-            v.sort_by(|a, b| b.mean_queue.total_cmp(&a.mean_queue).then_with(|| a.node.cmp(&b.node)));
+            let mut v: Vec<(ResourceUse, Option<usize>)> =
+                slots.filter(|k| !special.contains(k) && self.queued[*k] > 0).map(|k| (of(kind, k), Some(k))).collect();
+            v.sort_by(|a, b| b.0.mean_queue.total_cmp(&a.0.mean_queue).then_with(|| a.0.node.cmp(&b.0.node)));
             v.truncate(10);
             v
         };
         out.extend(longest_ten(ResourceKind::Crossing, 0..self.nodes));
+        // A lane's queue is part of the queue of the crossing it leads to: the lanes only say
+        // where that queue stands, and are never the bottleneck themselves.
         let lanes = longest_ten(ResourceKind::Lane, self.nodes..self.queued.len());
-        // A saturated service (an unloading zone or the chargers, busy at least half the
-        // steps, with a queue), or the one unloading zone every goods goes to (with a queue),
-        // is the cause: the queues at crossings upstream of it are its symptoms. Without
-        // one, the crossing with the longest mean queue. A lane's queue is part of the queue
-        // of the crossing it leads to, so the lanes only say where that queue stands.
-        let queued = |u: &&ResourceUse| u.mean_queue >= MIN_QUEUE;
-        let service = out
-            .iter()
-            .filter(queued)
-            .filter(|u| u.kind != ResourceKind::Crossing && (u.busy >= SATURATED || (u.kind == ResourceKind::Unloading && zones_used == 1)))
-            .max_by(|a, b| a.busy.total_cmp(&b.busy).then_with(|| a.mean_queue.total_cmp(&b.mean_queue)).then_with(|| b.node.cmp(&a.node)));
+        let saturated = |(u, k): &&(ResourceUse, Option<usize>)| u.busy >= SATURATED && self.late_queue(*k) >= MIN_QUEUE;
+        let busiest = |a: &&(ResourceUse, Option<usize>), b: &&(ResourceUse, Option<usize>)| {
+            a.0.busy.total_cmp(&b.0.busy).then_with(|| a.0.mean_queue.total_cmp(&b.0.mean_queue)).then_with(|| b.0.node.cmp(&a.0.node))
+        };
+        let longest = |a: &&(ResourceUse, Option<usize>), b: &&(ResourceUse, Option<usize>)| {
+            self.late_queue(a.1).total_cmp(&self.late_queue(b.1)).then_with(|| b.0.node.cmp(&a.0.node))
+        };
+        let service = out.iter().filter(|(u, _)| u.kind != ResourceKind::Crossing).filter(saturated).max_by(busiest);
         let bottleneck = service
-            .or_else(|| out.iter().filter(queued).max_by(|a, b| a.mean_queue.total_cmp(&b.mean_queue).then_with(|| b.node.cmp(&a.node))))
-            .map(|u| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, shared_chargers, unload_nearest, reserve) });
-        out.extend(lanes);
+            .or_else(|| out.iter().filter(|(u, _)| u.kind == ResourceKind::Crossing).filter(saturated).max_by(longest))
+            .filter(|_| !stranded)
+            .map(|(u, _)| Bottleneck { resource: u.clone(), relieve: relieve(u.kind, layout, setting) });
+        let out = out.into_iter().chain(lanes).map(|(u, _)| u).collect();
         (out, bottleneck)
     }
 }
@@ -372,36 +449,70 @@ impl QueueLog {
     }
 }
 
-/// What would relieve a bottleneck of this kind.
-fn relieve(kind: ResourceKind, layout: &Layout, shared_chargers: bool, unload_nearest: bool, reserve: bool) -> String {
+/// What would relieve a bottleneck of this kind, in keys the scenario has and has not set.
+fn relieve(kind: ResourceKind, layout: &Layout, setting: &Setting) -> String {
+    let g = setting.generated.as_ref();
+    let mut advice: Vec<String> = Vec::new();
     match kind {
-        ResourceKind::Unloading if layout.unloading.len() == 1 || !unload_nearest => {
-            "more unloading zones: layout_generate.unloading_rows, with unload = \"nearest\"".into()
-        }
-        ResourceKind::Unloading => "more unloading zones: a larger layout_generate.unloading_rows".into(),
-        ResourceKind::Charger | ResourceKind::ChargerQueue if !shared_chargers => {
-            "charging.chargers = \"shared\", or more chargers: layout_generate.chargers".into()
+        ResourceKind::Unloading => {
+            if !setting.unload_nearest && layout.unloading.len() > 1 {
+                advice.push("unload = \"nearest\" (each cell's goods to its nearest zone)".into());
+            }
+            match g {
+                Some(g) => {
+                    let rows = unloading_rows(layout);
+                    if rows < g.group_rows as usize {
+                        advice.push(format!("more unloading zones: layout_generate.unloading_rows = {}", rows + 1));
+                    } else {
+                        advice.push("more unloading zones: a wider layout (layout_generate.group_cols)".into());
+                    }
+                }
+                None => advice.push("more unloading zones in the layout".into()),
+            }
+            if !setting.unload_nearest && layout.unloading.len() <= 1 {
+                advice.push("with unload = \"nearest\"".into());
+            }
         }
         ResourceKind::Charger | ResourceKind::ChargerQueue => {
-            "more chargers, near every part of the warehouse (layout_generate.chargers with charger_walls = \"all\"), or robots that charge early a few at a time (charging.policy = \"staggered\"; docs/charging.md)".into()
+            if !setting.shared_chargers {
+                advice.push("charging.chargers = \"shared\"".into());
+            }
+            match g {
+                Some(g) if g.charger_walls != ChargerWalls::All => advice.push(format!(
+                    "more chargers, near every part of the warehouse: layout_generate.chargers above {} with charger_walls = \"all\"",
+                    layout.chargers.len()
+                )),
+                Some(_) => advice.push(format!("more chargers: layout_generate.chargers above {}", layout.chargers.len())),
+                None => advice.push("more chargers in the layout".into()),
+            }
+            if setting.shared_chargers && !setting.staggered {
+                advice.push("robots that charge early a few at a time (charging.policy = \"staggered\"; docs/charging.md)".into());
+            }
         }
         ResourceKind::Crossing | ResourceKind::Lane => {
-            // Only what the run does not do already: a layout whose westward traffic shares
-            // few aisles, collision waiting where reservations would keep crossings clear.
-            let mut advice = Vec::new();
-            if few_westward_rows(layout) {
-                advice.push("layout_generate.aisles = \"alternate\"");
+            // A layout whose westward traffic shares few aisles, collision waiting where
+            // reservations would keep crossings clear.
+            if g.is_some() && few_westward_rows(layout) {
+                advice.push("layout_generate.aisles = \"alternate\"".into());
             }
-            if !reserve {
-                advice.push("traffic = \"reserve\"");
+            if !setting.reserve {
+                advice.push("traffic = \"reserve\"".into());
             }
             if advice.is_empty() {
-                "spread the flow: more aisles (a wider or longer layout), or fewer robots on it".into()
-            } else {
-                format!("spread the flow: {}", advice.join(", "))
+                return "spread the flow: more aisles (a wider or longer layout), or fewer robots on it".into();
             }
+            return format!("spread the flow: {}", advice.join(", "));
         }
     }
+    advice.join(", or ")
+}
+
+/// The rows of crossings that hold unloading zones.
+fn unloading_rows(layout: &Layout) -> usize {
+    let mut rows: Vec<u64> = layout.unloading.iter().map(|&n| layout.pos(n).1.to_bits()).collect();
+    rows.sort_unstable();
+    rows.dedup();
+    rows.len()
 }
 
 /// The name of the lane from `u` to `v`: `"U->V"`.
@@ -466,10 +577,39 @@ mod tests {
         let layout = |aisles| Layout::generate(&LayoutParams { group_rows: 6, group_cols: 4, chargers: 5, aisles, ..LayoutParams::paper() }, "g").unwrap();
         let (paper, alternate) = (layout(Aisles::Paper), layout(Aisles::Alternate));
         assert!(few_westward_rows(&paper) && !few_westward_rows(&alternate));
-        let advice = |l: &Layout, reserve| relieve(ResourceKind::Crossing, l, true, true, reserve);
+        let advice = |l: &Layout, reserve| {
+            let setting = Setting { generated: Some(LayoutParams::paper()), shared_chargers: true, unload_nearest: true, reserve, ..Setting::default() };
+            relieve(ResourceKind::Crossing, l, &setting)
+        };
         assert_eq!(advice(&paper, false), "spread the flow: layout_generate.aisles = \"alternate\", traffic = \"reserve\"");
         assert_eq!(advice(&paper, true), "spread the flow: layout_generate.aisles = \"alternate\"");
         assert_eq!(advice(&alternate, false), "spread the flow: traffic = \"reserve\"");
         assert!(!advice(&alternate, true).contains("alternate") && !advice(&alternate, true).contains("reserve"));
+    }
+
+    #[test]
+    fn a_remedy_names_only_keys_the_scenario_has_and_has_not_set() {
+        let params = LayoutParams { group_rows: 6, group_cols: 4, chargers: 5, ..LayoutParams::paper() };
+        let layout = Layout::generate(&params, "g").unwrap();
+        let generated = Setting { generated: Some(params.clone()), shared_chargers: true, ..Setting::default() };
+        let chargers = relieve(ResourceKind::ChargerQueue, &layout, &generated);
+        assert!(chargers.contains("layout_generate.chargers above 5") && chargers.contains("charger_walls = \"all\""), "{chargers}");
+        assert!(chargers.contains("staggered"), "{chargers}");
+        // Already staggered, chargers already on every wall: neither is suggested again.
+        let walls = LayoutParams { charger_walls: ChargerWalls::All, ..params.clone() };
+        let set = Setting { generated: Some(walls), staggered: true, ..generated.clone() };
+        let chargers = relieve(ResourceKind::ChargerQueue, &layout, &set);
+        assert!(!chargers.contains("staggered") && !chargers.contains("charger_walls"), "{chargers}");
+        // A layout file is not told about the generator's keys.
+        let file = Setting { generated: None, ..generated.clone() };
+        for kind in [ResourceKind::Unloading, ResourceKind::ChargerQueue, ResourceKind::Crossing] {
+            let advice = relieve(kind, &layout, &file);
+            assert!(!advice.contains("layout_generate"), "{kind:?}: {advice}");
+        }
+        // One unloading row of six: one more is the remedy, with "nearest" when not set.
+        let zones = relieve(ResourceKind::Unloading, &layout, &generated);
+        assert!(zones.contains("layout_generate.unloading_rows = 2") && zones.contains("unload = \"nearest\""), "{zones}");
+        let nearest = Setting { unload_nearest: true, ..generated };
+        assert!(!relieve(ResourceKind::Unloading, &layout, &nearest).contains("nearest"));
     }
 }

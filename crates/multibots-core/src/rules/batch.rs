@@ -10,10 +10,11 @@
 
 use crate::error::Result;
 use crate::input::csv::Tables;
-use crate::input::scenario::Scenario;
+use crate::input::scenario::{Scenario, Traffic};
 use crate::record::metrics::RunResult;
 use crate::rules::Simulation;
-use crate::world::World;
+use crate::world::layout::Layout;
+use crate::world::{resolve_layout, World};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, OnceLock};
 use std::time::Duration;
@@ -25,13 +26,12 @@ pub fn worker_count(workers: usize, runs: usize) -> usize {
     w.min(runs.max(1))
 }
 
-/// What a layout is built from: scenarios with equal keys share a world.
+/// What a layout is built from: scenarios with equal keys share it (and a world for each
+/// routing: `reserve` routes round the unloading zones, `World::of`).
 fn layout_key(s: &Scenario) -> String {
-    // `reserve` routes round the unloading zones (`World::of`): its own world.
-    let routes = if s.traffic == crate::input::scenario::Traffic::Reserve { "reserve:" } else { "" };
     match &s.layout_generate {
-        Some(p) => format!("{routes}generate:{}", serde_json::to_string(p).expect("parameters serialise")),
-        None => format!("{routes}layout:{}", s.layout),
+        Some(p) => format!("generate:{}", serde_json::to_string(p).expect("parameters serialise")),
+        None => format!("layout:{}", s.layout),
     }
 }
 
@@ -99,10 +99,14 @@ fn each<T: Send>(
     let mut distinct: Vec<&String> = keys.iter().collect();
     distinct.sort();
     distinct.dedup();
-    let worlds: Vec<OnceLock<Result<Arc<World>>>> = distinct.iter().map(|_| OnceLock::new()).collect();
+    let layouts: Vec<OnceLock<Result<Layout>>> = distinct.iter().map(|_| OnceLock::new()).collect();
+    // Per layout, its world with the paper's routes and with reserve's.
+    let worlds: Vec<[OnceLock<Result<Arc<World>>>; 2]> = distinct.iter().map(|_| [OnceLock::new(), OnceLock::new()]).collect();
     let world_of = |k: usize| -> Result<Arc<World>> {
         let slot = distinct.binary_search(&&keys[k]).expect("every key is listed");
-        worlds[slot].get_or_init(|| World::of(&scenarios[k])).clone()
+        let layout = layouts[slot].get_or_init(|| resolve_layout(&scenarios[k])).as_ref().map_err(Clone::clone)?;
+        let reserve = scenarios[k].resolved(layout.departure.len()).traffic == Traffic::Reserve;
+        worlds[slot][usize::from(reserve)].get_or_init(|| World::routed(layout.clone(), reserve)).clone()
     };
     let tables = Tables::default();
     let next = AtomicUsize::new(0);

@@ -84,6 +84,22 @@ pub(crate) trait Engine: Send {
     }
 }
 
+/// What a scenario should be told before it runs: one line each, with the numbers and what
+/// would mend it (a fleet its chargers cannot keep charged, `rules/paper/balance.rs`). None
+/// for a scenario that can run as it is.
+pub fn warnings(scenario: &Scenario) -> Result<Vec<String>> {
+    let world = World::of(scenario)?;
+    let resolved = scenario.resolved(world.layout.departure.len());
+    Ok(paper::balance::warnings(&resolved, &world))
+}
+
+/// The scenario with every "auto" choice made for the layout it names
+/// ([`Scenario::resolved`]): what a run of it will do.
+pub fn resolved(scenario: &Scenario) -> Result<Scenario> {
+    let layout = crate::world::resolve_layout(scenario)?;
+    Ok(scenario.resolved(layout.departure.len()))
+}
+
 /// A run in progress.
 pub struct Simulation {
     rules: RuleSet,
@@ -117,6 +133,8 @@ impl Simulation {
     /// The one way in, for a scenario whose values are checked, with the CSV tables its runs
     /// have read (`input/csv.rs`).
     pub(crate) fn build(world: Arc<World>, tables: &Tables, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Simulation> {
+        // Every "auto" choice made for this layout, once: the rules below see only choices.
+        let scenario = &scenario.resolved(world.layout.departure.len());
         let rules = match scenario.rules {
             Rules::Paper => RuleSet::Paper(Box::new(Paper::build(world, tables, scenario, allocator)?)),
             Rules::Original => {

@@ -56,10 +56,17 @@ impl World {
     /// paper's.
     pub fn of(scenario: &Scenario) -> Result<Arc<World>> {
         let layout = resolve_layout(scenario)?;
+        let reserve = scenario.resolved(layout.departure.len()).traffic == Traffic::Reserve;
+        World::routed(layout, reserve)
+    }
+
+    /// The world of a resolved layout, its routes kept off the unloading zones where a route
+    /// as short does when `reserve` ([`HighwayGraph::routed_around`]).
+    pub fn routed(layout: Layout, reserve: bool) -> Result<Arc<World>> {
         layout.check_size()?;
         let mut graph = HighwayGraph::new(&layout);
         graph::validate(&layout, &graph)?;
-        if scenario.traffic == Traffic::Reserve {
+        if reserve {
             let mut unloading = vec![false; graph.len()];
             for &u in &layout.unloading {
                 unloading[u.index()] = true;

@@ -451,10 +451,15 @@ async function main() {
   setText("name", `${meta.name || ""} \u00b7 layout ${meta.layout.name} \u00b7 ${meta.robots} robots`);
   if (meta.scenario) { $("scenario-box").hidden = false; setText("scenario", meta.scenario); }
   if (meta.layout.grid) {  // a League of Robot Runners replay (docs/lorr.md): what its counters count
-    for (const [id, label, hint] of [["c-S", "errors", "refused joint actions"], ["c-C", "–", ""],
+    for (const [id, label, hint] of [["c-S", "errors", "refused joint actions"],
       ["c-delivered", "finished", "tasks finished: the score"]]) {
       const dt = $(id).previousElementSibling;
       dt.textContent = label; dt.title = hint;
+    }
+    // No charging and no task time under these rules: rows that would mean nothing are gone.
+    for (const id of ["c-C", "c-T"]) {
+      $(id).hidden = true;
+      $(id).previousElementSibling.hidden = true;
     }
   }
   const scale = Math.min(8, Math.max(0.1, Number(params.get("scale")) || 1));

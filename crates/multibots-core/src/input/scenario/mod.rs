@@ -27,8 +27,9 @@ pub struct Scenario {
     pub starts: Option<Vec<String>>,
     /// Where goods are delivered: `"first"` (the layout's first unloading zone: `M` in the
     /// paper layout), `"nearest"` (each cell's goods to the zone nearest its service point),
-    /// or an unloading zone's node name. Default: `"first"`.
-    #[serde(default, skip_serializing_if = "Unload::is_first")]
+    /// an unloading zone's node name, or `"auto"`: first for the paper's fleets (on their
+    /// departure zones), nearest for fleets spread along the aisles. Default: `"auto"`.
+    #[serde(default, skip_serializing_if = "Unload::is_auto")]
     pub unload: Unload,
     /// The goods to fetch, in order: a list of distinct cell ids, or `{ random = COUNT, seed =
     /// SEED }` for COUNT distinct cells drawn with a portable generator (ChaCha8), the same on
@@ -49,9 +50,10 @@ pub struct Scenario {
     pub rules: Rules,
     /// How robots share the aisles: `"wait"` (the paper's collision waiting), `"gate"`
     /// (waiting, and crossings taken one robot at a time) or `"reserve"`
-    /// (lanes and crossings reserved: no contact, no gridlock; docs/traffic.md). Default:
-    /// `"wait"`.
-    #[serde(default, skip_serializing_if = "Traffic::is_wait")]
+    /// (lanes and crossings reserved: no contact, no gridlock; docs/traffic.md), or `"auto"`:
+    /// wait for the paper's fleets (on their departure zones), reserve for fleets spread along
+    /// the aisles. Default: `"auto"`.
+    #[serde(default, skip_serializing_if = "Traffic::is_auto")]
     pub traffic: Traffic,
     /// When robots go to charge.
     #[serde(default)]
@@ -73,10 +75,11 @@ pub struct Scenario {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layout_generate: Option<LayoutParams>,
     /// Where robots start (extension): `"departure"` (the paper: one per departure zone, at
-    /// its charger) or `"spread"` (parked evenly along the aisles, for large fleets). Default:
-    /// `"departure"`.
-    #[serde(default, skip_serializing_if = "Placement::is_departure")]
-    #[schemars(extend("default" = "departure"))]
+    /// its charger), `"spread"` (parked evenly along the aisles, for large fleets), or
+    /// `"auto"`: departure when the fleet fits the layout's departure zones (or `starts` names
+    /// them), spread beyond. Default: `"auto"`.
+    #[serde(default, skip_serializing_if = "Placement::is_auto")]
+    #[schemars(extend("default" = "auto"))]
     pub placement: Placement,
     /// Lifelong operation (extension): orders arrive over time and the run lasts a horizon.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -166,23 +169,54 @@ impl Scenario {
             layout: defaults::layout(),
             robots,
             starts: None,
-            unload: Unload::First,
+            unload: Unload::Auto,
             tasks: Tasks::Cells(cells.iter().map(|&c| i64::from(c)).collect()),
             step_limit: defaults::step_limit(),
             allocator: defaults::allocator(),
             rules: Rules::Paper,
-            traffic: Traffic::Wait,
+            traffic: Traffic::Auto,
             charging: Charging::default(),
             cost: CostWeights::default(),
             robot: RobotParams::default(),
             dwell: Dwell::default(),
             collision: CollisionParams::default(),
             layout_generate: None,
-            placement: Placement::Departure,
+            placement: Placement::Auto,
             orders: None,
             metrics: MetricsParams::default(),
             humans: None,
         }
+    }
+
+    /// The scenario with every `"auto"` choice made for a layout of `departures` departure
+    /// zones: the paper's choices (departure placement, home chargers, the threshold rule,
+    /// the first unloading zone, collision waiting) for a fleet that fits its departure zones
+    /// or whose `starts` are named, and under the original rules; for a larger fleet, the
+    /// choices that keep it running (spread placement, shared chargers, staggered charging, the
+    /// nearest unloading zone, reserved lanes). A choice the scenario makes itself stays.
+    #[must_use]
+    pub fn resolved(&self, departures: usize) -> Scenario {
+        let mut s = self.clone();
+        if s.placement == Placement::Auto {
+            let paper = s.rules == Rules::Original || s.starts.is_some() || s.robots as usize <= departures;
+            s.placement = if paper { Placement::Departure } else { Placement::Spread };
+        }
+        let spread = s.placement == Placement::Spread;
+        if s.charging.chargers == ChargerUse::Auto {
+            s.charging.chargers = if spread { ChargerUse::Shared } else { ChargerUse::Home };
+        }
+        if s.charging.policy == ChargingPolicy::Auto {
+            // Staggering needs levels to spread between the threshold and `charging.level`.
+            let room = s.charging.level > s.robot.threshold && s.charging.level <= s.robot.energy_full;
+            s.charging.policy = if s.charging.chargers == ChargerUse::Shared && room { ChargingPolicy::Staggered } else { ChargingPolicy::Threshold };
+        }
+        if s.unload == Unload::Auto {
+            s.unload = if spread { Unload::Nearest } else { Unload::First };
+        }
+        if s.traffic == Traffic::Auto {
+            s.traffic = if spread { Traffic::Reserve } else { Traffic::Wait };
+        }
+        s
     }
 
     /// The files a run of this scenario reads, by the field that names them: a layout file,
@@ -251,7 +285,7 @@ impl Scenario {
         if !ch.level.is_finite() {
             return Err(Error::scenario("charging.level", ch.level, "must be a finite number"));
         }
-        if ch.policy != ChargingPolicy::Threshold && !(ch.level > r.threshold && ch.level <= r.energy_full) {
+        if matches!(ch.policy, ChargingPolicy::Opportunistic | ChargingPolicy::Staggered) && !(ch.level > r.threshold && ch.level <= r.energy_full) {
             return Err(Error::scenario(
                 "charging.level",
                 ch.level,
@@ -402,7 +436,7 @@ mod tests {
         let e = Scenario::from_toml("tasks = [1]\nvelocity = 3", "s.toml").unwrap_err().to_string();
         assert!(e.starts_with("s.toml: unknown field `velocity` (known: layout, "), "{e}");
         let e = Scenario::from_toml("tasks = [1]\ntraffic = \"reserv\"", "s.toml").unwrap_err().to_string();
-        assert_eq!(e, "s.toml: traffic = \"reserv\": expected one of wait, gate, reserve (did you mean \"reserve\"?)");
+        assert_eq!(e, "s.toml: traffic = \"reserv\": expected one of auto, wait, gate, reserve (did you mean \"reserve\"?)");
         let e = Scenario::from_toml("tasks = [1, \"x\"]", "s.toml").unwrap_err().to_string();
         assert!(e.contains("tasks[1]") || e.contains("tasks"), "{e}");
         let e = Scenario::from_toml("tasks = [1", "s.toml").unwrap_err().to_string();
@@ -417,7 +451,7 @@ mod tests {
             ("robots = 4294967296", "s.toml: robots = 4294967296: expected a whole number from 0 to 4294967295"),
             ("[layout_generate]\ngroup_height = 2e9", "s.toml: layout_generate.group_height = 2000000000.0: expected a whole number from 0 to 4294967295, written without a decimal point or exponent"),
             ("robots = [1]", "s.toml: robots: expected a whole number from 0 to 4294967295, not a list"),
-            ("traffic = \"x\"", "s.toml: traffic = \"x\": expected one of wait, gate, reserve"),
+            ("traffic = \"x\"", "s.toml: traffic = \"x\": expected one of auto, wait, gate, reserve"),
             ("rules = 5", "s.toml: rules: expected text in quotes"),
             ("starts = [1]", "s.toml: starts[0] = 1: expected text in quotes"),
             ("orders = 5", "s.toml: orders = 5: expected a table"),
@@ -481,5 +515,35 @@ mod tests {
             s.check_values().unwrap_err().to_string(),
             "metrics.window = 1: step_limit = 4294967295 makes 4294967295 throughput windows; at most 10000000 (docs/limits.md)"
         );
+    }
+
+    #[test]
+    fn auto_is_the_paper_for_the_paper_fleets_and_what_keeps_a_spread_fleet_running() {
+        // The paper's scenario: every choice the paper's, so its results never move.
+        let paper = Scenario::paper(6, &[11, 8, 39]).resolved(6);
+        assert_eq!(
+            (paper.placement, paper.charging.chargers, paper.charging.policy, paper.unload.clone(), paper.traffic),
+            (Placement::Departure, ChargerUse::Home, ChargingPolicy::Threshold, Unload::First, Traffic::Wait)
+        );
+        // More robots than departure zones: spread along the aisles, and what that needs.
+        let big = Scenario { robots: 200, ..Scenario::paper(1, &[11]) }.resolved(6);
+        assert_eq!(
+            (big.placement, big.charging.chargers, big.charging.policy, big.unload.clone(), big.traffic),
+            (Placement::Spread, ChargerUse::Shared, ChargingPolicy::Staggered, Unload::Nearest, Traffic::Reserve)
+        );
+        // Named starts, or the original rules: the paper's placement whatever the size.
+        let named = Scenario { robots: 200, starts: Some(vec!["A".into()]), ..Scenario::paper(1, &[11]) }.resolved(6);
+        assert_eq!(named.placement, Placement::Departure);
+        let original = Scenario { robots: 200, rules: Rules::Original, ..Scenario::paper(1, &[11]) }.resolved(6);
+        assert_eq!((original.placement, original.traffic), (Placement::Departure, Traffic::Wait));
+        // A choice the scenario makes stays; staggering needs room between threshold and level.
+        let mut own = Scenario { robots: 200, traffic: Traffic::Gate, ..Scenario::paper(1, &[11]) };
+        own.charging.level = own.robot.threshold;
+        let own = own.resolved(6);
+        assert_eq!((own.traffic, own.charging.policy), (Traffic::Gate, ChargingPolicy::Threshold));
+        // "auto" is what a file says by saying nothing, and it reads back the same.
+        let file = Scenario::from_toml("robots = 2\ntasks = [11]\ntraffic = \"auto\"", "a.toml").unwrap();
+        assert_eq!(file, Scenario::from_toml(&file.to_toml(), "b.toml").unwrap());
+        assert!(!file.to_toml().contains("traffic"));
     }
 }

@@ -38,8 +38,11 @@ impl MetricsParams {
 /// Where goods are delivered.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum Unload {
-    /// The layout's first unloading zone (`M` in the paper layout): works on any layout.
+    /// `first` for the paper's fleets (robots on their departure zones), `nearest` for fleets
+    /// spread along the aisles ([`crate::input::scenario::Scenario::resolved`]).
     #[default]
+    Auto,
+    /// The layout's first unloading zone (`M` in the paper layout): works on any layout.
     First,
     /// Each cell's goods go to the unloading zone nearest its service point (extension).
     Nearest,
@@ -48,14 +51,15 @@ pub enum Unload {
 }
 
 impl Unload {
-    pub(crate) fn is_first(&self) -> bool {
-        *self == Unload::First
+    pub(crate) fn is_auto(&self) -> bool {
+        *self == Unload::Auto
     }
 
     /// The text a scenario file uses.
     #[must_use]
     pub fn as_str(&self) -> &str {
         match self {
+            Unload::Auto => "auto",
             Unload::First => "first",
             Unload::Nearest => "nearest",
             Unload::Node(name) => name,
@@ -66,6 +70,7 @@ impl Unload {
 impl From<&str> for Unload {
     fn from(s: &str) -> Unload {
         match s {
+            "auto" => Unload::Auto,
             "first" => Unload::First,
             "nearest" => Unload::Nearest,
             name => Unload::Node(name.to_string()),
@@ -86,8 +91,8 @@ impl JsonSchema for Unload {
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
         json_schema!({
             "type": "string",
-            "description": "\"first\" (the layout's first unloading zone), \"nearest\" (each cell's nearest zone), or an unloading zone's node name.",
-            "default": "first",
+            "description": "\"auto\" (first for the paper's fleets, nearest for fleets spread along the aisles), \"first\" (the layout's first unloading zone), \"nearest\" (each cell's nearest zone), or an unloading zone's node name.",
+            "default": "auto",
         })
     }
 }
@@ -102,9 +107,13 @@ impl<'de> Deserialize<'de> for Unload {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Traffic {
+    /// `wait` for the paper's fleets (robots on their departure zones), `reserve` for fleets
+    /// spread along the aisles, where collision waiting lets robots drive into each other and
+    /// locks up under load ([`crate::input::scenario::Scenario::resolved`]).
+    #[default]
+    Auto,
     /// The paper's collision waiting: a robot waits while another stands within reach in a
     /// cone ahead of it.
-    #[default]
     Wait,
     /// Collision waiting, and crossings taken one robot at a time (a robot refused for long
     /// goes anyway, so the gate never deadlocks).
@@ -116,17 +125,18 @@ pub enum Traffic {
 }
 
 impl Traffic {
-    /// Whether this is the paper's collision waiting (the default).
+    /// Whether this is `auto` (the default).
     #[must_use]
     #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
-    pub fn is_wait(&self) -> bool {
-        *self == Traffic::Wait
+    pub fn is_auto(&self) -> bool {
+        *self == Traffic::Auto
     }
 
     /// The name scenario files and the command line use.
     #[must_use]
     pub fn as_str(self) -> &'static str {
         match self {
+            Traffic::Auto => "auto",
             Traffic::Wait => "wait",
             Traffic::Gate => "gate",
             Traffic::Reserve => "reserve",
@@ -159,8 +169,11 @@ impl Rules {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Placement {
-    /// The paper: robot i starts at the charger of the i-th start node.
+    /// `departure` when the fleet fits the layout's departure zones (or `starts` names them),
+    /// `spread` beyond ([`crate::input::scenario::Scenario::resolved`]).
     #[default]
+    Auto,
+    /// The paper: robot i starts at the charger of the i-th start node.
     Departure,
     /// Robots start idle, strictly inside aisle edges, spread evenly over the layout's
     /// parking slots; each robot's slot is its home (docs/model.md section 7).
@@ -169,8 +182,8 @@ pub enum Placement {
 
 impl Placement {
     #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
-    pub(crate) fn is_departure(&self) -> bool {
-        *self == Placement::Departure
+    pub(crate) fn is_auto(&self) -> bool {
+        *self == Placement::Auto
     }
 }
 
@@ -243,9 +256,14 @@ pub struct CollisionParams {
 }
 
 /// Charging policies.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ChargingPolicy {
+    /// `threshold` where every robot has its own charger, `staggered` where robots share them
+    /// (a fleet that drains together must not go to charge together:
+    /// [`crate::input::scenario::Scenario::resolved`]).
+    #[default]
+    Auto,
     /// The paper's rule: charge only when below the threshold.
     Threshold,
     /// Also: an idle robot below `charging.level` goes to charge.
@@ -257,12 +275,22 @@ pub enum ChargingPolicy {
     Staggered,
 }
 
+impl ChargingPolicy {
+    #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+    fn is_auto(&self) -> bool {
+        *self == ChargingPolicy::Auto
+    }
+}
+
 /// Which charger a robot uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ChargerUse {
-    /// The paper: every robot charges at its own home charger.
+    /// `home` for the paper's fleets (robots on their departure zones), `shared` for fleets
+    /// spread along the aisles ([`crate::input::scenario::Scenario::resolved`]).
     #[default]
+    Auto,
+    /// The paper: every robot charges at its own home charger.
     Home,
     /// Extension: the nearest free charger; robots queue when none is free.
     Shared,
@@ -270,8 +298,8 @@ pub enum ChargerUse {
 
 impl ChargerUse {
     #[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
-    fn is_home(&self) -> bool {
-        *self == ChargerUse::Home
+    fn is_auto(&self) -> bool {
+        *self == ChargerUse::Auto
     }
 }
 
@@ -279,17 +307,20 @@ impl ChargerUse {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Charging {
-    /// `"threshold"` (the paper's rule), `"opportunistic"` or `"staggered"` (docs/charging.md).
-    /// Default: `"threshold"`.
+    /// `"threshold"` (the paper's rule), `"opportunistic"` or `"staggered"` (docs/charging.md),
+    /// or `"auto"`: threshold with each robot's own charger, staggered with shared ones.
+    /// Default: `"auto"`.
+    #[serde(skip_serializing_if = "ChargingPolicy::is_auto")]
     pub policy: ChargingPolicy,
     /// With `"opportunistic"`: an idle robot below this energy goes to charge; with
     /// `"staggered"`: the highest of the robots' own levels (threshold < level ≤
     /// energy_full). Default: 7.
     pub level: f64,
-    /// `"home"` (the paper) or `"shared"` (nearest free charger, queue when none). Default:
-    /// `"home"`.
-    #[serde(skip_serializing_if = "ChargerUse::is_home")]
-    #[schemars(extend("default" = "home"))]
+    /// `"home"` (the paper) or `"shared"` (nearest free charger, queue when none), or
+    /// `"auto"`: home for the paper's fleets (on their departure zones), shared for fleets
+    /// spread along the aisles. Default: `"auto"`.
+    #[serde(skip_serializing_if = "ChargerUse::is_auto")]
+    #[schemars(extend("default" = "auto"))]
     pub chargers: ChargerUse,
     /// With `"staggered"` and shared chargers: a robot above the threshold goes only to a free
     /// charger at most this far by route, px (> 0), so that the chargers' time is spent
@@ -301,7 +332,7 @@ pub struct Charging {
 
 impl Default for Charging {
     fn default() -> Self {
-        Charging { policy: ChargingPolicy::Threshold, level: 7.0, chargers: ChargerUse::Home, reach: None }
+        Charging { policy: ChargingPolicy::Auto, level: 7.0, chargers: ChargerUse::Auto, reach: None }
     }
 }
 

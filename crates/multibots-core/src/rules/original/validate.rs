@@ -24,6 +24,9 @@ const STARTS: [&str; 6] = ["A", "B", "C", "D", "E", "F"];
 /// Checks the scenario; returns its goods, in order.
 pub fn check(s: &Scenario) -> Result<Vec<u32>> {
     s.check_values()?;
+    // "auto" is the paper's every choice under these rules.
+    let resolved = s.resolved(STARTS.len());
+    let s = &resolved;
     let refuse = |field: &str, value: String, reason: &str| Err(Error::scenario(field, value, reason));
     if s.layout_generate.is_some() {
         return refuse("layout_generate", "[layout_generate]".into(), "the original rules run only the paper layout");

@@ -151,13 +151,8 @@ impl Paper {
         let mut result = rec.tally.result(rec.outcome, stranded, r.len(), &rec.cost_weights, lifelong);
         let crowd = &self.crowd;
         result.people = crowd.people.as_ref().map(|p| PeopleFigures { alone: crowd.alone.as_ref().map(|a| Box::new(a.figures(t))), ..p.figures(t) });
-        let (shared, nearest) = rec.shared_and_nearest;
-        (result.resources, result.bottleneck) = rec.usage.report(
-            &self.world.layout,
-            shared,
-            nearest,
-            self.pipeline.traffic.as_ref().is_some_and(|ts| ts.policy == crate::input::scenario::Traffic::Reserve),
-        );
+        let stranded = rec.outcome == Some(Outcome::Stranded);
+        (result.resources, result.bottleneck) = rec.usage.report(&self.world.layout, &rec.setting, stranded);
         result
     }
 

@@ -21,6 +21,7 @@
 //! unloading zones are in [`crate::fleet::placement`]; what T, S, C and the other figures mean
 //! in [`crate::record::metrics`].
 
+pub(crate) mod balance;
 pub(crate) mod charging;
 mod cruise;
 pub mod decision_point;
@@ -109,6 +110,7 @@ impl Paper {
     /// [`Scenario::check_values`] has passed: [`crate::Simulation`]'s one way in, and the
     /// learning environments'.
     pub(crate) fn build(world: Arc<World>, tables: &Tables, scenario: &Scenario, allocator: Box<dyn Allocator>) -> Result<Paper> {
+        let scenario = &scenario.resolved(world.layout.departure.len());
         let layout = &world.layout;
         let unload = placement::unload_zone(layout, &scenario.unload)?;
         let starts = placement::start_nodes(layout, scenario)?;
@@ -138,10 +140,13 @@ impl Paper {
                 }
                 v
             },
-            shared_and_nearest: (
-                scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
-                scenario.unload == crate::input::scenario::Unload::Nearest,
-            ),
+            setting: crate::record::resources::Setting {
+                generated: scenario.layout_generate.clone(),
+                shared_chargers: scenario.charging.chargers == crate::input::scenario::ChargerUse::Shared,
+                staggered: scenario.charging.policy == crate::input::scenario::ChargingPolicy::Staggered,
+                unload_nearest: scenario.unload == crate::input::scenario::Unload::Nearest,
+                reserve: scenario.traffic == crate::input::scenario::Traffic::Reserve,
+            },
             cost_weights: scenario.cost.clone(),
         };
         Ok(Paper {

@@ -41,9 +41,8 @@ pub(crate) struct Record {
     /// are unloading zones or chargers.
     pub usage: crate::record::resources::Usage,
     pub service_nodes: Vec<bool>,
-    /// Whether chargers are shared and goods go to the nearest unloading zone (what the
-    /// bottleneck's remedy depends on).
-    pub shared_and_nearest: (bool, bool),
+    /// What the scenario chose, which the bottleneck's remedy depends on.
+    pub setting: crate::record::resources::Setting,
     pub cost_weights: CostWeights,
 }
 

@@ -3,7 +3,7 @@
 //! charging wave. Judged from the layout's coordinates and from the windows, states and
 //! positions a run reports.
 
-mod common;
+use crate::common;
 
 use common::lifelong;
 use multibots_core::fleet::robot::State;

@@ -3,7 +3,7 @@
 //! where; a fleet that keeps delivering ends `horizon`. Judged from the windows the run
 //! reports and from the robots' states.
 
-mod common;
+use crate::common;
 
 use common::lifelong;
 use multibots_core::fleet::robot::State;

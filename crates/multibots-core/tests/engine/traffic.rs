@@ -1,8 +1,9 @@
-//! Traffic policies (docs/traffic.md): `wait` is the paper's rule unchanged; `reserve` never
+//! Traffic policies (docs/traffic.md): `wait` (what `auto` is for the paper's fleets) is the
+//! paper's rule unchanged; `reserve` never
 //! lets two robots come closer than r_i + r_j and keeps warehouses moving under overload;
 //! `gate` takes crossings one robot at a time.
 
-mod common;
+use crate::common;
 
 use common::PAPER_TASKS;
 use multibots_core::input::layout_params::Aisles;
@@ -15,16 +16,18 @@ fn lifelong(rows: u32, cols: u32, unloading_rows: u32, aisles: Aisles, robots: u
 }
 
 #[test]
-fn wait_is_the_default_and_the_paper_rule_unchanged() {
+fn auto_is_wait_for_the_paper_and_the_paper_rule_unchanged() {
     for (n, g) in [(1, 0), (3, 2), (6, 4)] {
         let s = Scenario::paper(n, &PAPER_TASKS[g]);
         let mut explicit = s.clone();
         explicit.traffic = Traffic::Wait;
         assert_eq!(Simulation::new(&s).unwrap().run().unwrap(), Simulation::new(&explicit).unwrap().run().unwrap());
     }
-    let s = lifelong(4, 6, 1, Aisles::Paper, 80, 1.0, 1500, Traffic::Wait);
+    let s = lifelong(4, 6, 1, Aisles::Paper, 80, 1.0, 1500, Traffic::Auto);
     assert_eq!(Scenario::from_toml(&s.to_toml(), "s.toml").unwrap(), s);
     assert!(!s.to_toml().contains("traffic"), "the default is not written");
+    let wait = lifelong(4, 6, 1, Aisles::Paper, 80, 1.0, 1500, Traffic::Wait);
+    assert!(wait.to_toml().contains("traffic = \"wait\""), "a choice is written");
 }
 
 #[test]
@@ -140,7 +143,7 @@ fn reserve_lets_no_ring_of_full_lanes_freeze() {
     // breaks the ring; when detours avoided every such crossing as if it were a charger's dead
     // end, 103 robots stood frozen in such rings from step 12,000 (and more every few thousand
     // steps after). (Taken as soon as any detour, it cost a single busy unloading zone a
-    // quarter of its deliveries: `tests/bottleneck.rs`.)
+    // quarter of its deliveries: `tests/engine/bottleneck.rs`.)
     let mut s = common::lifelong(6, 30, 1, 20, Aisles::Auto, 600, 1.0, 20_000, Traffic::Reserve);
     let params = s.layout_generate.as_mut().unwrap();
     (params.group_width, params.group_height) = (2, 6);

@@ -1,7 +1,7 @@
 //! The paper model end to end: the single-robot formula on every cell, the worked example,
 //! the 30-run experiment's trends and recorded values, determinism and stranding.
 
-mod common;
+use crate::common;
 
 use common::PAPER_TASKS;
 use multibots_core::fleet::robot::Target;

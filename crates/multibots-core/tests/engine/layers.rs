@@ -117,7 +117,7 @@ fn no_layer_names_a_higher_one_and_no_rule_set_names_another() {
         if layer == "lib" {
             continue; // the crate root declares the layers and re-exports from them
         }
-        let Some(own) = rank(layer) else { panic!("{rel}: top-level `{layer}` is not in LAYERS (tests/layers.rs): place it in the order") };
+        let Some(own) = rank(layer) else { panic!("{rel}: top-level `{layer}` is not in LAYERS (tests/engine/layers.rs): place it in the order") };
         seen_layers.insert(layer.to_string());
         let set = (layer == "rules" && parts.len() > 2).then(|| parts[1]);
         let text = std::fs::read_to_string(file).expect("readable source");

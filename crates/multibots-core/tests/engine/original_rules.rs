@@ -3,7 +3,7 @@
 //! paper runs and random goods lists, each (ticks, S, C, outcome) exact; the refusals; and
 //! determinism. `tests/oracle/compare_original.py` compares any number of further cases.
 
-mod common;
+use crate::common;
 
 use common::PAPER_TASKS;
 use multibots_core::record::metrics::Outcome::{self, Complete, Deadlock, Fault};

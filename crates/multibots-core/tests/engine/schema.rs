@@ -18,7 +18,7 @@ fn the_schema_describes_every_field_with_its_default() {
         assert!(props.contains_key(field), "{field}");
     }
     assert_eq!(s["required"], serde_json::json!(["tasks"]));
-    assert_eq!(s["$defs"]["Unload"]["default"], "first");
+    assert_eq!(s["$defs"]["Unload"]["default"], "auto");
     let robot = &s["$defs"]["RobotParams"]["properties"];
     assert_eq!(robot["radius"]["default"], 12.5);
     assert!(robot["radius"]["description"].as_str().unwrap().contains("px"));
