@@ -27,7 +27,7 @@ run: $(EXT_STAMP) ## run the paper's 30-run experiment: table, results.csv and f
 
 test: develop browser ## run every test: cargo, pytest (engine, CLI, viewer in Chromium)
 	@echo "== the engine's tests (cargo, profile test-fast)"
-	cargo test --profile test-fast --workspace --exclude multibots-py --lib --tests
+	cargo test --profile test-fast --workspace --exclude multibots-py --exclude multibots-bench --lib --tests
 	cargo test --profile test-fast -p multibots-core --doc
 	@echo "== the package's tests (pytest)"
 	$(PY) -m pytest -q
@@ -42,7 +42,7 @@ fuzz: develop ## fuzz scenario, layout and replay files and CLI flags (Hypothesi
 	done
 
 bench: develop ## benchmarks: criterion and Python scripts; figures go to docs/benchmarks.md
-	cargo bench -p multibots-core --bench step -- --quick
+	cargo bench -p multibots-bench --bench step -- --quick
 	$(PY) benchmarks/run_all.py
 
 lint: develop ## clippy, rustfmt, ruff, the generated schema and docs, and the stubs against the binary

@@ -29,7 +29,10 @@ def site_packages(env: Path) -> Path:
 
 
 def build_wheel(out: Path) -> Path:
-    subprocess.run(["maturin", "build", "--release", "--out", str(out), "-q"], cwd=ROOT, check=True)
+    # The maturin beside this interpreter (.venv/bin), else the one on PATH.
+    beside = Path(sys.executable).parent / "maturin"
+    maturin = str(beside) if beside.exists() else "maturin"
+    subprocess.run([maturin, "build", "--release", "--out", str(out), "-q"], cwd=ROOT, check=True)
     return next(out.glob("multibots-*.whl"))
 
 

@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/run_all.py [--repetitions 5] [--no-peers] [--out docs/benchmarks.md]
 
-`make bench` runs the criterion bench first (cargo bench -p multibots-core --bench step --
+`make bench` runs the criterion bench first (cargo bench -p multibots-bench --bench step --
 --quick) and then this script, which also quotes criterion's medians when it finds them in
 target/criterion. What it measures:
 
@@ -118,7 +118,7 @@ def build_markdown(d: dict[str, Any]) -> str:
         "",
         "Written by `benchmarks/run_all.py` (run by `make bench`); do not edit by hand.",
         "",
-        f"- Command: `{d['command']}` (after `cargo bench -p multibots-core --bench step -- --quick`)",
+        f"- Command: `{d['command']}` (after `cargo bench -p multibots-bench --bench step -- --quick`)",
         f"- Date (UTC): {d['created_utc']}; total {d['total_seconds']:.0f} s",
         f"- Machine: {describe(m)}",
         f"- Load average (1 min) at start / end: {d['load'][0]} / {d['load'][1]}. The machine is shared: every speed is a median of {d['repetitions']} repetitions, one thread.",
@@ -197,7 +197,7 @@ def build_markdown(d: dict[str, Any]) -> str:
         "",
         "```",
         "make bench                                   # criterion (--quick) + this script",
-        "cargo bench -p multibots-core --bench step   # the criterion bench alone, full length",
+        "cargo bench -p multibots-bench --bench step   # the criterion bench alone, full length",
         ".venv/bin/python benchmarks/scale.py         # sizes and memory",
         ".venv/bin/python benchmarks/pure_python.py   # ratio to the pure-Python model",
         ".venv/bin/python benchmarks/peers.py         # rware and pogema alone",

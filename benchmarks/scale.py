@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/scale.py [--repetitions 5] [--sizes paper small large huge]
 
 Named sizes (scenario files in benchmarks/sizes/, shared with the criterion bench
-crates/multibots-core/benches/step.rs): paper (N = 6, the paper scenario), small (100),
+crates/multibots-bench/benches/step.rs): paper (N = 6, the paper scenario), small (100),
 large (1,000), huge (10,000) robots on generated warehouses of matching size.
 
 - robot-steps per second: paper: whole runs of the paper scenario (6 x T robot-steps per
