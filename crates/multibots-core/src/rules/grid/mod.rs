@@ -27,9 +27,11 @@ pub mod planner;
 pub mod pool;
 pub mod schedule;
 mod show;
+pub mod y2026;
 
 pub use figures::Figures;
 pub use show::CELL_PX;
+pub use y2026::Lorr26;
 
 use crate::error::Result;
 use crate::input::limits::MAX_PLAN_TIME_LIMIT_MS;
@@ -113,6 +115,7 @@ impl LorrRun {
         let tasks = match problem.version {
             Version::Y2023 => Tasks::RoundRobin(RoundRobin::new(n, problem.reveal(), &problem.tasks)),
             Version::Y2024 => Tasks::Pool(TaskPool::new(n, problem.reveal(), problem.tasks.len())),
+            Version::Y2026 => return Err(crate::error::Error::scenario("problem", problem.path.display(), "is a 2026 problem, played by `Lorr26`")),
         };
         let mut run = LorrRun {
             loc: problem.starts.clone(),
@@ -163,7 +166,7 @@ impl LorrRun {
             }
             Tasks::Pool(pool) => {
                 self.proposal.copy_from_slice(&pool.current);
-                let view = ScheduleView { map: &self.problem.map, loc: &self.loc, pool, lines: &self.problem.tasks, t: self.t };
+                let view = ScheduleView { map: &self.problem.map, loc: &self.loc, heading: &self.heading, pool, lines: &self.problem.tasks, t: self.t };
                 self.scheduler.schedule(&view, &mut self.proposal);
                 for k in 0..n {
                     let id = self.proposal[k];

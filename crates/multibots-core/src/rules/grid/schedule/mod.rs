@@ -44,6 +44,8 @@ pub struct ScheduleView<'a> {
     pub map: &'a GridMap,
     /// Each robot's cell.
     pub loc: &'a [u32],
+    /// Each robot's heading (0 east, 1 south, 2 west, 3 north).
+    pub heading: &'a [u8],
     /// The pool and the schedule in force.
     pub pool: &'a TaskPool,
     /// The task file's lines (a task's errands are `lines[task.line]`).

@@ -489,7 +489,10 @@ impl Planner for Pibt {
         // planner does the same): choosing again would undo the turn.
         for a in 0..n {
             let b = self.bound[a];
-            if b != NONE && b != view.loc[a] {
+            // Under the 2026 rules a plan is played ahead from where robots are predicted to
+            // be, which need not be where the last step left them: only a free neighbour binds.
+            let near = b != NONE && (0..4).any(|h| ahead(view.map, view.loc[a], h) == Some(b)) && view.map.free[b as usize];
+            if near && b != view.loc[a] {
                 self.next[a] = b;
                 self.occ_next[b as usize] = a as u32;
             }
