@@ -116,6 +116,9 @@ impl Run for LorrRun {
         while self.t < until {
             let before = self.t;
             self.step(until);
+            if let Some(e) = &self.failure {
+                return Err(e.clone());
+            }
             if let Some(sink) = sink.as_deref_mut() {
                 // Steps lost to the plan time limit: every robot waited.
                 for _ in before + 1..self.t {

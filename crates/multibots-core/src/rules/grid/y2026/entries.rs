@@ -70,7 +70,7 @@ pub struct ExecEnv<'a> {
 }
 
 /// A scheduler under the 2026 rules.
-pub trait Scheduler26: Send {
+pub trait Scheduler26: Send + Sync {
     /// Its name (a built-in's, or the user's file).
     fn name(&self) -> &str;
     /// Proposes a task id or -1 per robot; `proposal` holds the schedule in force when
@@ -79,7 +79,7 @@ pub trait Scheduler26: Send {
 }
 
 /// A planner under the 2026 rules.
-pub trait Planner26: Send {
+pub trait Planner26: Send + Sync {
     /// Its name.
     fn name(&self) -> &str;
     /// Each robot's next actions, in order (`plan[robot]`); `plan` comes with one empty
@@ -88,7 +88,7 @@ pub trait Planner26: Send {
 }
 
 /// An executor under the 2026 rules.
-pub trait Executor: Send {
+pub trait Executor: Send + Sync {
     /// Its name.
     fn name(&self) -> &str;
     /// A plan has arrived: changes `staged` in place (the rules then check that each queue,

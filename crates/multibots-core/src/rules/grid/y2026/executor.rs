@@ -30,13 +30,41 @@ use super::entries::{ExecEnv, Executor};
 use super::footprint::Pose;
 use crate::error::Result;
 use crate::rules::grid::action::{ahead, Action};
-use std::collections::{HashMap, VecDeque};
+use std::collections::VecDeque;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A cell's hash: its number times a large odd constant (cells are small whole numbers; the
+/// standard hasher, built against hostile keys, costs several times more here).
+#[derive(Default)]
+pub struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+
+    fn write_u32(&mut self, n: u32) {
+        self.0 = u64::from(n).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+}
+
+/// A map keyed by cell.
+type HashMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<CellHasher>>;
 
 /// The `tpg` executor's state.
 #[derive(Default)]
 pub struct Tpg {
     /// Per cell, the robots that will enter it, in order; the front is in it or entering it.
+    /// Emptied queues are kept, so that their memory serves again.
     order: HashMap<u32, VecDeque<u32>>,
+    /// The queues of the last play, emptied, for the next.
+    spare: HashMap<u32, VecDeque<u32>>,
     /// Each robot's cell when last seen.
     seen: Vec<u32>,
     /// Where each robot's staged actions end.
@@ -58,9 +86,6 @@ impl Tpg {
         if let Some(q) = self.order.get_mut(&cell) {
             if q.front() == Some(&robot) {
                 q.pop_front();
-            }
-            if q.is_empty() {
-                self.order.remove(&cell);
             }
         }
     }
@@ -130,61 +155,136 @@ impl Executor for Tpg {
                 self.seen[i] = p.loc;
             }
         }
-        for (i, p) in env.system.iter().enumerate() {
-            go[i] = match staged[i].first() {
-                None => false,
-                Some(&a) if a != Action::F => true,
-                Some(_) => match ahead(env.map, p.loc, p.heading) {
-                    None => true,
-                    Some(c) => match self.order.get(&c) {
-                        None => true,
-                        Some(q) => q.front() == Some(&(i as u32)) || (q.get(1) == Some(&(i as u32)) && leaving(env, q[0], c)),
-                    },
-                },
-            };
-        }
+        let order = &self.order;
+        let gates: Vec<Gate> = env
+            .system
+            .iter()
+            .enumerate()
+            .map(|(i, p)| match staged[i].first() {
+                None => Gate::Stop,
+                Some(&a) if a != Action::F => Gate::Go,
+                Some(_) => ahead(env.map, p.loc, p.heading).map_or(Gate::Go, |c| gate(order, i as u32, c, |j| env.system[j as usize].loc == c && !env.held[j as usize])),
+            })
+            .collect();
+        resolve(&gates, |j| staged[j as usize].first() == Some(&Action::F), go);
         Ok(())
     }
 }
 
-/// Whether robot `j`, in `cell`, is on its way out of it (a forward move under way).
-fn leaving(env: &ExecEnv<'_>, j: u32, cell: u32) -> bool {
-    let p = &env.system[j as usize];
-    p.loc == cell && p.doing == Action::F && p.count > 0 && !env.held[j as usize]
+/// Whether a robot may go: yes, no, or if robot `j`, which is in the cell it would enter and
+/// first in its queue, leaves it now (the two squares then slide one behind the other).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Gate {
+    Go,
+    Stop,
+    After(u32),
+}
+
+/// The gate of robot `i` moving into `c` under the cell queues: first in the queue, or second
+/// behind a robot that is in the cell and free to move (`can_leave`).
+fn gate(order: &HashMap<u32, VecDeque<u32>>, i: u32, c: u32, can_leave: impl Fn(u32) -> bool) -> Gate {
+    match order.get(&c) {
+        None => Gate::Go,
+        Some(q) if q.is_empty() || q.front() == Some(&i) => Gate::Go,
+        Some(q) if q.get(1) == Some(&i) && can_leave(q[0]) => Gate::After(q[0]),
+        Some(_) => Gate::Stop,
+    }
+}
+
+/// Decides every gate: a robot waiting on another goes if that one goes and its move leaves
+/// the cell (`moves_on(j)`); a cycle of robots waiting on each other stays (the model forbids
+/// a rotation). Chains are followed with an explicit stack: they can be as long as the fleet.
+fn resolve(gate: &[Gate], moves_on: impl Fn(u32) -> bool, go: &mut [bool]) {
+    const UNKNOWN: u8 = 0;
+    const OPEN: u8 = 1;
+    const SET: u8 = 2;
+    let mut mark = vec![UNKNOWN; gate.len()];
+    let mut chain: Vec<usize> = Vec::new();
+    for start in 0..gate.len() {
+        let mut i = start;
+        // Walk down the chain to a decided robot, a robot that decides alone, or a cycle.
+        let mut verdict = loop {
+            if mark[i] == SET {
+                break go[i] && moves_on(i as u32);
+            }
+            if mark[i] == OPEN {
+                break false;
+            }
+            match gate[i] {
+                Gate::Go => {
+                    go[i] = true;
+                    mark[i] = SET;
+                    break moves_on(i as u32);
+                }
+                Gate::Stop => {
+                    go[i] = false;
+                    mark[i] = SET;
+                    break false;
+                }
+                Gate::After(j) => {
+                    mark[i] = OPEN;
+                    chain.push(i);
+                    i = j as usize;
+                }
+            }
+        };
+        while let Some(k) = chain.pop() {
+            go[k] = verdict;
+            mark[k] = SET;
+            verdict = verdict && moves_on(k as u32);
+        }
+    }
 }
 
 impl Tpg {
-    /// Plays `window` steps without delays from where the robots are; cuts the staged queues
-    /// to what the play carried out, rebuilds the cell queues from it, and writes where each
-    /// robot ends.
+    /// Plays `window` steps without delays from where the robots are, all robots acting
+    /// together (a robot may follow another into the cell it leaves in the same step); cuts the
+    /// staged queues to what the play carried out, rebuilds the cell queues from it, and writes
+    /// where each robot ends.
     fn play(&mut self, env: &ExecEnv<'_>, staged: &mut [Vec<Action>], predicted: &mut Vec<Pose>) {
         let n = env.system.len();
         let mut order = std::mem::take(&mut self.order);
-        let mut rebuilt: HashMap<u32, VecDeque<u32>> = HashMap::with_capacity(order.len());
+        let mut rebuilt = std::mem::take(&mut self.spare);
+        if rebuilt.len() > 8 * n {
+            // Cells visited long ago: let their queues go.
+            rebuilt.retain(|_, q| !q.is_empty());
+        }
         let mut now: Vec<Pose> = env.system.iter().map(|p| Pose { count: 0, doing: Action::T, ..*p }).collect();
         for (i, p) in now.iter().enumerate() {
             rebuilt.entry(p.loc).or_default().push_back(i as u32);
         }
         self.done.clear();
         self.done.resize(n, 0);
+        let mut gates = vec![Gate::Stop; n];
+        let mut go = vec![false; n];
         let mut moved: Vec<(u32, u32)> = Vec::new();
         for step in 0..self.window {
-            moved.clear();
             for i in 0..n {
                 // An action under way is finished first, whatever happens: the queues granted
                 // it when it started.
                 let under_way = step == 0 && env.system[i].busy();
-                if env.held[i] && !under_way {
+                let p = &now[i];
+                gates[i] = match staged[i].get(self.done[i]) {
+                    _ if env.held[i] && !under_way => Gate::Stop,
+                    None => Gate::Stop,
+                    Some(&a) if a != Action::F || under_way => Gate::Go,
+                    Some(_) => match ahead(env.map, p.loc, p.heading) {
+                        None => Gate::Stop,
+                        Some(c) => gate(&order, i as u32, c, |j| now[j as usize].loc == c),
+                    },
+                };
+            }
+            resolve(&gates, |j| staged[j as usize].get(self.done[j as usize]) == Some(&Action::F), &mut go);
+            moved.clear();
+            for i in 0..n {
+                if !go[i] {
                     continue;
                 }
-                let Some(&a) = staged[i].get(self.done[i]) else { continue };
+                let a = staged[i][self.done[i]];
                 let p = &mut now[i];
                 match a {
                     Action::F => {
-                        let Some(c) = ahead(env.map, p.loc, p.heading) else { continue };
-                        if !under_way && order.get(&c).and_then(|q| q.front().copied()) != Some(i as u32) {
-                            continue;
-                        }
+                        let c = ahead(env.map, p.loc, p.heading).expect("a gate opens on the map");
                         moved.push((i as u32, p.loc));
                         p.loc = c;
                     }
@@ -202,7 +302,10 @@ impl Tpg {
                 rebuilt.entry(now[i as usize].loc).or_default().push_back(i);
             }
         }
-        order.clear();
+        for q in order.values_mut() {
+            q.clear();
+        }
+        self.spare = order;
         self.order = rebuilt;
         for (i, q) in staged.iter_mut().enumerate() {
             q.truncate(self.done[i]);

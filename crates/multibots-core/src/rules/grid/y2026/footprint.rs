@@ -176,6 +176,42 @@ impl Floor {
         true
     }
 
+    /// The first robot standing on `starts` (facing east, nothing under way) whose square does
+    /// not fit: off the map, over an obstacle, or over a robot of lower id (with `agentSize`
+    /// above 1 a square reaches into the cells right and below); `None` if all fit. The
+    /// Start-Kit aborts on such a start at the first tick.
+    #[must_use]
+    pub fn misfit(&self, starts: &[u32]) -> Option<(usize, String)> {
+        if self.size <= 1.0 {
+            // Distinct free cells: each square stays in its own cell.
+            return None;
+        }
+        let reach = self.size.ceil() as i64;
+        let mut at: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+        for (i, &c) in starts.iter().enumerate() {
+            let (x, y) = ((c % self.cols) as f32, (c / self.cols) as f32);
+            if !self.clear(&Motion { x0: x, y0: y, x1: x, y1: y }) {
+                return Some((i, format!("its square of side {} at cell {c} leaves the map or covers an obstacle", self.size)));
+            }
+            let (r, col) = (i64::from(c / self.cols), i64::from(c % self.cols));
+            for dr in -reach..=reach {
+                for dc in -reach..=reach {
+                    let (rr, cc) = (r + dr, col + dc);
+                    if rr < 0 || cc < 0 || rr >= i64::from(self.rows) || cc >= i64::from(self.cols) {
+                        continue;
+                    }
+                    if let Some(&j) = at.get(&((rr * i64::from(self.cols) + cc) as u32)) {
+                        if (dr.abs() as f32) < self.size && (dc.abs() as f32) < self.size {
+                            return Some((i, format!("its square of side {} at cell {c} overlaps robot {j}'s", self.size)));
+                        }
+                    }
+                }
+            }
+            at.insert(c, i);
+        }
+        None
+    }
+
     /// The state after one tick of `a` from `p` (the Start-Kit's `result_state`): an action
     /// under way goes on whatever is asked but a wait, which pauses it; a new `F`, `R` or `C`
     /// starts; each takes `m` ticks and has its effect on the last.

@@ -41,4 +41,4 @@ mod run;
 mod show;
 pub mod tasks;
 
-pub use run::{Entries, Lorr26};
+pub use run::{comm_ms, Entries, Lorr26, COMM_MS, INITIAL_MS, TICK_MS};

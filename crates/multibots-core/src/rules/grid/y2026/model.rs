@@ -48,9 +48,9 @@ pub struct ActionModel {
     wait_ok: Vec<bool>,
     /// (cell, robot) for each cell a robot's square covers, sorted by cell then robot.
     bins: Vec<(u32, u32)>,
-    /// Where each cell's entries start in `bins`, valid where `bin_stamp` is this tick's.
-    bin_start: Vec<u32>,
-    bin_stamp: Vec<u32>,
+    /// Per cell, (the tick's stamp, where its entries start in `bins`): valid where the stamp
+    /// is this tick's. One array, so that a cell costs one cache line.
+    bin_head: Vec<(u32, u32)>,
     stamp: u32,
     status: Vec<u8>,
     decided: Vec<bool>,
@@ -145,7 +145,8 @@ impl ActionModel {
                 let m = if on_map { motion(from, corner(&q, floor.cols, floor.m)) } else { motion(from, from) };
                 poses.push(q);
                 motions.push(m);
-                oks.push(on_map && floor.clear(&m));
+                // Staying put is clear: every square starts clear (`Floor::fits`).
+                oks.push(on_map && ((m.x0 == m.x1 && m.y0 == m.y1) || floor.clear(&m)));
             }
         }
     }
@@ -166,20 +167,19 @@ impl ActionModel {
         // Stable: robots stay in id order within a cell.
         self.bins.sort_by_key(|&(cell, _)| cell);
         let cells = (floor.rows * floor.cols) as usize;
-        if self.bin_start.len() != cells {
-            self.bin_start = vec![0; cells];
-            self.bin_stamp = vec![0; cells];
+        if self.bin_head.len() != cells {
+            self.bin_head = vec![(0, 0); cells];
             self.stamp = 0;
         }
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
-            self.bin_stamp.fill(0);
+            self.bin_head.fill((0, 0));
             self.stamp = 1;
         }
         for (k, &(cell, _)) in self.bins.iter().enumerate() {
-            if self.bin_stamp[cell as usize] != self.stamp {
-                self.bin_stamp[cell as usize] = self.stamp;
-                self.bin_start[cell as usize] = k as u32;
+            let head = &mut self.bin_head[cell as usize];
+            if head.0 != self.stamp {
+                *head = (self.stamp, k as u32);
             }
         }
     }
@@ -251,6 +251,17 @@ impl Tick<'_> {
             return false;
         }
         let mv = if asked { self.model.req_motion[i] } else { self.model.wait_motion[i] };
+        if mv.x0 == mv.x1 && mv.y0 == mv.y1 {
+            // A square that stays put (a wait, a turn, a pause) always can: a robot decided
+            // before it whose slide would meet it depended on it, and was decided after it or
+            // refused (a cycle). Nor does it depend on anyone. So no neighbour need be looked at,
+            // and the outcome is the Start-Kit's.
+            let m = &mut *self.model;
+            m.decided[i] = true;
+            m.chose[i] = asked;
+            m.decided_motion[i] = mv;
+            return true;
+        }
         let (from, to) = self.collect_neighbours(i, &mv);
         for k in from..to {
             let j = self.model.neighbours[k] as usize;
@@ -312,10 +323,11 @@ impl Tick<'_> {
         for r in r0..=r1 {
             for c in c0..=c1 {
                 let cell = (r * i64::from(cols) + c) as usize;
-                if m.bin_stamp[cell] != m.stamp {
+                let (stamp, start) = m.bin_head[cell];
+                if stamp != m.stamp {
                     continue;
                 }
-                for &(at, j) in &m.bins[m.bin_start[cell] as usize..] {
+                for &(at, j) in &m.bins[start as usize..] {
                     if at as usize != cell {
                         break;
                     }

@@ -79,7 +79,7 @@ impl Planner26 for Rollout {
             env.map
         };
         for step in 0..window(env.interval, env.floor.m) {
-            let view = PlanView { map, loc: &self.loc, heading: &self.heading, goals: &self.goals, t: env.tick + step as u32 };
+            let view = PlanView { map, loc: &self.loc, heading: &self.heading, goals: &self.goals, t: env.tick + step as u32, tasks: None };
             self.inner.plan(&view, &mut self.actions);
             for i in 0..n {
                 let a = if env.held[i] { Action::W } else { self.actions[i] };

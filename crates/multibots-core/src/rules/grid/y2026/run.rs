@@ -25,6 +25,13 @@ pub const COMM_MS: u32 = 1000;
 /// The Start-Kit's default `initialPlanTimeLimit`, in ms.
 pub const INITIAL_MS: u32 = 1000;
 
+/// The communication interval of a run with `options`, in ms: `--plan-time-limit`, or the
+/// Start-Kit's default [`COMM_MS`].
+#[must_use]
+pub fn comm_ms(options: &LorrOptions) -> u32 {
+    options.plan_time_limit_ms.map_or(COMM_MS, |ms| ms.min(u64::from(u32::MAX)) as u32)
+}
+
 /// An entry's failure.
 fn fail(entry: &str, reason: String) -> Error {
     Error::Entry { entry: entry.to_string(), reason }
@@ -41,7 +48,7 @@ impl Entries {
     /// The built-ins: a scheduler and a planner of the 2024 tables by name (the planner
     /// played ahead, `planner.rs`), and the `tpg` executor.
     pub fn built_in(problem: &Problem, options: &LorrOptions) -> Result<Entries> {
-        let planner = planner::built_in(&options.planner, &problem.map, problem.team_size(), options.seed)?;
+        let planner = planner::built_in_lean(&options.planner, &problem.map, problem.team_size(), options.seed)?;
         Ok(Entries {
             scheduler: Box::new(Scheduler24(schedule::built_in(&options.scheduler)?)),
             planner: Box::new(Rollout::new(planner, &options.planner)),
@@ -86,11 +93,17 @@ pub struct Lorr26 {
 impl Lorr26 {
     /// A run at tick 0 with the built-in entries named by `options` (`auto` resolved).
     pub fn new(problem: Arc<Problem>, mut options: LorrOptions) -> Result<Lorr26> {
-        if options.planner == "auto" {
-            options.planner = planner::auto_choice(&problem.map, problem.team_size()).into();
-        }
+        Lorr26::resolve(&problem, &mut options);
         let entries = Entries::built_in(&problem, &options)?;
         Lorr26::with(problem, options, entries)
+    }
+
+    /// Names the built-ins `auto` stands for under the 2026 rules, for `problem`.
+    pub fn resolve(problem: &Problem, options: &mut LorrOptions) {
+        if options.planner == "auto" {
+            options.planner = planner::auto_choice_2026(&problem.map).into();
+        }
+        options.scheduler = schedule::resolve(&options.scheduler, true).to_string();
     }
 
     /// A run with the caller's entries (the names in `options` are then labels); the initial
@@ -102,7 +115,7 @@ impl Lorr26 {
         };
         let n = problem.team_size();
         // `--plan-time-limit` is the communication interval under these rules.
-        let comm_ms = options.plan_time_limit_ms.map_or(COMM_MS, |ms| ms.min(u64::from(u32::MAX)) as u32);
+        let comm_ms = comm_ms(&options);
         let interval = comm_ms.div_ceil(TICK_MS).max(1);
         let floor = Floor {
             rows: problem.map.rows,
@@ -111,6 +124,9 @@ impl Lorr26 {
             size: rules.agent_size,
             m: rules.agent_counter,
         };
+        if let Some((i, why)) = floor.misfit(&problem.starts) {
+            return Err(Error::scenario("agentSize", rules.agent_size, format!("robot {i} cannot start: {why}")));
+        }
         let pool = TaskPool::new(n, problem.reveal(), problem.tasks.len());
         let states: Vec<Pose> = problem.starts.iter().map(|&c| Pose::at(c)).collect();
         let mut run = Lorr26 {
