@@ -24,8 +24,8 @@ def _choices(table: tuple[tuple[str, str], ...]) -> str:
 
 
 def lorr(
-    problem: Path = typer.Argument(..., help="A LoRR problem file (JSON), 2023 or 2024.", show_default=False),
-    steps: str = typer.Option("5000", "--steps", help="Steps to run (the competition's budget is usually 5000)."),
+    problem: Path = typer.Argument(..., help="A LoRR problem file (JSON): 2023, 2024 or 2026 (\"version\": \"2026 LoRR\").", show_default=False),
+    steps: str = typer.Option("5000", "--steps", help="Steps to run (the competition's budget is usually 5000); ticks under the 2026 rules, as the Start-Kit's -s."),
     out: Optional[Path] = typer.Option(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
@@ -33,7 +33,7 @@ def lorr(
         _core.LORR_PLANNERS[0][0], "--planner", help=f"Planner: {_choices(_core.LORR_PLANNERS)}.",
     ),
     scheduler: str = typer.Option(
-        _core.LORR_SCHEDULERS[0][0], "--scheduler", help=f"Scheduler (2024): {_choices(_core.LORR_SCHEDULERS)}.",
+        _core.LORR_SCHEDULERS[0][0], "--scheduler", help=f"Scheduler (2024, 2026): {_choices(_core.LORR_SCHEDULERS)}.",
     ),
     plan_time_limit: Optional[str] = typer.Option(
         None, "--plan-time-limit", show_default=False,
@@ -43,6 +43,18 @@ def lorr(
     record: Optional[Path] = typer.Option(
         None, "--record", show_default=False,
         help="Write a replay of every step to this file (.mbr); multibots view plays it.",
+    ),
+    planner_py: Optional[Path] = typer.Option(
+        None, "--planner-py", show_default=False,
+        help="A Start-Kit Python planner file (pyMAPFPlanner.py, import MAPF) in place of --planner.",
+    ),
+    scheduler_py: Optional[Path] = typer.Option(
+        None, "--scheduler-py", show_default=False,
+        help="A Start-Kit Python scheduler file (pyTaskScheduler.py) in place of --scheduler (2024, 2026).",
+    ),
+    executor_py: Optional[Path] = typer.Option(
+        None, "--executor-py", show_default=False,
+        help="A Start-Kit Python executor file (pyExecutor.py) in place of the built-in tpg (2026).",
     ),
 ) -> None:
     """Run a League of Robot Runners problem, scored as the competition scores it."""
@@ -65,6 +77,7 @@ def lorr(
     for name, value, flag in (("steps", n_steps, "--steps"), ("plan_time_limit_ms", limit, "--plan-time-limit"),
                               ("seed", n_seed, "--seed")):
         engine.check_option(name, value, flag)
+    python = {"planner_py": planner_py, "scheduler_py": scheduler_py, "executor_py": executor_py}
     began = time.monotonic()
     # The bar only when a person watches: stdout on a terminal (not piped or redirected).
     if sys.stdout.isatty() and sys.stderr.isatty():
@@ -79,18 +92,27 @@ def lorr(
             task = bar.add_task(problem.name, total=n_steps, finished=0)
             result = engine.run(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
-                progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
+                progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record, **python,
             )
     else:
-        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record)
+        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record, **python)
     fig = result.figures
     wall = time.monotonic() - began
-    print(
-        f"{problem.name}: {result.finished:,} finished in {result.steps:,} steps "
-        f"({result.team_size:,} robots, {result.version} rules, planner {result.planner}); "
-        f"planning {fig['plan_ms_mean']:.2f} ms/step mean, {fig['plan_ms_max']:.0f} ms max; "
-        f"errors {fig['action_errors'] + fig['schedule_errors']}, timeouts {fig['timeouts']}; wall {wall:.1f} s"
-    )
+    if result.version == "2026":
+        print(
+            f"{problem.name}: {result.finished:,} finished in {result.steps:,} ticks "
+            f"({result.team_size:,} robots, 2026 rules, planner {result.planner}, scheduler {result.scheduler}); "
+            f"planning {fig['plan_ms_mean']:.2f} ms/call mean, {fig['plan_ms_max']:.0f} ms max; "
+            f"delays {fig.get('delays', 0):,}, action model messages {fig['action_errors']:,}, "
+            f"schedule errors {fig['schedule_errors']}; wall {wall:.1f} s"
+        )
+    else:
+        print(
+            f"{problem.name}: {result.finished:,} finished in {result.steps:,} steps "
+            f"({result.team_size:,} robots, {result.version} rules, planner {result.planner}); "
+            f"planning {fig['plan_ms_mean']:.2f} ms/step mean, {fig['plan_ms_max']:.0f} ms max; "
+            f"errors {fig['action_errors'] + fig['schedule_errors']}, timeouts {fig['timeouts']}; wall {wall:.1f} s"
+        )
     if out is not None:
         print(f"result: {out} (figures: {engine.figures_path(out).name})")
     if record is not None:
