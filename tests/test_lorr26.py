@@ -34,7 +34,8 @@ EXAMPLES = [
 ]
 MAZE = REFERENCE / "maze.domain" / "maze-example_40.json"
 
-needs_examples = pytest.mark.skipif(not CHECKER.is_file(), reason=f"the LoRR 2026 examples and checker are not at {SHARED}")
+needs_examples = pytest.mark.skipif(
+    not CHECKER.is_file(), reason=f"the LoRR 2026 examples and checker are not at {SHARED}")
 
 
 def check(problem: Path, result: Path) -> dict:
@@ -83,8 +84,8 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path):
                        capture_output=True, text=True, timeout=300)
     assert p.returncode == 2
     assert p.stderr.count("\n") == 1 and "--steps" in p.stderr and "-3" in p.stderr
-    p = subprocess.run([sys.executable, "-m", "multibots", "lorr", str(MAZE), "--executor-py", str(tmp_path / "none.py")],
-                       capture_output=True, text=True, timeout=300)
+    argv = [sys.executable, "-m", "multibots", "lorr", str(MAZE), "--executor-py", str(tmp_path / "none.py")]
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=300)
     assert p.returncode == 2
     assert p.stderr.count("\n") == 1 and "--executor-py" in p.stderr and "none.py" in p.stderr
 
@@ -146,7 +147,8 @@ def test_an_error_in_user_code_is_one_line_with_the_file_and_line(tmp_path):
     with pytest.raises(AllocatorError) as e:
         lorr.run(MAZE, steps=20, planner_py=bad)
     msg = str(e.value)
-    assert msg == "planner pyMAPFPlanner.py: raised ZeroDivisionError: integer division or modulo by zero (pyMAPFPlanner.py, line 8)"
+    assert msg == ("planner pyMAPFPlanner.py: raised ZeroDivisionError: integer division or modulo by zero "
+                   "(pyMAPFPlanner.py, line 8)")
     assert isinstance(e.value.__cause__.__cause__, ZeroDivisionError)
     missing = tmp_path / "x.py"
     missing.write_text("class Other:\n    pass\n")

@@ -21,11 +21,10 @@ import os
 import sys
 import traceback
 from pathlib import Path
-from types import ModuleType
-from typing import Any, Optional, Sequence
+from typing import Any, Optional, Sequence, Union
 
 from multibots import mapf
-from multibots.exceptions import InputError
+from multibots.exceptions import InputError, MultibotsError
 
 __all__ = ["CLASSES", "Entries", "EntryError", "load_entry"]
 
@@ -36,7 +35,7 @@ CLASSES = {"planner": "pyMAPFPlanner", "scheduler": "pyTaskScheduler", "executor
 PREPROCESS_MS = 30000
 
 
-class EntryError(Exception):
+class EntryError(MultibotsError):
     """An exception raised in an entry's code, as one line: the exception and the user's file
     and line. The engine reports it as ``<role> <file>: raised ...``."""
 
@@ -46,9 +45,9 @@ def _place(e: BaseException, path: Path) -> str:
     the innermost frame."""
     frames = traceback.extract_tb(e.__traceback__)
     mine = [f for f in frames if os.path.abspath(f.filename) == str(path)]
-    frame = (mine or frames or [None])[-1]
-    if frame is None:
+    if not (mine or frames):
         return ""
+    frame = (mine or frames)[-1]
     return f" ({Path(frame.filename).name}, line {frame.lineno})"
 
 
@@ -93,7 +92,8 @@ def load_entry(role: str, file: "os.PathLike[str] | str") -> Any:
         spec.loader.exec_module(module)
         cls = getattr(module, CLASSES[role], None)
         if cls is None:
-            raise InputError(f"{flag} = {str(file)!r}: defines no class {CLASSES[role]} (the Start-Kit's name for a {role})")
+            raise InputError(
+                f"{flag} = {str(file)!r}: defines no class {CLASSES[role]} (the class a Start-Kit {role} file defines)")
         return cls()
     except InputError:
         raise
@@ -120,8 +120,9 @@ class Entries:
     """The Python entries of a run: the objects, their environments, and the calls the engine
     makes (``schedule``, ``plan``, ``process_new_plan``, ``next_command``)."""
 
-    def __init__(self, planner: Optional[str] = None, scheduler: Optional[str] = None,
-                 executor: Optional[str] = None) -> None:
+    def __init__(self, planner: Optional[Union[str, os.PathLike[str]]] = None,
+                 scheduler: Optional[Union[str, os.PathLike[str]]] = None,
+                 executor: Optional[Union[str, os.PathLike[str]]] = None) -> None:
         self.files: dict[str, Path] = {}
         self.objects: dict[str, Any] = {}
         for role, file in (("planner", planner), ("scheduler", scheduler), ("executor", executor)):
@@ -184,11 +185,12 @@ class Entries:
         pool: dict[int, mapf.Task] = {}
         for task_id, revealed, agent, locations, done in tasks:
             t = mapf.Task()
-            t.task_id, t.t_revealed, t.agent_assigned, t.locations, t.idx_next_loc = task_id, revealed, agent, list(locations), done
+            t.task_id, t.t_revealed, t.agent_assigned = task_id, revealed, agent
+            t.locations, t.idx_next_loc = list(locations), done
             pool[task_id] = t
         env.task_pool = pool
         env.curr_task_schedule = list(schedule)
-        env.goal_locations = [[] if g is None else [tuple(g)] for g in goals]
+        env.goal_locations = [[] if g is None else [(int(g[0]), int(g[1]))] for g in goals]
         env.new_tasks = list(new_tasks)
         env.new_freeagents = list(new_free)
         env.staged_actions = [[mapf.Action(a) for a in q] for q in staged]
@@ -209,7 +211,7 @@ class Entries:
         if synced:
             _, _, _, _, schedule, goals, *_ = state
             self.env.curr_task_schedule = list(schedule)
-            self.env.goal_locations = [[] if g is None else [tuple(g)] for g in goals]
+            self.env.goal_locations = [[] if g is None else [(int(g[0]), int(g[1]))] for g in goals]
         else:
             self._sync(*state)
         answer = self._call("planner", "plan", time_limit)
@@ -219,7 +221,8 @@ class Entries:
         except (TypeError, ValueError) as e:
             raise EntryError(f"answered {type(answer).__name__}, not a list of actions per robot: {e}") from None
 
-    def _sync_exec(self, tick: int, system: Sequence[tuple[int, int, int, bool]], staged: Sequence[Sequence[int]]) -> None:
+    def _sync_exec(self, tick: int, system: Sequence[tuple[int, int, int, bool]],
+                   staged: Sequence[Sequence[int]]) -> None:
         env = self.exec_env
         env.system_timestep = tick
         env.system_states = [_state(*p, tick, env.max_counter) for p in system]
@@ -235,12 +238,14 @@ class Entries:
         and where it says each robot will be."""
         self._sync_exec(tick, system, staged)
         queues = self.exec_env.staged_actions
-        answer = self._call("executor", "process_new_plan", sync_limit, mapf.Plan([[mapf.Action(a) for a in row] for row in plan]), queues)
+        new_plan = mapf.Plan([[mapf.Action(a) for a in row] for row in plan])
+        answer = self._call("executor", "process_new_plan", sync_limit, new_plan, queues)
         try:
             predicted = list(answer)
             out = [(int(s.location), int(s.orientation)) for s in predicted]
         except (TypeError, ValueError, AttributeError) as e:
-            raise EntryError(f"process_new_plan answered {type(answer).__name__}, not a list of MAPF.State: {e}") from None
+            raise EntryError(
+                f"process_new_plan answered {type(answer).__name__}, not a list of MAPF.State: {e}") from None
         self.predicted = [mapf.State(loc, -1, ori) for loc, ori in out]
         return [[int(a) for a in q] for q in queues], out
 

@@ -24,8 +24,13 @@ def _choices(table: tuple[tuple[str, str], ...]) -> str:
 
 
 def lorr(
-    problem: Path = typer.Argument(..., help="A LoRR problem file (JSON): 2023, 2024 or 2026 (\"version\": \"2026 LoRR\").", show_default=False),
-    steps: str = typer.Option("5000", "--steps", help="Steps to run (the competition's budget is usually 5000); ticks under the 2026 rules, as the Start-Kit's -s."),
+    problem: Path = typer.Argument(
+        ..., help="A LoRR problem file (JSON): 2023, 2024 or 2026 (\"version\": \"2026 LoRR\").", show_default=False
+    ),
+    steps: str = typer.Option(
+        "5000", "--steps",
+        help="Steps to run (the competition's budget is usually 5000); ticks under the 2026 rules (Start-Kit -s).",
+    ),
     out: Optional[Path] = typer.Option(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
@@ -77,7 +82,6 @@ def lorr(
     for name, value, flag in (("steps", n_steps, "--steps"), ("plan_time_limit_ms", limit, "--plan-time-limit"),
                               ("seed", n_seed, "--seed")):
         engine.check_option(name, value, flag)
-    python = {"planner_py": planner_py, "scheduler_py": scheduler_py, "executor_py": executor_py}
     began = time.monotonic()
     # The bar only when a person watches: stdout on a terminal (not piped or redirected).
     if sys.stdout.isatty() and sys.stderr.isatty():
@@ -92,16 +96,19 @@ def lorr(
             task = bar.add_task(problem.name, total=n_steps, finished=0)
             result = engine.run(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
-                progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record, **python,
+                progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
+                planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
             )
     else:
-        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record, **python)
+        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record,
+                            planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py)
     fig = result.figures
     wall = time.monotonic() - began
     if result.version == "2026":
         print(
             f"{problem.name}: {result.finished:,} finished in {result.steps:,} ticks "
-            f"({result.team_size:,} robots, 2026 rules, planner {result.planner}, scheduler {result.scheduler}); "
+            f"({result.team_size:,} robots, 2026 rules, planner {result.planner.removeprefix('planner ')}, "
+            f"scheduler {result.scheduler.removeprefix('scheduler ')}); "
             f"planning {fig['plan_ms_mean']:.2f} ms/call mean, {fig['plan_ms_max']:.0f} ms max; "
             f"delays {fig.get('delays', 0):,}, action model messages {fig['action_errors']:,}, "
             f"schedule errors {fig['schedule_errors']}; wall {wall:.1f} s"
