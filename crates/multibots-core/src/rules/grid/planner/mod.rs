@@ -154,19 +154,28 @@ pub const HUGE: usize = 400_000;
 /// Free cells up to which the 2026 rules' `auto` plans on actions (`rpibt-pp`).
 pub const SMALL: usize = 20_000;
 
-/// The planner `auto` plays under the 2026 rules, by the map's free cells: `rpibt-pp` up to
-/// [`SMALL`] (its tables count turns, which take as long as moves there), `pibt` up to
-/// [`HUGE`], `pibt-grid` beyond (a search per errand of a map of millions of cells costs more
-/// than it gains in a run of 500 ticks). Measured in `docs/lorr.md`.
+/// Robots per free cell from which the 2026 rules' `auto` plays `pibt` (highways) rather than
+/// `pibt-no-highways` on a mid-sized map, in percent.
+pub const LANES_FROM_PERCENT: usize = 5;
+
+/// The planner `auto` plays under the 2026 rules, by the map's free cells and the fleet:
+/// `rpibt-pp` up to [`SMALL`] free cells (its tables count turns, which take as long as moves
+/// there); up to [`HUGE`], `pibt` where robots take at least [`LANES_FROM_PERCENT`] % of the free
+/// cells (lanes pay in a dense warehouse: 1,555 tasks against 891 on `fulfill-example_2500`)
+/// and `pibt-no-highways` where they are sparser (the same tasks in a sixth of the time on the
+/// city and game maps); `pibt-grid` beyond (a search per errand of a map of millions of cells
+/// costs more than it gains in a run of 500 ticks). Measured in `docs/lorr.md`.
 #[must_use]
-pub fn auto_choice_2026(map: &GridMap) -> &'static str {
+pub fn auto_choice_2026(map: &GridMap, robots: usize) -> &'static str {
     let free = map.free.iter().filter(|&&f| f).count();
     if free <= SMALL {
         "rpibt-pp"
-    } else if free <= HUGE {
+    } else if free > HUGE {
+        "pibt-grid"
+    } else if robots * 100 >= free * LANES_FROM_PERCENT {
         "pibt"
     } else {
-        "pibt-grid"
+        "pibt-no-highways"
     }
 }
 

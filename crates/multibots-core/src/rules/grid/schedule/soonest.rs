@@ -172,15 +172,21 @@ fn by_tasks(view: &ScheduleView<'_>, dist: &mut Distances, budget: &mut u64, rob
         buckets[((y / BUCKET) * cols + x / BUCKET) as usize].push(r as u32);
     }
     let mut sold = vec![false; robots.len()];
-    // The nearest unsold robots to task `i`'s first errand, by grid distance.
-    let nearest = |i: usize, sold: &[bool]| -> Vec<(u32, u32)> {
+    // The nearest unsold robots to task `i`'s first errand, by grid distance: `CANDIDATES`, or
+    // all of them once fewer are left (`left`), so that the rings stop as soon as they are
+    // found rather than sweep the whole map.
+    let nearest = |i: usize, sold: &[bool], left: usize| -> Vec<(u32, u32)> {
+        let want = CANDIDATES.min(left);
+        if want == 0 {
+            return Vec::new();
+        }
         let first = shape[i].0;
         let (y, x) = view.map.row_col(first);
         let (by, bx) = (i64::from(y / BUCKET), i64::from(x / BUCKET));
         let mut best: Vec<(u32, u32)> = Vec::with_capacity(CANDIDATES + 1);
         for k in 0..=i64::from(rows.max(cols)) {
             let floor = ((k - 1).max(0) as u32) * BUCKET;
-            if best.len() == CANDIDATES && floor > best[CANDIDATES - 1].0 {
+            if best.len() == want && floor > best[want - 1].0 {
                 break;
             }
             for dy in -k..=k {
@@ -210,8 +216,9 @@ fn by_tasks(view: &ScheduleView<'_>, dist: &mut Distances, budget: &mut u64, rob
     };
     let mut heap: BinaryHeap<Reverse<(u32, u32, u32)>> = BinaryHeap::new();
     let mut pending = vec![0usize; tasks.len()];
-    let mut bids_for = |i: usize, sold: &[bool], heap: &mut BinaryHeap<Reverse<(u32, u32, u32)>>, budget: &mut u64| -> usize {
-        let near = nearest(i, sold);
+    let mut left = robots.len();
+    let mut bids_for = |i: usize, sold: &[bool], left: usize, heap: &mut BinaryHeap<Reverse<(u32, u32, u32)>>, budget: &mut u64| -> usize {
+        let near = nearest(i, sold, left);
         for &(_, r) in &near {
             let bid = between(dist, view, view.loc[robots[r as usize]], shape[i].0, budget).saturating_add(shape[i].1);
             heap.push(Reverse((bid, i as u32, r)));
@@ -219,7 +226,7 @@ fn by_tasks(view: &ScheduleView<'_>, dist: &mut Distances, budget: &mut u64, rob
         near.len()
     };
     for (i, p) in pending.iter_mut().enumerate() {
-        *p = bids_for(i, &sold, &mut heap, budget);
+        *p = bids_for(i, &sold, left, &mut heap, budget);
     }
     let mut taken = vec![false; tasks.len()];
     while let Some(Reverse((_, i, r))) = heap.pop() {
@@ -230,12 +237,16 @@ fn by_tasks(view: &ScheduleView<'_>, dist: &mut Distances, budget: &mut u64, rob
         pending[i] -= 1;
         if sold[r] {
             if pending[i] == 0 {
-                pending[i] = bids_for(i, &sold, &mut heap, budget);
+                pending[i] = bids_for(i, &sold, left, &mut heap, budget);
             }
             continue;
         }
         taken[i] = true;
         sold[r] = true;
+        left -= 1;
         proposal[robots[r]] = i64::from(tasks[i]);
+        if left == 0 {
+            break;
+        }
     }
 }

@@ -101,7 +101,7 @@ impl Lorr26 {
     /// Names the built-ins `auto` stands for under the 2026 rules, for `problem`.
     pub fn resolve(problem: &Problem, options: &mut LorrOptions) {
         if options.planner == "auto" {
-            options.planner = planner::auto_choice_2026(&problem.map).into();
+            options.planner = planner::auto_choice_2026(&problem.map, problem.team_size()).into();
         }
         options.scheduler = schedule::resolve(&options.scheduler, true).to_string();
     }
