@@ -158,3 +158,33 @@ def test_an_error_in_user_code_is_one_line_with_the_file_and_line(tmp_path):
     broken.write_text("import MAPF\nclass pyExecutor:\n    def initialize(self, t):\n        raise KeyError('boom')\n")
     with pytest.raises(AllocatorError, match=r"^executor y\.py: initialize raised KeyError: 'boom' \(y\.py, line 4\)$"):
         lorr.run(MAZE, steps=20, executor_py=broken)
+
+
+@needs_examples
+def test_the_same_python_entries_give_the_startkits_result_field_for_field(tmp_path):
+    # Deterministic entries from the research notes (a BFS planner and a staging executor,
+    # tests/data/lorr26_det, with the Start-Kit's template scheduler), run by the Start-Kit
+    # v3.1.0 on maze-example_40 for 500 ticks: MultiBots gives its result but for the first
+    # schedule's stamp (uninitialised there) and the paths' segment headers (it repeats the
+    # start in every segment).
+    import gzip
+    import re
+
+    det = Path(__file__).resolve().parent / "data" / "lorr26_det"
+    out = tmp_path / "r.json"
+    r = lorr.run(MAZE, steps=500, out=out, planner_py=det / "user_planner" / "pyMAPFPlanner.py",
+                 scheduler_py=TEMPLATES["scheduler_py"], executor_py=det / "user_executor" / "pyExecutor.py")
+    ours = json.loads(out.read_text())
+    theirs = json.loads(gzip.decompress((det / "maze-example_40.startkit.json.gz").read_bytes()))
+    headers = re.compile(r"\[\([^)]*\):")
+    stamp = re.compile(r"^\d+:")
+    for key in sorted(set(ours) | set(theirs)):
+        if key == "plannerTimes":
+            continue
+        a, b = ours.get(key), theirs.get(key)
+        if key.endswith("Paths"):
+            a, b = [headers.sub("[:", p) for p in a], [headers.sub("[:", p) for p in b]
+        if key.endswith("Schedule"):
+            a, b = [stamp.sub("", s, count=1) for s in a], [stamp.sub("", s, count=1) for s in b]
+        assert a == b, key
+    assert r.finished == theirs["numTaskFinished"] == 1
