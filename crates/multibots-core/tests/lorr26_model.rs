@@ -27,10 +27,15 @@ fn check(text: &str) -> usize {
     for line in text.lines().filter(|l| !l.trim().is_empty()) {
         let s: Value = serde_json::from_str(line).unwrap();
         let (rows, cols) = (s["rows"].as_u64().unwrap() as u32, s["cols"].as_u64().unwrap() as u32);
-        let map: Vec<bool> = s["map"].as_array().unwrap().iter().flat_map(|r| r.as_str().unwrap().chars().map(|c| c == '@' || c == 'T').collect::<Vec<_>>()).collect();
+        let map: Vec<bool> =
+            s["map"].as_array().unwrap().iter().flat_map(|r| r.as_str().unwrap().chars().map(|c| c == '@' || c == 'T').collect::<Vec<_>>()).collect();
         let floor = Floor { rows, cols, obstacle: map, size: s["agentSize"].as_f64().unwrap() as f32, m: s["agentCounter"].as_u64().unwrap() as u32 };
-        let mut states: Vec<Pose> =
-            s["start"].as_array().unwrap().iter().map(|p| Pose { loc: p[0].as_u64().unwrap() as u32, heading: p[1].as_u64().unwrap() as u8, count: 0, doing: Action::T }).collect();
+        let mut states: Vec<Pose> = s["start"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| Pose { loc: p[0].as_u64().unwrap() as u32, heading: p[1].as_u64().unwrap() as u8, count: 0, doing: Action::T })
+            .collect();
         let mut model = ActionModel::default();
         let mut next = Vec::new();
         let scenario = s["scenario"].as_u64().unwrap();
@@ -44,7 +49,12 @@ fn check(text: &str) -> usize {
             assert_eq!(decided, tick["dec"].as_str().unwrap(), "scenario {scenario} tick {t}: decided actions");
             for (i, (p, want)) in next.iter().zip(tick["state"].as_array().unwrap()).enumerate() {
                 let got = (p.loc, p.heading, p.count, p.doing.letter());
-                let want = (want[0].as_u64().unwrap() as u32, want[1].as_u64().unwrap() as u8, want[2].as_u64().unwrap() as u32, want[3].as_str().unwrap().chars().next().unwrap());
+                let want = (
+                    want[0].as_u64().unwrap() as u32,
+                    want[1].as_u64().unwrap() as u8,
+                    want[2].as_u64().unwrap() as u32,
+                    want[3].as_str().unwrap().chars().next().unwrap(),
+                );
                 assert_eq!(got, want, "scenario {scenario} tick {t}: robot {i}'s state");
             }
             let got: Vec<(i64, i64, u64, String)> = model.errors.iter().map(|e| (e.agent, e.other, u64::from(e.time), e.message.clone())).collect();

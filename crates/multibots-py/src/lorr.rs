@@ -14,15 +14,15 @@ use std::sync::Arc;
 
 /// A run under the 2023/2024 rules or under the 2026 rules, by the problem's version.
 pub(crate) enum Rules {
-    Steps(LorrRun),
-    Ticks(Lorr26),
+    Steps(Box<LorrRun>),
+    Ticks(Box<Lorr26>),
 }
 
 impl Rules {
     fn as_run(&mut self) -> &mut (dyn Run + Send) {
         match self {
-            Rules::Steps(r) => r,
-            Rules::Ticks(r) => r,
+            Rules::Steps(r) => &mut **r,
+            Rules::Ticks(r) => &mut **r,
         }
     }
 
@@ -79,10 +79,12 @@ impl PyLorrRun {
         };
         let (run, replay) = engine(py, move || {
             let mut run = match made {
-                Some(crate::lorr_entries::Made::Ticks(options, entries)) => Rules::Ticks(Lorr26::with(problem, options, entries)?),
-                Some(crate::lorr_entries::Made::Steps(options, planner, scheduler)) => Rules::Steps(LorrRun::with(problem, options, planner, scheduler)?),
-                None if problem.version == Version::Y2026 => Rules::Ticks(Lorr26::new(problem, options)?),
-                None => Rules::Steps(LorrRun::new(problem, options)?),
+                Some(crate::lorr_entries::Made::Ticks(options, entries)) => Rules::Ticks(Box::new(Lorr26::with(problem, options, entries)?)),
+                Some(crate::lorr_entries::Made::Steps(options, planner, scheduler)) => {
+                    Rules::Steps(Box::new(LorrRun::with(problem, options, planner, scheduler)?))
+                }
+                None if problem.version == Version::Y2026 => Rules::Ticks(Box::new(Lorr26::new(problem, options)?)),
+                None => Rules::Steps(Box::new(LorrRun::new(problem, options)?)),
             };
             let replay = record.map(|path| ReplayWriter::create(&path, run.as_run(), serde_json::Value::Null)).transpose()?;
             Ok((run, replay))

@@ -4,6 +4,7 @@
 //! rules check it as they check any entry's. The engine runs without the GIL; each call takes
 //! it.
 
+use multibots_core::input::lorr::{Problem, Version};
 use multibots_core::rules::grid::action::Action;
 use multibots_core::rules::grid::planner::{PlanView, Planner, NO_GOAL};
 use multibots_core::rules::grid::pool::TaskPool;
@@ -12,7 +13,6 @@ use multibots_core::rules::grid::y2026::entries::{ExecEnv, Executor, PlanEnv, Pl
 use multibots_core::rules::grid::y2026::footprint::Pose;
 use multibots_core::rules::grid::y2026::{comm_ms, Entries, Lorr26, TICK_MS};
 use multibots_core::rules::grid::{planner, schedule, LorrOptions};
-use multibots_core::input::lorr::{Problem, Version};
 use multibots_core::Error;
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -28,7 +28,7 @@ pub(crate) enum Made {
 /// The error of a bridge call made with the GIL held (`begin`): the user's exception as its
 /// cause.
 fn entry_error(py: Python<'_>, e: PyErr) -> PyErr {
-    if e.get_type(py).name().is_ok_and(|n| n.to_string() == "EntryError") {
+    if e.get_type(py).name().is_ok_and(|n| n == "EntryError") {
         let msg = e.value(py).str().map(|s| s.to_string()).unwrap_or_default();
         let err = crate::errors::AllocatorError::new_err(msg);
         err.set_cause(py, Some(e));
@@ -51,7 +51,9 @@ pub(crate) fn made(py: Python<'_>, problem: &Arc<Problem>, mut options: LorrOpti
         Version::Y2026 => {
             Lorr26::resolve(problem, &mut options);
             let counter = problem.y2026.as_ref().map_or(1, |r| r.agent_counter);
-            bridge.call_method1(py, "begin", ("2026", map.rows, map.cols, obstacles, n, counter, comm_ms(&options), TICK_MS)).map_err(|e| entry_error(py, e))?;
+            bridge
+                .call_method1(py, "begin", ("2026", map.rows, map.cols, obstacles, n, counter, comm_ms(&options), TICK_MS))
+                .map_err(|e| entry_error(py, e))?;
             let (p, o) = (Arc::clone(problem), options.clone());
             let mut entries = crate::errors::engine(py, move || Entries::built_in(&p, &o))?;
             if has("scheduler") {
@@ -108,6 +110,11 @@ type State = (u32, u8, u32, bool);
 /// done.
 type TaskRow = (u32, u32, i64, Vec<u32>, u32);
 
+/// What a planner call hands Python: the tick, the predicted and the true states, the open
+/// tasks, the schedule, the goals (cell, tick revealed), the new tasks and freed robots, the
+/// staged actions.
+type PlanState = (u32, Vec<State>, Vec<State>, Vec<TaskRow>, Vec<i64>, Vec<Option<(u32, u32)>>, Vec<u32>, Vec<u32>, Vec<Vec<u8>>);
+
 /// One role played by the Python object `bridge` (a `multibots.lorr_python.Entries`).
 pub(crate) struct PyEntry {
     label: String,
@@ -126,7 +133,14 @@ impl PyEntry {
     pub(crate) fn new(py: Python<'_>, role: &'static str, bridge: &Arc<Py<PyAny>>) -> PyResult<PyEntry> {
         let label: String = bridge.call_method1(py, "label", (role,))?.extract(py)?;
         let roles: Vec<String> = bridge.getattr(py, "roles")?.extract(py)?;
-        Ok(PyEntry { label, bridge: Arc::clone(bridge), synced: role == "planner" && roles.iter().any(|r| r == "scheduler"), failure: None, seen: Vec::new(), busy: Vec::new() })
+        Ok(PyEntry {
+            label,
+            bridge: Arc::clone(bridge),
+            synced: role == "planner" && roles.iter().any(|r| r == "scheduler"),
+            failure: None,
+            seen: Vec::new(),
+            busy: Vec::new(),
+        })
     }
 
     fn fail(&self, reason: String) -> Error {
@@ -143,7 +157,7 @@ impl PyEntry {
         Python::with_gil(|py| {
             let answer = args(py).and_then(|a| self.bridge.bind(py).call_method1(method, a)).and_then(|a| a.extract::<T>());
             answer.map_err(|e| {
-                let reason = if e.get_type(py).name().is_ok_and(|n| n.to_string() == "EntryError") {
+                let reason = if e.get_type(py).name().is_ok_and(|n| n == "EntryError") {
                     e.value(py).str().map(|s| s.to_string()).unwrap_or_default()
                 } else {
                     let ty = e.get_type(py).name().map_or_else(|_| "Exception".into(), |n| n.to_string());
@@ -206,7 +220,7 @@ impl PyEntry {
     }
 
     /// The 2026 state the planner side sees.
-    fn plan_state(env: &PlanEnv<'_>) -> (u32, Vec<State>, Vec<State>, Vec<TaskRow>, Vec<i64>, Vec<Option<(u32, u32)>>, Vec<u32>, Vec<u32>, Vec<Vec<u8>>) {
+    fn plan_state(env: &PlanEnv<'_>) -> PlanState {
         (
             env.tick,
             states(env.predicted, &[]),
@@ -259,7 +273,13 @@ impl Executor for PyEntry {
 
     fn process_new_plan(&mut self, env: &ExecEnv<'_>, plan: &[Vec<Action>], staged: &mut [Vec<Action>], predicted: &mut Vec<Pose>) -> Result<(), Error> {
         let n = env.system.len();
-        let args = (TICK_MS, env.tick, states(env.system, env.held), staged.iter().map(|q| codes(q)).collect::<Vec<_>>(), plan.iter().map(|q| codes(q)).collect::<Vec<_>>());
+        let args = (
+            TICK_MS,
+            env.tick,
+            states(env.system, env.held),
+            staged.iter().map(|q| codes(q)).collect::<Vec<_>>(),
+            plan.iter().map(|q| codes(q)).collect::<Vec<_>>(),
+        );
         let (queues, states_): (Vec<Vec<i64>>, Vec<(i64, i64)>) = self.call("process_new_plan", |py| args.into_pyobject(py))?;
         for (slot, q) in staged.iter_mut().zip(self.actions(queues, n)?) {
             *slot = q;
@@ -270,10 +290,13 @@ impl Executor for PyEntry {
         let cells = i64::from(env.floor.rows) * i64::from(env.floor.cols);
         predicted.clear();
         for (i, (loc, ori)) in states_.into_iter().enumerate() {
-            if !(0..cells).contains(&loc) || !(0..4).contains(&ori) {
-                return Err(self.fail(format!("process_new_plan: robot {i}'s predicted state (location {loc}, orientation {ori}) is not on the map")));
+            // The Start-Kit hands any prediction on to the planner; one off the map (an
+            // executor's arithmetic gone wrong) stands here for where the robot is now.
+            if (0..cells).contains(&loc) && (0..4).contains(&ori) {
+                predicted.push(Pose { loc: loc as u32, heading: ori as u8, count: 0, doing: Action::T });
+            } else {
+                predicted.push(Pose { count: 0, doing: Action::T, ..env.system[i] });
             }
-            predicted.push(Pose { loc: loc as u32, heading: ori as u8, count: 0, doing: Action::T });
         }
         Ok(())
     }
@@ -322,7 +345,12 @@ impl Scheduler for PyEntry {
     fn schedule(&mut self, view: &ScheduleView<'_>, proposal: &mut [i64]) {
         let st: Vec<State> = view.loc.iter().zip(view.heading).map(|(&l, &h)| (l, h, 0, false)).collect();
         let (new_tasks, new_free) = self.news24(view.pool);
-        let goals: Vec<Option<(u32, u32)>> = view.pool.current.iter().map(|&id| view.pool.is_open(id).then(|| (view.pool.next_errand(id as u32, view.lines), view.pool.tasks[id as usize].revealed))).collect();
+        let goals: Vec<Option<(u32, u32)>> = view
+            .pool
+            .current
+            .iter()
+            .map(|&id| view.pool.is_open(id).then(|| (view.pool.next_errand(id as u32, view.lines), view.pool.tasks[id as usize].revealed)))
+            .collect();
         let staged: Vec<Vec<u8>> = vec![Vec::new(); view.loc.len()];
         let args = (1000u32, view.t, st.clone(), st, tasks(view.pool, view.lines), view.pool.current.clone(), goals, new_tasks, new_free, staged);
         let answer: Result<Vec<i64>, Error> = self.call("schedule", |py| args.into_pyobject(py));

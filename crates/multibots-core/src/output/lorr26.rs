@@ -74,7 +74,8 @@ pub fn write_result(run: &Lorr26, path: &Path) -> crate::error::Result<()> {
 
 /// Writes MultiBots' figures beside it, atomically.
 pub fn write_figures(run: &Lorr26, path: &Path) -> crate::error::Result<()> {
-    let text = serde_json::to_string_pretty(&run.figures()).map_err(|e| crate::error::Error::Io { path: path.display().to_string(), message: e.to_string() })?;
+    let text =
+        serde_json::to_string_pretty(&run.figures()).map_err(|e| crate::error::Error::Io { path: path.display().to_string(), message: e.to_string() })?;
     crate::input::files::write_atomic(path, &(text + "\n"))
 }
 

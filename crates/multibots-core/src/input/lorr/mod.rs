@@ -97,7 +97,11 @@ impl Problem {
             (Some(v), _) if v.contains("2026") => Version::Y2026,
             (Some(v), _) if v.contains("2024") => Version::Y2024,
             (Some(v), _) => {
-                return Err(Error::input_file(path, Some(line_of("version")), format!("version '{v}' is not one this reader knows (\"2024 LoRR\", \"2026 LoRR\")")))
+                return Err(Error::input_file(
+                    path,
+                    Some(line_of("version")),
+                    format!("version '{v}' is not one this reader knows (\"2024 LoRR\", \"2026 LoRR\")"),
+                ))
             }
             (None, Some(s)) if s == "roundrobin" => Version::Y2023,
             (None, Some(s)) => {
@@ -135,7 +139,8 @@ impl Problem {
         };
         let y2026 = match version {
             Version::Y2026 => {
-                let whole: serde_json::Value = serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
+                let whole: serde_json::Value =
+                    serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
                 Some(y2026::read(path, &whole, &line_of)?)
             }
             _ => None,

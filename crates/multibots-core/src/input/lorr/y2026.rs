@@ -136,15 +136,7 @@ pub(super) fn read(path: &Path, json: &Value, line_of: &dyn Fn(&str) -> usize) -
             return Err(bad("delayConfig.gaussStdRatio", format!("{gauss_std_ratio} must be 0 or more")));
         }
     }
-    let delays = DelayConfig {
-        seed,
-        min_delay: min_delay as i32,
-        max_delay: max_delay as i32,
-        event_model,
-        p_delay,
-        duration_model,
-        gauss_mean_ratio,
-        gauss_std_ratio,
-    };
+    let delays =
+        DelayConfig { seed, min_delay: min_delay as i32, max_delay: max_delay as i32, event_model, p_delay, duration_model, gauss_mean_ratio, gauss_std_ratio };
     Ok(Rules2026 { agent_size, agent_counter, delays })
 }

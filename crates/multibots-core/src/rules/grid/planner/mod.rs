@@ -103,7 +103,11 @@ pub const BUILT_INS: &[BuiltIn] = &[
         make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::OneWay)),
     },
     BuiltIn { name: "pibt-no-highways", about: "pibt, every move costing the same", make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::NoHighways)) },
-    BuiltIn { name: "pibt-grid", about: "pibt-no-highways by grid distance alone (maps of millions of cells)", make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::Grid)) },
+    BuiltIn {
+        name: "pibt-grid",
+        about: "pibt-no-highways by grid distance alone (maps of millions of cells)",
+        make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::Grid)),
+    },
     BuiltIn { name: "rpibt", about: "PIBT on actions, distances counting turns", make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0)) },
     BuiltIn {
         name: "rpibt-pp",

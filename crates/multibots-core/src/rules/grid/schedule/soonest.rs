@@ -117,7 +117,8 @@ impl Scheduler for Soonest {
         let mut pending = vec![0usize; robots.len()];
         let mut bids_of = |r: usize, taken: &[bool], heap: &mut BinaryHeap<Reverse<(u32, u32, u32)>>, budget: &mut u64| -> usize {
             let at = view.loc[robots[r]];
-            let mut near: Vec<(u32, u32)> = (0..tasks.len()).filter(|&i| !taken[i]).map(|i| (view.manhattan(at, shape[i].0).saturating_add(shape[i].1), i as u32)).collect();
+            let mut near: Vec<(u32, u32)> =
+                (0..tasks.len()).filter(|&i| !taken[i]).map(|i| (view.manhattan(at, shape[i].0).saturating_add(shape[i].1), i as u32)).collect();
             let keep = CANDIDATES.min(near.len());
             if keep == 0 {
                 return 0;

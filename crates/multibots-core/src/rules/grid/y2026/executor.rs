@@ -99,10 +99,12 @@ pub fn window(interval: u32, counter: u32) -> usize {
 }
 
 impl Executor for Tpg {
+    #[allow(clippy::unnecessary_literal_bound)]
     fn name(&self) -> &str {
         "tpg"
     }
 
+    #[allow(clippy::single_match_else)]
     fn process_new_plan(&mut self, env: &ExecEnv<'_>, plan: &[Vec<Action>], staged: &mut [Vec<Action>], predicted: &mut Vec<Pose>) -> Result<()> {
         let n = env.system.len();
         if self.seen.len() != n {
@@ -163,7 +165,8 @@ impl Executor for Tpg {
             .map(|(i, p)| match staged[i].first() {
                 None => Gate::Stop,
                 Some(&a) if a != Action::F => Gate::Go,
-                Some(_) => ahead(env.map, p.loc, p.heading).map_or(Gate::Go, |c| gate(order, i as u32, c, |j| env.system[j as usize].loc == c && !env.held[j as usize])),
+                Some(_) => ahead(env.map, p.loc, p.heading)
+                    .map_or(Gate::Go, |c| gate(order, i as u32, c, |j| env.system[j as usize].loc == c && !env.held[j as usize])),
             })
             .collect();
         resolve(&gates, |j| staged[j as usize].first() == Some(&Action::F), go);

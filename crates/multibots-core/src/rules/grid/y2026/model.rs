@@ -136,10 +136,9 @@ impl ActionModel {
         self.wait_ok.clear();
         for (p, &a) in prev.iter().zip(req) {
             let from = corner(p, floor.cols, floor.m);
-            for (want, poses, motions, oks) in [
-                (a, &mut self.req_pose, &mut self.req_motion, &mut self.req_ok),
-                (Action::W, &mut self.wait_pose, &mut self.wait_motion, &mut self.wait_ok),
-            ] {
+            for (want, poses, motions, oks) in
+                [(a, &mut self.req_pose, &mut self.req_motion, &mut self.req_ok), (Action::W, &mut self.wait_pose, &mut self.wait_motion, &mut self.wait_ok)]
+            {
                 let q = floor.next(p, want);
                 let on_map = u64::from(q.loc) < cells;
                 let m = if on_map { motion(from, corner(&q, floor.cols, floor.m)) } else { motion(from, from) };

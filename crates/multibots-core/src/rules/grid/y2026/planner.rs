@@ -52,6 +52,7 @@ impl Planner26 for Rollout {
         &self.name
     }
 
+    #[allow(clippy::needless_range_loop)] // robot i across several arrays
     fn plan(&mut self, env: &PlanEnv<'_>, plan: &mut [Vec<Action>]) -> Result<()> {
         let n = env.predicted.len();
         self.loc.clear();

@@ -127,6 +127,7 @@ pub fn round_half_away(v: f64) -> f64 {
 /// `lgamma(k)` for a whole number `k >= 1`, as glibc computes it (its `x < 8` branch is the
 /// logarithm of `(k - 1)!`, its `x >= 8` branch Stirling's series with fdlibm's coefficients).
 #[must_use]
+#[allow(clippy::excessive_precision)] // fdlibm's digits, as glibc writes them
 pub fn ln_gamma(k: f64) -> f64 {
     const W: [f64; 7] = [
         4.189_385_332_046_727_250_52e-01,
@@ -173,6 +174,7 @@ pub fn poisson(g: &mut Mt19937, mean: f64) -> i64 {
 
 /// The rejection method libstdc++ uses for a mean of 12 or more.
 #[allow(clippy::unreadable_literal, clippy::excessive_precision)]
+#[allow(clippy::approx_constant)] // the digits of libstdc++'s source
 fn devroye(g: &mut Mt19937, mean: f64) -> i64 {
     const PI_4: f64 = 0.7853981633974483096156608458198757;
     const SPI_2: f64 = 1.2533141373155002512078826424055226;

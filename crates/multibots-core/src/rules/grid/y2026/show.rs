@@ -35,6 +35,7 @@ pub(crate) struct Shown {
 
 impl Lorr26 {
     /// Notes what the frame after this tick shows: goals, states, and the tick's events.
+    #[allow(clippy::needless_range_loop)] // robot k across several arrays
     pub(super) fn note_shown(&mut self) {
         let n = self.states.len();
         let lines = &self.problem.tasks;

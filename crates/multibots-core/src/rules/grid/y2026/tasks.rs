@@ -16,9 +16,11 @@
 use crate::rules::grid::pool::{ScheduleError, TaskPool};
 
 /// Sets the schedule `s` at the communication point of tick `t`, correcting `s` in place.
+#[allow(clippy::needless_range_loop)] // robot i across several arrays
 pub fn assign(pool: &mut TaskPool, t: u32, s: &mut [i64]) {
     let n = pool.current.len();
-    let err = |pool: &mut TaskPool, kind, task, agent: usize, other| pool.errors.push(ScheduleError { kind, task, agent: agent as i64, other, timestep: t + 1 });
+    let err =
+        |pool: &mut TaskPool, kind, task, agent: usize, other| pool.errors.push(ScheduleError { kind, task, agent: agent as i64, other, timestep: t + 1 });
     if s.len() != n {
         pool.errors.push(ScheduleError { kind: "Invalid schedule size", task: -1, agent: -1, other: -1, timestep: t + 1 });
         return;
