@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import os
 from dataclasses import dataclass, field
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
 
@@ -26,7 +27,8 @@ __all__ = ["ABOUT", "PLANNERS", "SCHEDULERS", "LorrResult", "check_files", "chec
 
 #: The built-in planners, as the engine names them; the first is the default.
 PLANNERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_PLANNERS)
-#: The built-in schedulers (2024 rules); the first is the default.
+#: The built-in schedulers (2024 and 2026 rules); the first (``auto``: ``spread`` under the
+#: 2024 rules, ``soonest`` under the 2026 rules) is the default.
 SCHEDULERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_SCHEDULERS)
 #: One line on what each built-in planner and scheduler does, by name.
 ABOUT: dict[str, str] = dict(_core.LORR_PLANNERS + _core.LORR_SCHEDULERS)
@@ -41,10 +43,11 @@ class LorrResult:
 
     Attributes:
         finished: ``numTaskFinished``, the competition's score.
-        steps: steps run.
+        steps: steps run (ticks under the 2026 rules).
         team_size: robots.
-        version: the task rules, ``"2023"`` or ``"2024"``.
+        version: the rules, ``"2023"``, ``"2024"`` or ``"2026"``.
         planner: the planner that played (``auto`` resolved).
+        scheduler: the scheduler that played (``auto`` resolved; empty under the 2023 rules).
         figures: MultiBots' figures (finished per 1,000 steps, planning time per round,
             errors, timeouts).
         out: the result file written, if any.
@@ -55,6 +58,7 @@ class LorrResult:
     team_size: int
     version: str
     planner: str = ""
+    scheduler: str = ""
     figures: dict[str, Any] = field(default_factory=dict)
     out: Optional[Path] = None
 
@@ -64,26 +68,32 @@ def run(
     steps: int = 5000,
     out: Optional[Union[str, os.PathLike[str]]] = None,
     planner: str = "auto",
-    scheduler: str = "spread",
+    scheduler: str = "auto",
     seed: int = 0,
     plan_time_limit_ms: Optional[int] = None,
     progress: Optional[Callable[[int, int], None]] = None,
     record: Optional[Union[str, os.PathLike[str]]] = None,
     robots: Optional[int] = None,
+    planner_py: Optional[Union[str, os.PathLike[str]]] = None,
+    scheduler_py: Optional[Union[str, os.PathLike[str]]] = None,
+    executor_py: Optional[Union[str, os.PathLike[str]]] = None,
 ) -> LorrResult:
     """Runs a LoRR problem for ``steps`` steps.
 
     Args:
         problem: the problem JSON (its map, agents and tasks files are read relative to it).
-        steps: the step budget (the competition's is usually 5,000).
+        steps: the step budget (the competition's is usually 5,000); under the 2026 rules
+            (``"version": "2026 LoRR"``, or a ``delayConfig``) ticks, like the Start-Kit's ``-s``.
         out: where to write the competition's result file (atomically); its figures go
             beside it as ``<out>.multibots.json``.
         planner: a planner of :data:`PLANNERS`.
-        scheduler: a scheduler of :data:`SCHEDULERS` (2024 problems).
+        scheduler: a scheduler of :data:`SCHEDULERS` (2024 and 2026 problems).
         seed: the planner's tie-breaks.
         plan_time_limit_ms: the competition's time limit per planning round; past it the
             robots wait a step per limit used (``T`` in the paths). None: no limit, and the
-            run is the same on every machine.
+            run is the same on every machine. 2023 and 2024 rules only: under the 2026 rules
+            the planner is called every 10 ticks whatever it takes, as the Start-Kit's
+            default build does with a fast planner (docs/lorr.md).
         progress: called as ``progress(step, finished)`` every 50 steps.
         record: write a replay of every step here (``.mbr``, docs/replay-format.md), which
             ``multibots view`` plays: the grid, the robots with their headings and each
@@ -91,12 +101,21 @@ def run(
         robots: run with the first ``robots`` agents of the agents file instead of the
             problem's ``teamSize`` (2024: the task pool is sized for them,
             ``int(numTasksReveal * robots)``).
+        planner_py, scheduler_py, executor_py: a Start-Kit Python entry file
+            (``pyMAPFPlanner.py``, ``pyTaskScheduler.py``, ``pyExecutor.py``, whose only
+            import is ``MAPF``) playing that part in place of the built-in
+            (:mod:`multibots.lorr_python`); any subset. An executor needs a 2026 problem, a
+            scheduler a 2024 or 2026 one.
 
     Raises:
         ScenarioError: a problem file that cannot be read (the message names the file and
             the line).
         ArgumentError: an argument of the wrong kind or out of its range, or an unknown
             planner or scheduler (:func:`check_option`).
+        InputError: a Python entry file that cannot be loaded.
+        AllocatorError: a Python entry raised (one line: the entry, the exception, the user's
+            file and line; the exception is its ``__cause__``) or answered what the rules
+            cannot take.
     """
     problem = _args.path("problem", problem)
     for name, value in (("steps", steps), ("planner", planner), ("scheduler", scheduler), ("seed", seed),
@@ -104,12 +123,22 @@ def run(
         check_option(name, value, error=ArgumentError)
     out = _args.path("out", out, optional=True)
     record = _args.path("record", record, optional=True)
+    planner_py = _args.path("planner_py", planner_py, optional=True)
+    scheduler_py = _args.path("scheduler_py", scheduler_py, optional=True)
+    executor_py = _args.path("executor_py", executor_py, optional=True)
     progress = _args.function("progress", progress)
-    check_files(problem, out, record)
+    check_files(problem, out, record, entries=[p for p in (planner_py, scheduler_py, executor_py) if p is not None])
+    entries = None
+    if planner_py is not None or scheduler_py is not None or executor_py is not None:
+        from multibots import lorr_python
+
+        entries = lorr_python.Entries(planner_py, scheduler_py, executor_py)
+        entries.map_name = lorr_python.map_name(problem)
     # The result, its figures and the replay are one set: all written, or none.
     with OutputSet({"out": out, "figures": None if out is None else figures_path(out), "record": record}) as tmp:
         recorded = os.fspath(tmp["record"]) if "record" in tmp else None
-        engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded)
+        engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded,
+                               entries)
         while engine.t < steps:
             engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
             if progress is not None:
@@ -124,22 +153,24 @@ def run(
         team_size=engine.team_size,
         version=engine.version,
         planner=engine.planner,
+        scheduler=engine.scheduler,
         figures=json.loads(engine.figures_json()),
         out=out,
     )
 
 
 def check_files(problem: Path, out: Optional[Path], record: Optional[Path],
-                labels: tuple[str, str] = ("out", "record")) -> None:
+                labels: tuple[str, str] = ("out", "record"), entries: Sequence[Path] = ()) -> None:
     """Before a run: no output (``out``, the figures beside it, ``record``; named by
     ``labels``) is a file the run reads (the problem and the map, agents and tasks files it
-    names) or another output, and each can be written.
+    names, and the Python ``entries``) or another output, and each can be written.
 
     Raises:
         OutputError: one line naming the output, its path and the file it would replace.
     """
     names = ("problem file", "map file", "agents file", "tasks file")
     inputs = [(names[min(k, 3)], Path(p)) for k, p in enumerate(_core.lorr_files(problem))]
+    inputs += [("Python entry file", Path(p)) for p in entries]
     figures = None if out is None else figures_path(out)
     check_outputs([(labels[0], out), (f"{labels[0]}'s figures", figures), (labels[1], record)], inputs)
 

@@ -1,9 +1,10 @@
-//! Runs a League of Robot Runners problem and writes the competition's result file:
+//! Runs a League of Robot Runners problem (2023, 2024 or 2026; under the 2026 rules STEPS are
+//! ticks) and writes the competition's result file:
 //! `cargo run --release -p multibots-core --example lorr -- PROBLEM.json STEPS RESULT.json [SCHEDULER [PLANNER [SEED]]]`.
 //! Prints the score and MultiBots' figures.
 
-use multibots_core::input::lorr::Problem;
-use multibots_core::rules::grid::{LorrOptions, LorrRun};
+use multibots_core::input::lorr::{Problem, Version};
+use multibots_core::rules::grid::{Lorr26, LorrOptions, LorrRun};
 use std::sync::Arc;
 
 fn main() {
@@ -29,6 +30,29 @@ fn main() {
     }
     if let Some(s) = args.get(6) {
         options.seed = s.parse().expect("SEED is a whole number");
+    }
+    if problem.version == Version::Y2026 {
+        // Steps are ticks under the 2026 rules.
+        let mut run = Lorr26::new(problem, options).expect("built-in options");
+        let began = std::time::Instant::now();
+        run.run_to(steps).expect("built-in entries do not fail");
+        let wall = began.elapsed().as_secs_f64();
+        multibots_core::output::lorr26::write_result(&run, args[3].as_ref()).expect("result written");
+        let f = run.figures();
+        println!(
+            "{}: finished {} in {} ticks; {:.1} s wall, plan {:.2} ms mean, {:.1} ms max; messages {}, schedule errors {}, delays {}; per 1000: {:?}",
+            run.names().0,
+            f.finished,
+            f.steps,
+            wall,
+            f.plan_ms_mean,
+            f.plan_ms_max,
+            f.action_errors,
+            f.schedule_errors,
+            f.delays.unwrap_or(0),
+            f.finished_per_1000
+        );
+        return;
     }
     let mut run = LorrRun::new(problem, options).expect("built-in options");
     let began = std::time::Instant::now();

@@ -27,6 +27,12 @@ pub enum Error {
     #[error("allocator '{strategy}': {reason}")]
     Allocator { strategy: String, reason: String },
 
+    /// A planner, scheduler or executor of a League of Robot Runners run (built in, or a
+    /// Start-Kit Python file) failed, or answered what the rules cannot take; `entry` names
+    /// it (`planner pyMAPFPlanner.py`).
+    #[error("{entry}: {reason}")]
+    Entry { entry: String, reason: String },
+
     /// Decisions from outside the engine (a learning environment, `Simulation::decide`) that
     /// it cannot carry out, or a call out of turn. The run is unchanged and can go on.
     #[error("decision at step {step}: {reason}")]

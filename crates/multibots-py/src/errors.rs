@@ -26,7 +26,7 @@ pub(crate) fn to_py(e: Error) -> PyErr {
     match e {
         Error::Scenario { .. } | Error::Parse { .. } | Error::InputFile { .. } => ScenarioError::new_err(msg),
         Error::Layout { .. } | Error::LayoutFile { .. } => LayoutError::new_err(msg),
-        Error::Allocator { .. } => Python::with_gil(|py| crate::strategy::with_cause(py, AllocatorError::new_err(msg))),
+        Error::Allocator { .. } | Error::Entry { .. } => Python::with_gil(|py| crate::strategy::with_cause(py, AllocatorError::new_err(msg))),
         Error::Decision { .. } => DecisionError::new_err(msg),
         Error::Io { .. } => MultibotsError::new_err(msg),
     }

@@ -21,6 +21,7 @@ mod envs;
 mod errors;
 mod layouts;
 mod lorr;
+mod lorr_entries;
 mod results;
 mod run;
 mod scenario;

@@ -1,18 +1,56 @@
 //! `LorrRun`: a League of Robot Runners problem run under the competition's rules
-//! (`multibots_core::rules::grid`). Only conversions: the engine owns every rule.
+//! (`multibots_core::rules::grid`: `LorrRun` for 2023 and 2024, `Lorr26` for 2026). Only
+//! conversions: the engine owns every rule.
 
 use crate::errors::engine;
-use multibots_core::input::lorr::Problem;
-use multibots_core::output::{lorr, replay::ReplayWriter};
+use multibots_core::input::lorr::{Problem, Version};
+use multibots_core::output::{lorr, lorr26, replay::ReplayWriter};
 use multibots_core::record::frame::FrameSink;
-use multibots_core::rules::grid::{LorrOptions, LorrRun};
+use multibots_core::rules::grid::{Figures, Lorr26, LorrOptions, LorrRun};
+use multibots_core::rules::Run;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 
+/// A run under the 2023/2024 rules or under the 2026 rules, by the problem's version.
+pub(crate) enum Rules {
+    Steps(Box<LorrRun>),
+    Ticks(Box<Lorr26>),
+}
+
+impl Rules {
+    fn as_run(&mut self) -> &mut (dyn Run + Send) {
+        match self {
+            Rules::Steps(r) => &mut **r,
+            Rules::Ticks(r) => &mut **r,
+        }
+    }
+
+    fn t(&self) -> u32 {
+        match self {
+            Rules::Steps(r) => r.t(),
+            Rules::Ticks(r) => r.t(),
+        }
+    }
+
+    fn problem(&self) -> &Problem {
+        match self {
+            Rules::Steps(r) => r.problem(),
+            Rules::Ticks(r) => r.problem(),
+        }
+    }
+
+    fn figures(&self) -> Figures {
+        match self {
+            Rules::Steps(r) => r.figures(),
+            Rules::Ticks(r) => r.figures(),
+        }
+    }
+}
+
 #[pyclass(module = "multibots._core", name = "LorrRun")]
 pub(crate) struct PyLorrRun {
-    run: LorrRun,
+    run: Rules,
     /// The replay being written (`record=`), until `finish_record`.
     replay: Option<ReplayWriter>,
 }
@@ -20,7 +58,7 @@ pub(crate) struct PyLorrRun {
 #[pymethods]
 impl PyLorrRun {
     #[new]
-    #[pyo3(signature = (problem, planner="auto", scheduler="spread", seed=0, plan_time_limit_ms=None, team_size=None, record=None))]
+    #[pyo3(signature = (problem, planner="auto", scheduler="auto", seed=0, plan_time_limit_ms=None, team_size=None, record=None, entries=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -31,11 +69,24 @@ impl PyLorrRun {
         plan_time_limit_ms: Option<u64>,
         team_size: Option<usize>,
         record: Option<PathBuf>,
+        entries: Option<PyObject>,
     ) -> PyResult<Self> {
         let options = LorrOptions { planner: planner.into(), scheduler: scheduler.into(), seed, plan_time_limit_ms };
+        let problem = Arc::new(engine(py, move || Problem::load_team(&problem, team_size))?);
+        let made = match entries {
+            None => None,
+            Some(bridge) => Some(crate::lorr_entries::made(py, &problem, options.clone(), bridge)?),
+        };
         let (run, replay) = engine(py, move || {
-            let run = LorrRun::new(Arc::new(Problem::load_team(&problem, team_size)?), options)?;
-            let replay = record.map(|path| ReplayWriter::create(&path, &run, serde_json::Value::Null)).transpose()?;
+            let mut run = match made {
+                Some(crate::lorr_entries::Made::Ticks(options, entries)) => Rules::Ticks(Box::new(Lorr26::with(problem, options, entries)?)),
+                Some(crate::lorr_entries::Made::Steps(options, planner, scheduler)) => {
+                    Rules::Steps(Box::new(LorrRun::with(problem, options, planner, scheduler)?))
+                }
+                None if problem.version == Version::Y2026 => Rules::Ticks(Box::new(Lorr26::new(problem, options)?)),
+                None => Rules::Steps(Box::new(LorrRun::new(problem, options)?)),
+            };
+            let replay = record.map(|path| ReplayWriter::create(&path, run.as_run(), serde_json::Value::Null)).transpose()?;
             Ok((run, replay))
         })?;
         Ok(PyLorrRun { run, replay })
@@ -45,14 +96,14 @@ impl PyLorrRun {
     /// reached.
     fn run_to(&mut self, py: Python<'_>, until: u32) -> PyResult<u32> {
         let steps = u64::from(until.saturating_sub(self.run.t()));
-        crate::slicer::advance(py, &mut self.run, steps, self.replay.as_mut().map(|w| w as &mut (dyn FrameSink + Send)))?;
+        crate::slicer::advance(py, self.run.as_run(), steps, self.replay.as_mut().map(|w| w as &mut (dyn FrameSink + Send)))?;
         Ok(self.run.t())
     }
 
     /// Finishes the replay opened with `record=` (its footer, then the rename into place).
     fn finish_record(&mut self, py: Python<'_>) -> PyResult<()> {
-        let (run, replay) = (&self.run, self.replay.take());
-        engine(py, move || replay.map_or(Ok(()), |w| w.finish(run)))
+        let (run, replay) = (self.run.as_run(), self.replay.take());
+        engine(py, move || replay.map_or(Ok(()), |w| w.finish(&*run)))
     }
 
     #[getter]
@@ -62,12 +113,27 @@ impl PyLorrRun {
 
     #[getter]
     fn finished(&self) -> u64 {
-        self.run.finished()
+        match &self.run {
+            Rules::Steps(r) => r.finished(),
+            Rules::Ticks(r) => r.finished(),
+        }
     }
 
     #[getter]
     fn planner(&self) -> String {
-        self.run.planner().to_owned()
+        match &self.run {
+            Rules::Steps(r) => r.planner().to_owned(),
+            Rules::Ticks(r) => r.names().0.to_owned(),
+        }
+    }
+
+    /// The scheduler that plays (`auto` resolved).
+    #[getter]
+    fn scheduler(&self) -> String {
+        match &self.run {
+            Rules::Steps(r) => r.options().scheduler.clone(),
+            Rules::Ticks(r) => r.names().1.to_owned(),
+        }
     }
 
     #[getter]
@@ -80,6 +146,7 @@ impl PyLorrRun {
         match self.run.problem().version {
             multibots_core::input::lorr::Version::Y2023 => "2023",
             multibots_core::input::lorr::Version::Y2024 => "2024",
+            multibots_core::input::lorr::Version::Y2026 => "2026",
         }
     }
 
@@ -91,13 +158,19 @@ impl PyLorrRun {
     /// Writes the competition's result file, atomically.
     fn write_result(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let run = &self.run;
-        engine(py, move || lorr::write_result(run, &path))
+        engine(py, move || match run {
+            Rules::Steps(r) => lorr::write_result(r, &path),
+            Rules::Ticks(r) => lorr26::write_result(r, &path),
+        })
     }
 
     /// Writes MultiBots' figures as JSON, atomically.
     fn write_figures(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let run = &self.run;
-        engine(py, move || lorr::write_figures(run, &path))
+        engine(py, move || match run {
+            Rules::Steps(r) => lorr::write_figures(r, &path),
+            Rules::Ticks(r) => lorr26::write_figures(r, &path),
+        })
     }
 }
 

@@ -38,6 +38,12 @@ pub(crate) fn with_cause(py: Python<'_>, err: PyErr) -> PyErr {
     err
 }
 
+/// Keeps `e` as the cause of the engine error about to be returned on this thread (a Python
+/// LoRR entry's exception: `lorr_entries.rs`).
+pub(crate) fn keep_cause(e: PyErr) {
+    CAUSE.with(|c| *c.borrow_mut() = Some(e));
+}
+
 /// The goods an answer gives a robot to send it to charge now (`multibots.CHARGE`).
 const CHARGE: &str = "charge";
 

@@ -22,9 +22,13 @@ def _choices(table: tuple[tuple[str, str], ...]) -> str:
 
 
 def lorr(
-    problem: Path = typer.Argument(..., help="A LoRR problem file (JSON), 2023 or 2024.", show_default=False),
-    steps: str = typer.Option("5000", "--steps", metavar="STEPS",
-                              help="Steps to run (the competition's budget is usually 5000)."),
+    problem: Path = typer.Argument(
+        ..., help="A LoRR problem file (JSON): 2023, 2024 or 2026 (\"version\": \"2026 LoRR\").", show_default=False
+    ),
+    steps: str = typer.Option(
+        "5000", "--steps", metavar="STEPS",
+        help="Steps to run (the competition's budget is usually 5000); ticks under the 2026 rules (Start-Kit -s).",
+    ),
     out: Optional[Path] = typer.Option(
         None, "--out", help="Write the competition's result file here (PlanViz reads it).", show_default=False
     ),
@@ -33,7 +37,7 @@ def lorr(
     ),
     scheduler: str = typer.Option(
         _core.LORR_SCHEDULERS[0][0], "--scheduler", metavar="NAME",
-        help=f"Scheduler (2024): {_choices(_core.LORR_SCHEDULERS)}.",
+        help=f"Scheduler (2024, 2026): {_choices(_core.LORR_SCHEDULERS)}.",
     ),
     plan_time_limit: Optional[str] = typer.Option(
         None, "--plan-time-limit", metavar="MS", show_default=False,
@@ -44,12 +48,25 @@ def lorr(
         None, "--record", show_default=False,
         help="Write a replay of every step to this file (.mbr); multibots view plays it.",
     ),
+    planner_py: Optional[Path] = typer.Option(
+        None, "--planner-py", show_default=False,
+        help="A Start-Kit Python planner file (pyMAPFPlanner.py, import MAPF) in place of --planner.",
+    ),
+    scheduler_py: Optional[Path] = typer.Option(
+        None, "--scheduler-py", show_default=False,
+        help="A Start-Kit Python scheduler file (pyTaskScheduler.py) in place of --scheduler (2024, 2026).",
+    ),
+    executor_py: Optional[Path] = typer.Option(
+        None, "--executor-py", show_default=False,
+        help="A Start-Kit Python executor file (pyExecutor.py) in place of the built-in tpg (2026).",
+    ),
 ) -> None:
     """Run a League of Robot Runners problem, scored as the competition scores it."""
     from multibots import lorr as engine
 
     # Before the run: no output is an input or another output, and each can be written.
-    engine.check_files(problem, out, record, labels=("--out", "--record"))
+    entries = [p for p in (planner_py, scheduler_py, executor_py) if p is not None]
+    engine.check_files(problem, out, record, labels=("--out", "--record"), entries=entries)
 
     n_steps = parse_number(steps, "--steps", int)
     limit = parse_number(plan_time_limit, "--plan-time-limit", int)
@@ -73,17 +90,29 @@ def lorr(
             result = engine.run(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
                 progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
+                planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
             )
     else:
-        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record)
+        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record,
+                            planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py)
     fig = result.figures
     wall = time.monotonic() - began
-    print(
-        f"{problem.name}: {result.finished:,} finished in {result.steps:,} steps "
-        f"({result.team_size:,} robots, {result.version} rules, planner {result.planner}); "
-        f"planning {fig['plan_ms_mean']:.2f} ms/step mean, {fig['plan_ms_max']:.0f} ms max; "
-        f"errors {fig['action_errors'] + fig['schedule_errors']}, timeouts {fig['timeouts']}; wall {wall:.1f} s"
-    )
+    if result.version == "2026":
+        print(
+            f"{problem.name}: {result.finished:,} finished in {result.steps:,} ticks "
+            f"({result.team_size:,} robots, 2026 rules, planner {result.planner.removeprefix('planner ')}, "
+            f"scheduler {result.scheduler.removeprefix('scheduler ')}); "
+            f"planning {fig['plan_ms_mean']:.2f} ms/call mean, {fig['plan_ms_max']:.0f} ms max; "
+            f"delays {fig.get('delays', 0):,}, action model messages {fig['action_errors']:,}, "
+            f"schedule errors {fig['schedule_errors']}; wall {wall:.1f} s"
+        )
+    else:
+        print(
+            f"{problem.name}: {result.finished:,} finished in {result.steps:,} steps "
+            f"({result.team_size:,} robots, {result.version} rules, planner {result.planner}); "
+            f"planning {fig['plan_ms_mean']:.2f} ms/step mean, {fig['plan_ms_max']:.0f} ms max; "
+            f"errors {fig['action_errors'] + fig['schedule_errors']}, timeouts {fig['timeouts']}; wall {wall:.1f} s"
+        )
     if out is not None:
         print(f"result: {out} (figures: {engine.figures_path(out).name})")
     if record is not None:

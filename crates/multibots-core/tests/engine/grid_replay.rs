@@ -22,8 +22,9 @@ fn run(version: Version, limit: Option<u64>) -> LorrRun {
     let tasks: Vec<Vec<u32>> = match version {
         Version::Y2024 => vec![vec![0, 29], vec![5, 24, 12], vec![17], vec![26, 3], vec![14, 8]],
         Version::Y2023 => vec![vec![0], vec![29], vec![5], vec![24], vec![12], vec![17]],
+        Version::Y2026 => unreachable!("LorrRun plays the 2023 and 2024 rules"),
     };
-    let p = Problem { path: "t.json".into(), map: GridMap::parse(MAP).unwrap(), starts: vec![2, 13, 27], tasks, num_tasks_reveal: 1.0, version };
+    let p = Problem { path: "t.json".into(), map: GridMap::parse(MAP).unwrap(), starts: vec![2, 13, 27], tasks, num_tasks_reveal: 1.0, version, y2026: None };
     LorrRun::new(Arc::new(p), LorrOptions { plan_time_limit_ms: limit, ..LorrOptions::default() }).unwrap()
 }
 

@@ -9,8 +9,10 @@
 
 mod lists;
 mod map;
+pub mod y2026;
 
 pub use map::GridMap;
+pub use y2026::{DelayConfig, DurationModel, EventModel, Rules2026};
 
 use crate::error::{Error, Result};
 use crate::input::files::read_text;
@@ -27,6 +29,9 @@ pub enum Version {
     Y2023,
     /// 2024: a task pool, a scheduler, tasks of several errands (`version: "2024 LoRR"`).
     Y2024,
+    /// 2026: the 2024 tasks, actions of several ticks, robots as squares, delays and an
+    /// executor (`version: "2026 LoRR"`, or any problem with a `delayConfig`).
+    Y2026,
 }
 
 /// A LoRR problem, read whole.
@@ -45,6 +50,8 @@ pub struct Problem {
     pub num_tasks_reveal: f64,
     /// The task rules.
     pub version: Version,
+    /// The 2026 rules' fields (`agentSize`, `agentCounter`, `delayConfig`), under them.
+    pub y2026: Option<Rules2026>,
 }
 
 #[derive(serde::Deserialize)]
@@ -60,6 +67,8 @@ struct ProblemJson {
     task_assignment_strategy: Option<String>,
     #[serde(default)]
     version: Option<String>,
+    #[serde(default)]
+    delay_config: Option<serde_json::Value>,
 }
 
 fn one() -> f64 {
@@ -96,10 +105,18 @@ impl Problem {
         let mut de = serde_json::Deserializer::from_str(&text);
         let json: ProblemJson = serde_path_to_error::deserialize(&mut de).map_err(|e| field_error(path, &e))?;
         let line_of = |key: &str| text.lines().position(|l| l.contains(&format!("\"{key}\""))).map_or(1, |i| i + 1);
+        // The 2026 Start-Kit plays any problem with a delayConfig under its rules (it never
+        // reads `version`), and refuses one without.
         let version = match (&json.version, &json.task_assignment_strategy) {
+            _ if json.delay_config.is_some() => Version::Y2026,
+            (Some(v), _) if v.contains("2026") => Version::Y2026,
             (Some(v), _) if v.contains("2024") => Version::Y2024,
             (Some(v), _) => {
-                return Err(Error::input_file(path, Some(line_of("version")), format!("version '{v}' is not one this reader knows (\"2024 LoRR\")")))
+                return Err(Error::input_file(
+                    path,
+                    Some(line_of("version")),
+                    format!("version '{v}' is not one this reader knows (\"2024 LoRR\", \"2026 LoRR\")"),
+                ))
             }
             (None, Some(s)) if s == "roundrobin" => Version::Y2023,
             (None, Some(s)) => {
@@ -156,12 +173,20 @@ impl Problem {
         let task_text = read(&task_path, MAX_TASK_BYTES)?;
         let tasks = match version {
             Version::Y2023 => lists::tasks_2023(&task_path, &task_text, &map)?,
-            Version::Y2024 => lists::tasks_2024(&task_path, &task_text, &map)?,
+            Version::Y2024 | Version::Y2026 => lists::tasks_2024(&task_path, &task_text, &map)?,
         };
-        if version == Version::Y2024 && (json.num_tasks_reveal * n as f64) < 1.0 {
+        let y2026 = match version {
+            Version::Y2026 => {
+                let whole: serde_json::Value =
+                    serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
+                Some(y2026::read(path, &whole, &line_of)?)
+            }
+            _ => None,
+        };
+        if version != Version::Y2023 && (json.num_tasks_reveal * n as f64) < 1.0 {
             return Err(Error::input_file(path, Some(line_of("numTasksReveal")), "numTasksReveal * teamSize is below 1: the task pool would be empty"));
         }
-        Ok(Problem { path: path.to_path_buf(), map, starts, tasks, num_tasks_reveal: json.num_tasks_reveal, version })
+        Ok(Problem { path: path.to_path_buf(), map, starts, tasks, num_tasks_reveal: json.num_tasks_reveal, version, y2026 })
     }
 
     /// The number of robots (`teamSize`).
@@ -176,6 +201,8 @@ impl Problem {
     pub fn reveal(&self) -> usize {
         match self.version {
             Version::Y2024 => (self.num_tasks_reveal * self.team_size() as f64) as usize,
+            // The 2026 Start-Kit multiplies two floats.
+            Version::Y2026 => (self.num_tasks_reveal as f32 * self.team_size() as f32) as usize,
             Version::Y2023 => (self.num_tasks_reveal as usize).max(1),
         }
     }

@@ -46,12 +46,19 @@ impl Action {
 /// The cell one step ahead of `cell` facing `heading`, or `None` off the map.
 #[must_use]
 pub fn ahead(map: &GridMap, cell: u32, heading: u8) -> Option<u32> {
-    let (r, c) = map.row_col(cell);
+    ahead_on(map.rows, map.cols, cell, heading)
+}
+
+/// The cell one step ahead of `cell` facing `heading` on a grid of `rows` × `cols`, or `None`
+/// off it.
+#[must_use]
+pub fn ahead_on(rows: u32, cols: u32, cell: u32, heading: u8) -> Option<u32> {
+    let (r, c) = (cell / cols, cell % cols);
     match heading {
-        0 if c + 1 < map.cols => Some(cell + 1),
-        1 if r + 1 < map.rows => Some(cell + map.cols),
+        0 if c + 1 < cols => Some(cell + 1),
+        1 if r + 1 < rows => Some(cell + cols),
         2 if c > 0 => Some(cell - 1),
-        3 if r > 0 => Some(cell - map.cols),
+        3 if r > 0 => Some(cell - cols),
         _ => None,
     }
 }

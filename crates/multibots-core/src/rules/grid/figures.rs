@@ -1,7 +1,7 @@
 //! MultiBots' figures of a LoRR run, beside the competition's score: tasks finished per
 //! window of 1,000 steps, planning time per round, errors and lost steps.
 
-use crate::rules::grid::{LorrRun, Tasks};
+use crate::rules::grid::{Lorr26, LorrRun, Tasks};
 
 /// MultiBots' figures of a run.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -24,6 +24,43 @@ pub struct Figures {
     pub schedule_errors: u32,
     /// Steps lost to the plan time limit.
     pub timeouts: u32,
+    /// 2026 rules: delays drawn, and robot-ticks held by them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub delays: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_ticks: Option<u64>,
+}
+
+/// Tasks finished per window of 1,000 steps (ticks), from (step, finished in it).
+fn windows(t: u32, finished_at: &[(u32, u32)]) -> Vec<u64> {
+    let mut w = vec![0u64; (t as usize).div_ceil(1000)];
+    for &(t, k) in finished_at {
+        w[(t as usize - 1) / 1000] += u64::from(k);
+    }
+    w
+}
+
+impl Lorr26 {
+    /// MultiBots' figures so far: steps are ticks; a planning round is a planner call;
+    /// `action_errors` counts the action model's messages over the run.
+    #[must_use]
+    pub fn figures(&self) -> Figures {
+        let r = self.record();
+        let ms: Vec<f64> = r.plan_ms.iter().map(|&(_, ms)| ms).collect();
+        Figures {
+            steps: self.t(),
+            finished: self.finished(),
+            finished_per_1000: windows(self.t(), &r.finished_at),
+            plan_ms_mean: if ms.is_empty() { 0.0 } else { ms.iter().sum::<f64>() / ms.len() as f64 },
+            plan_ms_max: ms.iter().copied().fold(0.0, f64::max),
+            plan_rounds_over_1s: ms.iter().filter(|&&m| m > 1000.0).count() as u32,
+            action_errors: r.messages.min(u64::from(u32::MAX)) as u32,
+            schedule_errors: self.pool().errors.len() as u32,
+            timeouts: 0,
+            delays: Some(r.delays.iter().map(|d| d.len() as u64).sum()),
+            held_ticks: Some(r.held_ticks),
+        }
+    }
 }
 
 impl LorrRun {
@@ -31,15 +68,11 @@ impl LorrRun {
     #[must_use]
     pub fn figures(&self) -> Figures {
         let r = self.record();
-        let mut windows = vec![0u64; (self.t() as usize).div_ceil(1000)];
-        for &(t, k) in &r.finished_at {
-            windows[(t as usize - 1) / 1000] += u64::from(k);
-        }
         let times = &r.planner_times;
         Figures {
             steps: self.t(),
             finished: self.finished(),
-            finished_per_1000: windows,
+            finished_per_1000: windows(self.t(), &r.finished_at),
             plan_ms_mean: if times.is_empty() { 0.0 } else { times.iter().sum::<f64>() * 1e3 / times.len() as f64 },
             plan_ms_max: times.iter().copied().fold(0.0, f64::max) * 1e3,
             plan_rounds_over_1s: times.iter().filter(|&&s| s > 1.0).count() as u32,
@@ -49,6 +82,8 @@ impl LorrRun {
                 Tasks::RoundRobin(_) => 0,
             },
             timeouts: r.timeouts,
+            delays: None,
+            held_ticks: None,
         }
     }
 }

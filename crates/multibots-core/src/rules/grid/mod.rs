@@ -27,9 +27,11 @@ pub mod planner;
 pub mod pool;
 pub mod schedule;
 mod show;
+pub mod y2026;
 
 pub use figures::Figures;
 pub use show::CELL_PX;
+pub use y2026::Lorr26;
 
 use crate::error::Result;
 use crate::input::limits::MAX_PLAN_TIME_LIMIT_MS;
@@ -48,7 +50,8 @@ use std::time::{Duration, Instant};
 pub struct LorrOptions {
     /// The planner's name (`auto`, the default: [`planner::auto_choice`]).
     pub planner: String,
-    /// The scheduler's name (2024 rules; `spread`, the default).
+    /// The scheduler's name (`auto`, the default: `spread` under the 2024 rules, `soonest`
+    /// under the 2026 rules).
     pub scheduler: String,
     /// The seed of the planner's tie-breaks (default 0).
     pub seed: u64,
@@ -59,7 +62,7 @@ pub struct LorrOptions {
 
 impl Default for LorrOptions {
     fn default() -> Self {
-        LorrOptions { planner: "auto".into(), scheduler: "spread".into(), seed: 0, plan_time_limit_ms: None }
+        LorrOptions { planner: "auto".into(), scheduler: "auto".into(), seed: 0, plan_time_limit_ms: None }
     }
 }
 
@@ -88,6 +91,8 @@ pub struct LorrRun {
     record: Record,
     /// What the frames show (`show.rs`).
     shown: show::Shown,
+    /// Why the run stopped, if an entry failed (a Python planner or scheduler that raised).
+    failure: Option<crate::error::Error>,
 }
 
 impl LorrRun {
@@ -99,13 +104,15 @@ impl LorrRun {
             options.planner = planner::auto_choice(&problem.map, problem.team_size()).into();
         }
         let planner = planner::built_in(&options.planner, &problem.map, problem.team_size(), options.seed)?;
+        options.scheduler = schedule::resolve(&options.scheduler, false).to_string();
         let scheduler = schedule::built_in(&options.scheduler)?;
         LorrRun::with(problem, options, planner, scheduler)
     }
 
     /// A run with a planner and a scheduler of the caller's (the names in `options` are
     /// then only labels).
-    pub fn with(problem: Arc<Problem>, options: LorrOptions, planner: Box<dyn Planner>, scheduler: Box<dyn Scheduler>) -> Result<LorrRun> {
+    pub fn with(problem: Arc<Problem>, mut options: LorrOptions, planner: Box<dyn Planner>, scheduler: Box<dyn Scheduler>) -> Result<LorrRun> {
+        options.scheduler = schedule::resolve(&options.scheduler, false).to_string();
         let n = problem.team_size();
         if let Some(ms) = options.plan_time_limit_ms.filter(|&ms| ms == 0 || ms > MAX_PLAN_TIME_LIMIT_MS) {
             return Err(crate::error::Error::scenario("plan_time_limit", ms, format!("must be from 1 to {MAX_PLAN_TIME_LIMIT_MS} ms")));
@@ -113,6 +120,7 @@ impl LorrRun {
         let tasks = match problem.version {
             Version::Y2023 => Tasks::RoundRobin(RoundRobin::new(n, problem.reveal(), &problem.tasks)),
             Version::Y2024 => Tasks::Pool(TaskPool::new(n, problem.reveal(), problem.tasks.len())),
+            Version::Y2026 => return Err(crate::error::Error::scenario("problem", problem.path.display(), "is a 2026 problem, played by `Lorr26`")),
         };
         let mut run = LorrRun {
             loc: problem.starts.clone(),
@@ -126,6 +134,7 @@ impl LorrRun {
             validator: Validator::default(),
             record: Record::new(n),
             shown: show::Shown::default(),
+            failure: None,
             problem,
             options,
             t: 0,
@@ -144,10 +153,16 @@ impl LorrRun {
     /// Runs until step `until` (at most); the steps run.
     pub fn run_to(&mut self, until: u32) -> u32 {
         let start = self.t;
-        while self.t < until {
+        while self.t < until && self.failure.is_none() {
             self.step(until);
         }
         self.t - start
+    }
+
+    /// Why the run stopped early, if a planner or scheduler failed.
+    #[must_use]
+    pub fn failure(&self) -> Option<&crate::error::Error> {
+        self.failure.as_ref()
     }
 
     /// One planning round: one step, or more if the planner overran the time limit; never
@@ -163,16 +178,28 @@ impl LorrRun {
             }
             Tasks::Pool(pool) => {
                 self.proposal.copy_from_slice(&pool.current);
-                let view = ScheduleView { map: &self.problem.map, loc: &self.loc, pool, lines: &self.problem.tasks, t: self.t };
+                let view = ScheduleView { map: &self.problem.map, loc: &self.loc, heading: &self.heading, pool, lines: &self.problem.tasks, t: self.t };
                 self.scheduler.schedule(&view, &mut self.proposal);
+                if let Some(e) = self.scheduler.failure() {
+                    self.failure = Some(e);
+                    return;
+                }
                 for k in 0..n {
                     let id = self.proposal[k];
                     self.goals[k] = if pool.is_open(id) { pool.next_errand(id as u32, &self.problem.tasks) } else { NO_GOAL };
                 }
             }
         }
-        let view = PlanView { map: &self.problem.map, loc: &self.loc, heading: &self.heading, goals: &self.goals, t: self.t };
+        let tasks = match &self.tasks {
+            Tasks::Pool(pool) => Some(planner::TaskView { pool, proposal: &self.proposal, lines: &self.problem.tasks }),
+            Tasks::RoundRobin(_) => None,
+        };
+        let view = PlanView { map: &self.problem.map, loc: &self.loc, heading: &self.heading, goals: &self.goals, t: self.t, tasks };
         self.planner.plan(&view, &mut self.actions);
+        if let Some(e) = self.planner.failure() {
+            self.failure = Some(e);
+            return;
+        }
         let spent = began.elapsed();
         self.record.planner_times.push(spent.as_secs_f64());
         let timeouts = match self.options.plan_time_limit_ms {

@@ -108,6 +108,13 @@ impl TaskPool {
     /// After the step that led to `t`: schedule, errands, refill. How many tasks finished.
     pub fn update(&mut self, t: u32, proposal: &[i64], loc: &[u32], lines: &[Vec<u32>]) -> u64 {
         self.set_schedule(t, proposal);
+        self.advance(t, loc, lines)
+    }
+
+    /// After the step that led to `t`, the schedule in force left as it is: each robot on the
+    /// next errand of its task advances it (an event each), a task whose last errand is reached
+    /// finishes and frees its robot, and the pool is refilled. How many tasks finished.
+    pub fn advance(&mut self, t: u32, loc: &[u32], lines: &[Vec<u32>]) -> u64 {
         let before = self.finished;
         self.new_free.clear();
         for (k, &p) in loc.iter().enumerate() {

@@ -116,6 +116,9 @@ impl Run for LorrRun {
         while self.t < until {
             let before = self.t;
             self.step(until);
+            if let Some(e) = &self.failure {
+                return Err(e.clone());
+            }
             if let Some(sink) = sink.as_deref_mut() {
                 // Steps lost to the plan time limit: every robot waited.
                 for _ in before + 1..self.t {
@@ -154,37 +157,18 @@ impl Run for LorrRun {
 
     fn describe(&self) -> Value {
         let p = &self.problem;
-        let (rows, cols) = (p.map.rows, p.map.cols);
-        let grid: Vec<String> =
-            (0..rows as usize).map(|r| p.map.free[r * cols as usize..(r + 1) * cols as usize].iter().map(|&f| if f { '.' } else { '@' }).collect()).collect();
         let n = self.loc.len();
         let o = &self.options;
         let version = match p.version {
             Version::Y2023 => "2023",
             Version::Y2024 => "2024",
+            Version::Y2026 => "2026",
         };
-        let name = p.path.file_name().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
-        let inputs = json!({"problem": name, "rules": version, "teamSize": n, "planner": o.planner, "scheduler": o.scheduler, "seed": o.seed, "planTimeLimitMs": o.plan_time_limit_ms});
-        json!({
-            "robots": n,
-            "radius": vec![RADIUS; n],
-            "home": p.starts,
-            "energy_full": 1.0,
-            "threshold": 0.0,
-            "cells_full": [],
-            "goods_total": p.tasks.len(),
-            "layout": {
-                "name": name,
-                "bounds": [0.0, 0.0, f64::from(cols) * CELL_PX, f64::from(rows) * CELL_PX],
-                "aisle_width": CELL_PX,
-                "cell_size": CELL_PX,
-                "nodes": [], "edges": [], "spurs": [], "cells": [],
-                "departure": [], "unloading": [], "chargers": [],
-                "grid": {"rows": rows, "cols": cols, "cells": grid},
-            },
-            "scenario": serde_json::to_string_pretty(&inputs).expect("JSON serialises"),
-            "lorr": inputs,
-        })
+        let mut v = describe_grid(p, n);
+        let inputs = json!({"problem": v["layout"]["name"], "rules": version, "teamSize": n, "planner": o.planner, "scheduler": o.scheduler, "seed": o.seed, "planTimeLimitMs": o.plan_time_limit_ms});
+        v["scenario"] = json!(serde_json::to_string_pretty(&inputs).expect("JSON serialises"));
+        v["lorr"] = inputs;
+        v
     }
 
     fn summary(&self) -> Summary {
@@ -201,4 +185,31 @@ impl Run for LorrRun {
             bottleneck: None,
         }
     }
+}
+
+/// The header of a grid replay, but for the run's inputs (`scenario`, `lorr`): the fleet, the
+/// grid as a layout.
+pub(crate) fn describe_grid(p: &crate::input::lorr::Problem, n: usize) -> Value {
+    let (rows, cols) = (p.map.rows, p.map.cols);
+    let grid: Vec<String> =
+        (0..rows as usize).map(|r| p.map.free[r * cols as usize..(r + 1) * cols as usize].iter().map(|&f| if f { '.' } else { '@' }).collect()).collect();
+    let name = p.path.file_name().map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+    json!({
+        "robots": n,
+        "radius": vec![RADIUS; n],
+        "home": p.starts,
+        "energy_full": 1.0,
+        "threshold": 0.0,
+        "cells_full": [],
+        "goods_total": p.tasks.len(),
+        "layout": {
+            "name": name,
+            "bounds": [0.0, 0.0, f64::from(cols) * CELL_PX, f64::from(rows) * CELL_PX],
+            "aisle_width": CELL_PX,
+            "cell_size": CELL_PX,
+            "nodes": [], "edges": [], "spurs": [], "cells": [],
+            "departure": [], "unloading": [], "chargers": [],
+            "grid": {"rows": rows, "cols": cols, "cells": grid},
+        },
+    })
 }

@@ -42,6 +42,7 @@ fn problem(map: &str, starts: &[u32], tasks: &[&[u32]], version: Version, reveal
         tasks: tasks.iter().map(|t| t.to_vec()).collect(),
         num_tasks_reveal: reveal,
         version,
+        y2026: None,
     })
 }
 

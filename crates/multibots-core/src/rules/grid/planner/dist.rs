@@ -139,6 +139,12 @@ impl Distances {
         } else if *budget == 0 {
             return None;
         } else {
+            // A full cache whose every table served this round keeps them: evicting one would
+            // only make its robot search again (never so under the 2023 and 2024 rules, whose
+            // planners keep a table per robot and one more).
+            if self.tables.len() >= self.capacity && self.used.iter().all(|&u| u == self.clock) {
+                return None;
+            }
             self.start(goal)
         };
         self.used[s as usize] = self.clock;

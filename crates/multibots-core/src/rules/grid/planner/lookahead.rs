@@ -560,7 +560,7 @@ mod tests {
         let map = GridMap::parse(map).unwrap();
         let mut p = Lookahead::new(&map, loc.len(), 3, rollouts);
         let mut actions = vec![Action::W; loc.len()];
-        p.plan(&PlanView { map: &map, loc, heading, goals, t: 0 }, &mut actions);
+        p.plan(&PlanView { map: &map, loc, heading, goals, t: 0, tasks: None }, &mut actions);
         actions
     }
 

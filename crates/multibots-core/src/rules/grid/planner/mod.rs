@@ -11,6 +11,7 @@
 //! | `pibt-no-lanes` | the same PIBT on highways, ties going straight ahead, not to the emptier lane |
 //! | `pibt-one-way` | `pibt-no-lanes`, never against a lane where the lanes go round (`guidance::lanes_core`; a swap may back out), elsewhere only if that brings the robot nearer; open bands crossed, not travelled along (`guidance::open_band_costs`) |
 //! | `pibt-no-highways` | the same PIBT, every move costing the same |
+//! | `pibt-grid` | `pibt-no-highways` steering by grid distance alone, no search of the map (the 2026 rules' `auto` on maps of over [`HUGE`] free cells) |
 //! | `rpibt` | PIBT on actions, distances counting turns (`lookahead.rs`) |
 //! | `rpibt-pp` | `rpibt`, each robot first trying the next cell of a path planned a few steps ahead round the robots before it in priority (`window.rs`); on highways whose against-the-lane cost grows with robots per free cell (`Lookahead::on_highways_by_density`) |
 //! | `lookahead` | `rpibt` played several times a few steps ahead, the best first step kept (`lookahead.rs`) |
@@ -21,7 +22,7 @@ mod lookahead;
 mod pibt;
 mod window;
 
-pub use dist::{Distances, BARRED};
+pub use dist::{Distances, BARRED, FAR};
 pub use guidance::{highway_costs, lanes_core, open_band_costs, AGAINST, WITH};
 pub use lookahead::Lookahead;
 pub use pibt::{Pibt, Variant};
@@ -45,6 +46,20 @@ pub struct PlanView<'a> {
     pub goals: &'a [u32],
     /// The current step.
     pub t: u32,
+    /// The 2024 rules' tasks, where a planner may read them (a Python planner's
+    /// `SharedEnvironment` shows them); `None` under the 2023 rules and in rollouts.
+    pub tasks: Option<TaskView<'a>>,
+}
+
+/// The tasks a planner may see under the 2024 rules.
+#[derive(Clone, Copy)]
+pub struct TaskView<'a> {
+    /// The pool and the schedule in force.
+    pub pool: &'a crate::rules::grid::pool::TaskPool,
+    /// The schedule proposed this step.
+    pub proposal: &'a [i64],
+    /// The task file's lines.
+    pub lines: &'a [Vec<u32>],
 }
 
 /// A planner: one action per robot per step.
@@ -53,6 +68,11 @@ pub trait Planner: Send + Sync {
     fn name(&self) -> &'static str;
     /// Fills `actions` (one per robot) for the step from `view`.
     fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]);
+    /// Why the last call failed, if it did (a Python planner that raised): the run then stops
+    /// with this error. Built-in planners never fail.
+    fn failure(&mut self) -> Option<crate::error::Error> {
+        None
+    }
 }
 
 /// A built-in planner: its name (the same on the command line, in Python and in a replay's
@@ -83,6 +103,11 @@ pub const BUILT_INS: &[BuiltIn] = &[
         make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::OneWay)),
     },
     BuiltIn { name: "pibt-no-highways", about: "pibt, every move costing the same", make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::NoHighways)) },
+    BuiltIn {
+        name: "pibt-grid",
+        about: "pibt-no-highways by grid distance alone (maps of millions of cells)",
+        make: |m, r, s| Box::new(Pibt::new(m, r, s, Variant::Grid)),
+    },
     BuiltIn { name: "rpibt", about: "PIBT on actions, distances counting turns", make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0)) },
     BuiltIn {
         name: "rpibt-pp",
@@ -128,12 +153,57 @@ pub fn auto_choice(map: &GridMap, robots: usize) -> &'static str {
     }
 }
 
+/// Free cells above which the 2026 rules' `auto` steers by grid distance (`pibt-grid`).
+pub const HUGE: usize = 400_000;
+/// Free cells up to which the 2026 rules' `auto` plans on actions (`rpibt-pp`).
+pub const SMALL: usize = 20_000;
+
+/// Robots per free cell from which the 2026 rules' `auto` plays `pibt` (highways) rather than
+/// `pibt-no-highways` on a mid-sized map, in percent.
+pub const LANES_FROM_PERCENT: usize = 5;
+
+/// The planner `auto` plays under the 2026 rules, by the map's free cells and the fleet:
+/// `rpibt-pp` up to [`SMALL`] free cells (its tables count turns, which take as long as moves
+/// there); up to [`HUGE`], `pibt` where robots take at least [`LANES_FROM_PERCENT`] % of the free
+/// cells (lanes pay in a dense warehouse: 1,555 tasks against 891 on `fulfill-example_2500`)
+/// and `pibt-no-highways` where they are sparser (the same tasks in a sixth of the time on the
+/// city and game maps); `pibt-grid` beyond (a search per errand of a map of millions of cells
+/// costs more than it gains in a run of 500 ticks). Measured in `docs/lorr.md`.
+#[must_use]
+pub fn auto_choice_2026(map: &GridMap, robots: usize) -> &'static str {
+    let free = map.free.iter().filter(|&&f| f).count();
+    if free <= SMALL {
+        "rpibt-pp"
+    } else if free > HUGE {
+        "pibt-grid"
+    } else if robots * 100 >= free * LANES_FROM_PERCENT {
+        "pibt"
+    } else {
+        "pibt-no-highways"
+    }
+}
+
 /// A built-in planner by name, for `map`, seeded by `seed`.
 pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
     match BUILT_INS.iter().find(|b| b.name == name) {
         Some(b) => Ok((b.make)(map, robots, seed)),
         None => Err(Error::scenario("planner", name, format!("is not a planner; the built-in ones are {}", names().collect::<Vec<_>>().join(", ")))),
     }
+}
+
+/// A built-in planner by name as the 2026 rules' built-in plays it: the PIBT planners lean
+/// ([`Pibt::lean`]: tables within 1 GB, searched for the robots nearest their errands first),
+/// the others as [`built_in`] makes them.
+pub fn built_in_lean(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
+    let variant = match name {
+        "pibt" => Variant::Highways,
+        "pibt-no-lanes" => Variant::StraightTies,
+        "pibt-one-way" => Variant::OneWay,
+        "pibt-no-highways" => Variant::NoHighways,
+        "pibt-grid" => Variant::Grid,
+        _ => return built_in(name, map, robots, seed),
+    };
+    Ok(Box::new(Pibt::new(map, robots, seed, variant).lean(map)))
 }
 
 fn make(name: &str, map: &GridMap, robots: usize, seed: u64) -> Box<dyn Planner> {

@@ -10,13 +10,15 @@
 //!
 //! | name | what it does |
 //! | --- | --- |
-//! | `spread` (default) | as `nearest`, counting every robot already bound for a first errand as 10 cells more to it (`spread.rs`) |
+//! | `auto` (default) | `spread` under the 2024 rules, `soonest` under the 2026 rules ([`resolve`]) |
+//! | `spread` | as `nearest`, counting every robot already bound for a first errand as 10 cells more to it (`spread.rs`) |
 //! | `nearest` | each free robot, in id order, takes the free task whose first errand is nearest (MultiBots' `nearest`) |
 //! | `greedy` | each free robot, in id order, takes the free task it would finish soonest (to its first errand, then errand to errand): the rule of the Start-Kit's 2024 default scheduler, without its time cut-off (`greedy.rs`) |
 //! | `hungarian` | the free robots and free tasks matched at least total cost (MultiBots' `hungarian`), in batches of 256 robots (`hungarian.rs`) |
 //! | `auction` | the lowest bid (estimated completion time) over all free pairs wins, round after round (MultiBots' `auction`, `auction.rs`) |
+//! | `soonest` | `auction` on exact distances (a search per errand cell, within a budget): the default under the 2026 rules (`soonest.rs`) |
 //!
-//! `spread` is the default because it finishes the most: scoring whole tasks (`greedy`,
+//! `spread` is the 2024 default because it finishes the most: scoring whole tasks (`greedy`,
 //! `hungarian`) takes the short ones first, the pool fills with long ones and throughput
 //! falls over the run (5,000 robots on `warehouse_large`, 5,000 steps: `nearest` 38,889
 //! tasks, `greedy` 32,013; `docs/lorr.md`), and `nearest` crowds the stations nearest the
@@ -27,11 +29,13 @@
 mod auction;
 mod greedy;
 mod hungarian;
+mod soonest;
 mod spread;
 
 pub use auction::Auction;
 pub use greedy::{Greedy, Nearest};
 pub use hungarian::Hungarian;
+pub use soonest::Soonest;
 pub use spread::Spread;
 
 use super::pool::TaskPool;
@@ -44,6 +48,8 @@ pub struct ScheduleView<'a> {
     pub map: &'a GridMap,
     /// Each robot's cell.
     pub loc: &'a [u32],
+    /// Each robot's heading (0 east, 1 south, 2 west, 3 north).
+    pub heading: &'a [u8],
     /// The pool and the schedule in force.
     pub pool: &'a TaskPool,
     /// The task file's lines (a task's errands are `lines[task.line]`).
@@ -90,6 +96,11 @@ pub trait Scheduler: Send + Sync {
     fn name(&self) -> &'static str;
     /// Fills `proposal`, which holds the schedule in force when called.
     fn schedule(&mut self, view: &ScheduleView<'_>, proposal: &mut [i64]);
+    /// Why the last call failed, if it did (a Python scheduler that raised): the run then
+    /// stops with this error. Built-in schedulers never fail.
+    fn failure(&mut self) -> Option<crate::error::Error> {
+        None
+    }
 }
 
 /// A built-in scheduler: its name (the same on the command line and in Python), one line on
@@ -102,16 +113,29 @@ pub struct BuiltIn {
 
 /// The built-in schedulers; the first is the default.
 pub const BUILT_INS: &[BuiltIn] = &[
+    BuiltIn { name: "auto", about: "spread under the 2024 rules, soonest under the 2026 rules", make: || Box::new(Spread::new()) },
     BuiltIn { name: "spread", about: "nearest, counting robots already bound for an errand", make: || Box::new(Spread::new()) },
     BuiltIn { name: "nearest", about: "each free robot takes the free task whose first errand is nearest", make: || Box::new(Nearest) },
     BuiltIn { name: "greedy", about: "each free robot takes the task it would finish soonest (the Start-Kit's rule)", make: || Box::new(Greedy) },
     BuiltIn { name: "hungarian", about: "free robots and tasks matched at least total cost", make: || Box::new(Hungarian) },
     BuiltIn { name: "auction", about: "the lowest bid over all free pairs wins, round after round", make: || Box::new(Auction) },
+    BuiltIn { name: "soonest", about: "auction on exact distances (the 2026 default)", make: || Box::new(Soonest::new()) },
 ];
 
 /// The built-in schedulers' names.
 pub fn names() -> impl Iterator<Item = &'static str> {
     BUILT_INS.iter().map(|b| b.name)
+}
+
+/// The scheduler `auto` names under the task rules of `y2026`: `soonest` under the 2026
+/// rules, `spread` under the 2024 ones.
+#[must_use]
+pub fn resolve(name: &str, y2026: bool) -> &str {
+    match (name, y2026) {
+        ("auto", true) => "soonest",
+        ("auto", false) => "spread",
+        _ => name,
+    }
 }
 
 /// A built-in scheduler by name.

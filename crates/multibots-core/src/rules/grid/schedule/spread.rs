@@ -125,7 +125,7 @@ mod tests {
         pool.current[0] = 0;
         pool.tasks[0].agent = 0;
         let loc = [4, 3];
-        let view = ScheduleView { map: &map, loc: &loc, pool: &pool, lines: &lines, t: 1 };
+        let view = ScheduleView { map: &map, loc: &loc, heading: &[0; 3][..loc.len()], pool: &pool, lines: &lines, t: 1 };
         let mut proposal = vec![0, -1];
         Spread::new().schedule(&view, &mut proposal);
         assert_eq!(proposal, vec![0, 2], "cell 5 is 2 away and 1 robot bound (12), cell 9 is 6 away");
@@ -145,7 +145,7 @@ mod tests {
         pool.tasks[0].agent = 0;
         pool.tasks[0].done = 1;
         let loc = [5, 4, 3];
-        let view = ScheduleView { map: &map, loc: &loc, pool: &pool, lines: &lines, t: 1 };
+        let view = ScheduleView { map: &map, loc: &loc, heading: &[0; 3][..loc.len()], pool: &pool, lines: &lines, t: 1 };
         let mut proposal = vec![0, -1, -1];
         Spread::new().schedule(&view, &mut proposal);
         // Robot 1: cell 5 costs 1 (robot 0 has reached it), so task 1. Robot 2: cell 5 costs

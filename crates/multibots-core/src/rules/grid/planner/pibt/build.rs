@@ -25,6 +25,9 @@ pub enum Variant {
     OneWay,
     /// `pibt-no-highways`: every move costing the same, ties to the emptier lane.
     NoHighways,
+    /// `pibt-grid`: `pibt-no-highways` steering by grid distance alone, with no search of the
+    /// map (maps of millions of cells, where a search per errand costs more than it gains).
+    Grid,
 }
 
 /// The memory the distance tables may take, 2 GB: the budget is 4 GB in all.
@@ -36,7 +39,25 @@ fn table_capacity(map: &GridMap, robots: usize) -> usize {
     (TABLE_BUDGET / (2 * free)).max(robots + 1)
 }
 
+/// The memory a lean planner's tables may take (`Pibt::lean`).
+const LEAN_BUDGET: usize = 1 << 30;
+
 impl Pibt {
+    /// The same planner, lean on a large map (the 2026 rules' built-in on maps of millions of
+    /// cells): its tables take at most 1 GB, not one per robot, and the robots nearest their
+    /// errands (by grid distance) get them first, the others steering by grid distance.
+    #[must_use]
+    pub fn lean(mut self, map: &GridMap) -> Pibt {
+        let free = map.free.iter().filter(|&&f| f).count().max(1);
+        let capacity = (LEAN_BUDGET / (2 * free)).clamp(8, self.urgency.len() + 1);
+        self.dist = match &self.costs {
+            Some(costs) => Distances::weighted(map, capacity, |c, h| costs[c as usize][h as usize]),
+            None => Distances::new(map, capacity),
+        };
+        self.lean = true;
+        self
+    }
+
     /// A planner of `variant` for `robots` robots on `map`, seeded by `seed`.
     #[must_use]
     pub fn new(map: &GridMap, robots: usize, seed: u64, variant: Variant) -> Pibt {
@@ -45,6 +66,7 @@ impl Pibt {
             Variant::StraightTies => Pibt::build(map, robots, seed, true, false, false),
             Variant::OneWay => Pibt::build(map, robots, seed, true, false, true),
             Variant::NoHighways => Pibt::build(map, robots, seed, false, true, false),
+            Variant::Grid => Pibt { search: false, ..Pibt::build(map, robots, seed, false, true, false) },
         }
     }
 
@@ -103,6 +125,8 @@ impl Pibt {
             lanes,
             wrong_way,
             costs,
+            lean: false,
+            search: true,
         }
     }
 }

@@ -129,6 +129,10 @@ pub struct Pibt {
     wrong_way: Vec<u8>,
     /// The highways' move costs, if any.
     costs: Option<Vec<[u8; 4]>>,
+    /// Searches go to the robots nearest their errands first (`Pibt::lean`), not in id order.
+    lean: bool,
+    /// Whether the map is searched at all (`pibt-grid` steers by grid distance alone).
+    search: bool,
 }
 
 struct Frame {
@@ -470,14 +474,25 @@ impl Planner for Pibt {
     fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
         let n = view.loc.len();
         self.dist.tick();
-        let mut budget = SEARCH_CELLS_PER_ROUND;
+        let mut budget = if self.search { SEARCH_CELLS_PER_ROUND } else { 0 };
+        if self.lean {
+            let grid = |a: usize| {
+                let (p, g) = (view.loc[a], view.goals[a]);
+                (p / self.cols).abs_diff(g / self.cols) + (p % self.cols).abs_diff(g % self.cols)
+            };
+            let mut nearest: Vec<usize> = (0..n).filter(|&a| view.goals[a] != NO_GOAL).collect();
+            nearest.sort_unstable_by_key(|&a| (grid(a), a));
+            for a in nearest {
+                self.slot[a] = self.dist.search_within(view.goals[a], &mut budget).unwrap_or(NONE);
+            }
+        }
         for a in 0..n {
             let g = view.goals[a];
             // A robot in a dead end goes first: it can only leave the way others come in.
             self.bonus[a] = if g != NO_GOAL && self.dist.degree(view.loc[a]) == 1 { 10 } else { 0 };
             if g == NO_GOAL {
                 self.slot[a] = NONE;
-            } else {
+            } else if !self.lean {
                 self.slot[a] = self.dist.search_within(g, &mut budget).unwrap_or(NONE);
             }
             // The nearer its errand, the sooner a robot goes; one without an errand goes last.
@@ -489,7 +504,10 @@ impl Planner for Pibt {
         // planner does the same): choosing again would undo the turn.
         for a in 0..n {
             let b = self.bound[a];
-            if b != NONE && b != view.loc[a] {
+            // Under the 2026 rules a plan is played ahead from where robots are predicted to
+            // be, which need not be where the last step left them: only a free neighbour binds.
+            let near = b != NONE && (0..4).any(|h| ahead(view.map, view.loc[a], h) == Some(b)) && view.map.free[b as usize];
+            if near && b != view.loc[a] {
                 self.next[a] = b;
                 self.occ_next[b as usize] = a as u32;
             }

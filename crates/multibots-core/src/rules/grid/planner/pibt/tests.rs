@@ -12,7 +12,7 @@ fn plan_with(map: &str, loc: &[u32], heading: &[u8], goals: &[u32], lanes: bool)
     let map = GridMap::parse(map).unwrap();
     let mut p = Pibt::build(&map, loc.len(), 7, false, lanes, false);
     let mut actions = vec![Action::W; loc.len()];
-    p.plan(&PlanView { map: &map, loc, heading, goals, t: 0 }, &mut actions);
+    p.plan(&PlanView { map: &map, loc, heading, goals, t: 0, tasks: None }, &mut actions);
     actions
 }
 
@@ -47,7 +47,7 @@ fn a_pushed_robot_does_not_step_into_an_aisle_against_its_lane() {
     let (loc, heading, goals) = ([12, 13], [0, 3], [13, NO_GOAL]);
     let mut actions = vec![Action::W; 2];
     let mut p = Pibt::new(&map, 2, 7, Variant::Highways);
-    p.plan(&PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t: 0 }, &mut actions);
+    p.plan(&PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t: 0, tasks: None }, &mut actions);
     assert_eq!(actions, vec![Action::W, Action::W], "it waits rather than go up the aisle the wrong way");
     // Without highways there is no wrong way: it makes room.
     assert_eq!(plan(text, &loc, &heading, &goals), vec![Action::F, Action::F]);
@@ -61,7 +61,7 @@ fn one_way_never_steps_against_a_lane_the_lanes_can_go_round() {
     let text = "type octile\nheight 5\nwidth 8\nmap\n........\n........\n........\n........\n........\n";
     let map = GridMap::parse(text).unwrap();
     let (loc, heading, goals) = ([3u32], [2u8], [2u32]);
-    let view = PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t: 0 };
+    let view = PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t: 0, tasks: None };
     let mut actions = vec![Action::W];
     Pibt::new(&map, 1, 7, Variant::StraightTies).plan(&view, &mut actions);
     assert_eq!(actions, vec![Action::F], "pibt-no-lanes steps against the lane");
@@ -73,7 +73,7 @@ fn one_way_never_steps_against_a_lane_the_lanes_can_go_round() {
             return;
         }
         let (loc, heading) = ([at], [facing]);
-        one_way.plan(&PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t }, &mut actions);
+        one_way.plan(&PlanView { map: &map, loc: &loc, heading: &heading, goals: &goals, t, tasks: None }, &mut actions);
         match actions[0] {
             Action::F => {
                 assert_ne!(costs[at as usize][facing as usize], crate::rules::grid::planner::AGAINST, "step {t}: against the lane");
