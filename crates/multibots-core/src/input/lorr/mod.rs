@@ -151,7 +151,7 @@ impl Problem {
         // The tasks revealed at the start are allocated before anything runs: 2024, the pool of
         // int(numTasksReveal · teamSize); 2023, int(numTasksReveal) errands ahead of each robot.
         let revealed = match version {
-            Version::Y2024 => json.num_tasks_reveal * n as f64,
+            Version::Y2024 | Version::Y2026 => json.num_tasks_reveal * n as f64,
             Version::Y2023 => json.num_tasks_reveal.floor().max(1.0) * n as f64,
         };
         if revealed > MAX_REVEALED_TASKS as f64 {
@@ -177,8 +177,8 @@ impl Problem {
         };
         let y2026 = match version {
             Version::Y2026 => {
-                let whole: serde_json::Value =
-                    serde_json::from_str(&text).map_err(|e| Error::input_file(path, Some(e.line().max(1)), first_line(&e.to_string())))?;
+                let whole: serde_json::Value = serde_json::from_str(&text)
+                    .map_err(|e| Error::input_file(path, Some(e.line().max(1)), e.to_string().lines().next().unwrap_or_default().to_string()))?;
                 Some(y2026::read(path, &whole, &line_of)?)
             }
             _ => None,
