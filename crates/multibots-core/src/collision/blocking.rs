@@ -61,6 +61,11 @@ pub(super) struct Blocking {
     pub(super) stack: Vec<u32>,
     pub(super) call: Vec<(u32, u32)>,
     pub(super) released: Vec<u32>,
+    /// Whether [`Blocking::update`] found every row as it was at the last update, and who
+    /// waited then: the same graph releases the same robots. In a jam a step often only
+    /// moves robots along their queues, without changing who blocks whom.
+    same: bool,
+    last_waits: Vec<bool>,
 }
 
 /// The near filter every way of finding blockers shares: a pair farther apart than this is
@@ -108,6 +113,19 @@ impl Blocking {
         self.low.clear();
         self.low.resize(n, 0);
         self.inputs = None;
+        self.same = false;
+    }
+
+    /// [`Blocking::release`] after [`Blocking::update`]: last update's answer again where
+    /// every row is the same.
+    pub(super) fn release_kept(&mut self, waits: &mut [bool]) {
+        if self.same && self.last_waits.len() == waits.len() {
+            waits.copy_from_slice(&self.last_waits);
+            return;
+        }
+        self.release(waits);
+        self.last_waits.clear();
+        self.last_waits.extend_from_slice(waits);
     }
 
     /// This step's rows, from the index (refreshed to `ask`'s positions, bays, wishes and
@@ -125,6 +143,7 @@ impl Blocking {
         if all {
             self.reset(n);
         }
+        self.same = false;
         self.inputs = Some(inputs);
         index.take_moved(&mut self.moved);
         let changed = self.moved.len() + index.turned.len();
@@ -144,7 +163,7 @@ impl Blocking {
                 }
                 self.spread(index, grid, ask);
             }
-            self.some_rows(index, grid, ask);
+            self.same = self.some_rows(index, grid, ask) && !all;
         }
     }
 
@@ -174,8 +193,9 @@ impl Blocking {
         }
     }
 
-    /// The rows of the marked robots found again, the others copied from last step.
-    fn some_rows(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) {
+    /// The rows of the marked robots found again, the others copied from last step; whether
+    /// every row came out as it was.
+    fn some_rows(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) -> bool {
         let n = ask.x.len();
         std::mem::swap(&mut self.start, &mut self.old_start);
         std::mem::swap(&mut self.to, &mut self.old_to);
@@ -186,11 +206,13 @@ impl Blocking {
         blocked.clear();
         let (x, y, radius, wants, alpha, bay) = (&ask.x[..n], &ask.y[..n], &ask.radius[..n], &ask.wants[..n], &ask.alpha[..n], ask.bay);
         let (margin, angle) = (ask.margin, ask.angle);
+        let mut same = true;
         for (i, d) in self.dirty[..n].iter_mut().enumerate() {
             let before = to.len();
             start.push(before as u32);
+            let old = &old_to[old_start[i] as usize..old_start[i + 1] as usize];
             if !*d {
-                to.extend_from_slice(&old_to[old_start[i] as usize..old_start[i + 1] as usize]);
+                to.extend_from_slice(old);
             } else {
                 *d = false;
                 if wants[i] && (bay.is_empty() || !bay[i]) {
@@ -207,12 +229,15 @@ impl Blocking {
                         }
                     });
                 }
+                // Blockers in another order count as a change: it only costs a release.
+                same &= to[before..] == *old;
             }
             if to.len() > before {
                 blocked.push(i as u32);
             }
         }
         start.push(to.len() as u32);
+        same
     }
 
     /// Every row at once, from the pairs of neighbouring robots; the pairs within the contact

@@ -75,8 +75,12 @@ impl Collisions {
             let kept = self.graph.near_generation == Some(self.index.generation) && self.graph.near_span >= span;
             // From the next step on, the pass over pairs collects them this wide.
             self.graph.contact_span = span;
-            // The index follows the moves: the count reads it where the robots stand now.
-            self.index.refresh(&self.space.grid, x, y, None, None);
+            // The index follows the moves where the count reads it: without the collision
+            // test's pairs. With them the count reads positions alone, and the next refresh
+            // notes this step's moves for both the test and the next count all the same.
+            if !kept {
+                self.index.refresh(&self.space.grid, x, y, None, None);
+            }
             let near = kept.then_some(&self.graph.near[..]);
             return self.touching.count(&mut self.index, &self.space.grid, near, (x, y), &radius[..n], r_max, margin);
         }
@@ -303,14 +307,16 @@ impl Touching {
             self.mark.clear();
             self.mark.resize(n, false);
         }
+        // The collision test's pairs, when given, are this step's: a full count from them
+        // (the index was not brought to the moves for the pairs of the moved).
+        if let Some(near) = near {
+            return self.from_pairs(near.iter().copied(), x, y, radius, margin);
+        }
         if !all && self.shifted.is_empty() {
             return (self.pairs.len() as u64, f64::INFINITY);
         }
         let widest = 2.0 * r_max + margin;
         if all || self.shifted.len() * RECOUNT_BELOW > n {
-            if let Some(near) = near {
-                return self.from_pairs(near.iter().copied(), x, y, radius, margin);
-            }
             if (widest * 1.000_001 + 1e-9) * 1.001 < grid.size() {
                 let mut near = std::mem::take(&mut self.near);
                 near.clear();

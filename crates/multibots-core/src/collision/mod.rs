@@ -264,6 +264,8 @@ impl Collisions {
             self.graph.every_pair(&ask);
         } else {
             self.graph.update(&mut self.index, &self.space.grid, &ask);
+            self.graph.release_kept(&mut self.waits[..n]);
+            return;
         }
         self.graph.release(&mut self.waits[..n]);
     }
