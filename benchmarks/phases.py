@@ -38,6 +38,9 @@ ROOT = Path(__file__).resolve().parents[1]
 TARGET = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
 PHASES = TARGET / "release" / "examples" / "phases"
 STORE = ROOT / "benchmarks" / "phases.json"
+#: The phases in the order the step runs them (the stored figures are keyed by name).
+ORDER = ["Arrive", "HandOut", "Intend", "PeopleGuard", "Decide", "Travel", "Contacts", "PeopleWalk",
+         "PeopleAloneWalk", "Tasks", "End"]
 #: name: (warm-up steps, timed steps, steps counted by callgrind)
 WINDOWS = {"early": (100, 1000, 300), "jam": (10000, 1000, 300), "late": (15000, 1000, 300)}
 
@@ -93,7 +96,7 @@ def measure(size: str, window: str, repeats: int) -> dict:
 
 def table(rows: list[dict]) -> list[str]:
     """One Markdown table: a column pair (instructions, wall share) per measured case."""
-    phases = [p for p in rows[0]["wall"] if any(r["instructions"].get(p, 0) >= 0.5 or r["wall"][p] > 0 for r in rows)]
+    phases = [p for p in sorted(rows[0]["wall"], key=ORDER.index) if any(r["instructions"].get(p, 0) >= 0.5 or r["wall"][p] > 0 for r in rows)]
     head = "| phase | " + " | ".join(f"{r['label']}: {r['size']} {r['window']}, instr. | share" for r in rows) + " |"
     out = [head, "| --- |" + " ---: | ---: |" * len(rows)]
     for p in phases:
