@@ -11,7 +11,7 @@
 //! the same filter and the same [`blocks`], so the rows are the same: a kept graph equals a
 //! fresh one (tested).
 
-use super::index::{Index, Moved};
+use super::index::{within, Index, Moved};
 use super::{blocks, grid::Grid};
 
 /// A pass over every pair beats looking again row by row when more than one robot in this
@@ -211,9 +211,7 @@ impl Blocking {
             let before = to.len();
             start.push(before as u32);
             let old = &old_to[old_start[i] as usize..old_start[i + 1] as usize];
-            if !*d {
-                to.extend_from_slice(old);
-            } else {
+            if *d {
                 *d = false;
                 if wants[i] && (bay.is_empty() || !bay[i]) {
                     let (xi, yi, ri) = (x[i], y[i], radius[i]);
@@ -231,6 +229,8 @@ impl Blocking {
                 }
                 // Blockers in another order count as a change: it only costs a release.
                 same &= to[before..] == *old;
+            } else {
+                to.extend_from_slice(old);
             }
             if to.len() > before {
                 blocked.push(i as u32);
@@ -257,7 +257,7 @@ impl Blocking {
             let (i, j) = (a.robot(), b.robot());
             let (dx, dy) = (b.x - a.x, b.y - a.y);
             let d2 = dx * dx + dy * dy;
-            if !(d2 > span2) {
+            if within(d2, span2) {
                 near.push((i as u32, j as u32));
             }
             if !(a.wants() || b.wants()) || !(a.blocking() && b.blocking()) || d2 > reach2 {

@@ -310,22 +310,20 @@ impl Touching {
         // The collision test's pairs, when given, are this step's: a full count from them
         // (the index was not brought to the moves for the pairs of the moved).
         if let Some(near) = near {
-            return self.from_pairs(near.iter().copied(), x, y, radius, margin);
+            return self.count_pairs(near.iter().copied(), x, y, radius, margin);
         }
         if !all && self.shifted.is_empty() {
             return (self.pairs.len() as u64, f64::INFINITY);
         }
         let widest = 2.0 * r_max + margin;
-        if all || self.shifted.len() * RECOUNT_BELOW > n {
-            if (widest * 1.000_001 + 1e-9) * 1.001 < grid.size() {
-                let mut near = std::mem::take(&mut self.near);
-                near.clear();
-                let slots = &index.slots[..];
-                index.pairs(grid, widest * widest * 1.000_001, |k, m| near.push((slots[k].robot() as u32, slots[m].robot() as u32)));
-                let found = self.from_pairs(near.iter().copied(), x, y, radius, margin);
-                self.near = near;
-                return found;
-            }
+        if (all || self.shifted.len() * RECOUNT_BELOW > n) && (widest * 1.000_001 + 1e-9) * 1.001 < grid.size() {
+            let mut near = std::mem::take(&mut self.near);
+            near.clear();
+            let slots = &index.slots[..];
+            index.pairs(grid, widest * widest * 1.000_001, |k, m| near.push((slots[k].robot() as u32, slots[m].robot() as u32)));
+            let found = self.count_pairs(near.iter().copied(), x, y, radius, margin);
+            self.near = near;
+            return found;
         }
         if all {
             self.pairs.clear();
@@ -367,7 +365,7 @@ impl Touching {
     }
 
     /// Every pair in contact, from pairs that hold all of them (each pair once).
-    fn from_pairs(&mut self, near: impl Iterator<Item = (u32, u32)>, x: &[f64], y: &[f64], radius: &[f64], margin: f64) -> (u64, f64) {
+    fn count_pairs(&mut self, near: impl Iterator<Item = (u32, u32)>, x: &[f64], y: &[f64], radius: &[f64], margin: f64) -> (u64, f64) {
         let pairs = &mut self.pairs;
         pairs.clear();
         let mut closest = f64::INFINITY;

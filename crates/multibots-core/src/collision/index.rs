@@ -21,6 +21,12 @@
 
 use super::grid::Grid;
 
+/// `a <= b`, or either is NaN: a NaN distance counts as near, so that `blocks` decides it.
+#[inline]
+pub(super) fn within(a: f64, b: f64) -> bool {
+    a.partial_cmp(&b) != Some(std::cmp::Ordering::Greater)
+}
+
 /// The robot id in a slot's tag; above it, two flags.
 const ROBOT: u32 = (1 << 30) - 1;
 const WANTS: u32 = 1 << 31;
@@ -332,7 +338,7 @@ impl Index {
             let mut m = k + 1;
             while m < n && slots[m].cell <= c + 1 {
                 let (dx, dy) = (slots[m].x - s.x, slots[m].y - s.y);
-                if !(dx * dx + dy * dy > r2) {
+                if within(dx * dx + dy * dy, r2) {
                     f(k, m);
                 }
                 m += 1;
@@ -345,9 +351,9 @@ impl Index {
             while b1 < n && slots[b1].cell <= hi {
                 b1 += 1;
             }
-            for m in b0..b1 {
-                let (dx, dy) = (slots[m].x - s.x, slots[m].y - s.y);
-                if !(dx * dx + dy * dy > r2) {
+            for (m, t) in slots.iter().enumerate().take(b1).skip(b0) {
+                let (dx, dy) = (t.x - s.x, t.y - s.y);
+                if within(dx * dx + dy * dy, r2) {
                     f(k, m);
                 }
             }

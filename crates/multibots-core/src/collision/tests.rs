@@ -261,7 +261,7 @@ fn brute(x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], ma
     (0..n)
         .map(|i| {
             let cycle = |j: usize| j != i && reach[i][j] && reach[j][i];
-            (0..n).any(|j| edge(i, j)) && !((0..n).any(cycle) && !(0..i).any(cycle))
+            (0..n).any(|j| edge(i, j)) && (!(0..n).any(cycle) || (0..i).any(cycle))
         })
         .collect()
 }
