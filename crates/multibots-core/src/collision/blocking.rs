@@ -1,248 +1,333 @@
-//! The "blocked by" graph of the collision phase (spec phase 3): which robots block which
-//! this step, who of the blocked is released (`cycles.rs`), and so who waits.
+//! The "blocked by" graph of the collision phase (spec phase 3): each robot's blockers this
+//! step, in compressed rows by robot id, kept from step to step; who of the blocked is
+//! released is in `cycles.rs`.
+//!
+//! A robot's blockers depend only on its own position, heading and wish to move, and on the
+//! positions of the robots within its contact distance (and whether they stand in bays). So
+//! a row is found again only for a robot that changed, or near whose place, before or
+//! after, another robot moved or stepped into or out of a bay; every other row is last
+//! step's. Where most robots changed (a fleet under way), one pass over the pairs of
+//! neighbours finds every row at once instead (`Index::pairs`). Both ways judge a pair with
+//! the same filter and the same [`blocks`], so the rows are the same: a kept graph equals a
+//! fresh one (tested).
 
-use super::grid::{self, span};
-use super::{blocks, Collisions};
-use std::f64::consts::{FRAC_PI_2, PI};
+use super::index::{within, Index, Moved};
+use super::{blocks, grid::Grid};
 
-/// "Blocked by" graph in compressed rows, over the blocked robots only: row `s` is robot
-/// `blocked[s]`'s blockers, `edge_to[edge_start[s]..edge_start[s + 1]]` (robot ids), with
-/// the scratch of the search for cycles.
+/// A pass over every pair beats looking again row by row when more than one robot in this
+/// many changed. Measured at the large size (1,000 robots): the pass costs about as much as
+/// re-finding a tenth of the rows, with their neighbours.
+const FULL_PASS_BELOW: usize = 8;
+
+/// What the rows were found with; any change makes every row be found again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Inputs {
+    margin: u64,
+    angle: u64,
+    /// The fleet's one radius (bits), or `None` for mixed radii (then compared robot by
+    /// robot with `Blocking::radii`).
+    radius: Option<u64>,
+}
+
+/// "Blocked by" graph in compressed rows by robot id: robot `i`'s blockers are
+/// `to[start[i]..start[i + 1]]`.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Blocking {
-    pub(super) edge_start: Vec<u32>,
-    pub(super) edge_to: Vec<u32>,
-    /// The blocked robots as bits of their ids (all clear between steps), and for each byte
-    /// of bits how many are blocked in the bytes before it: a robot's place in `blocked`
-    /// is a count of bits (`place`), with no per-robot column.
-    pub(super) blocked_bits: Vec<u8>,
-    pub(super) rank: Vec<u32>,
-    /// "Blocked by" edges from the pairs, `(from, to)`, before they are sorted into rows.
-    pub(super) pair_edges: Vec<(u32, u32)>,
-    /// Where the next edge of each row goes, while they are sorted into rows.
-    pub(super) cursor: Vec<u32>,
-    // Tarjan's algorithm, iterative, by place in `blocked`.
+    pub(super) start: Vec<u32>,
+    pub(super) to: Vec<u32>,
+    /// Last step's rows, read while this step's are written.
+    old_start: Vec<u32>,
+    old_to: Vec<u32>,
+    /// Robots whose row is found again this step (all clear between steps).
+    dirty: Vec<bool>,
+    /// Robots with at least one blocker, ascending.
+    pub(super) blocked: Vec<u32>,
+    /// Blockers from the pass over pairs, `(from, to)`, before they are sorted into rows.
+    edges: Vec<(u32, u32)>,
+    moved: Vec<Moved>,
+    inputs: Option<Inputs>,
+    /// The pairs of robots (ids) within `contact_span` of each other, kept by the pass over
+    /// pairs at the index's refresh `near_generation` for the contact count after the moves
+    /// (`contacts.rs`), which asks for them that wide.
+    pub(super) near: Vec<(u32, u32)>,
+    pub(super) near_generation: Option<u64>,
+    pub(super) near_span: f64,
+    pub(super) contact_span: f64,
+    /// Mixed radii: each robot's, as the rows were found with.
+    radii: Vec<f64>,
+    // Tarjan's algorithm (`cycles.rs`), by robot id.
     pub(super) index: Vec<u32>,
     pub(super) low: Vec<u32>,
-    pub(super) on_stack: Vec<bool>,
     pub(super) stack: Vec<u32>,
     pub(super) call: Vec<(u32, u32)>,
-    pub(super) released: Vec<bool>,
-    /// Robots with at least one blocker this step, ascending.
-    pub(super) blocked: Vec<u32>,
+    pub(super) released: Vec<u32>,
+    /// Whether [`Blocking::update`] found every row as it was at the last update, and who
+    /// waited then: the same graph releases the same robots. In a jam a step often only
+    /// moves robots along their queues, without changing who blocks whom.
+    same: bool,
+    last_waits: Vec<bool>,
 }
 
-/// Robot `i`'s place among the robots marked in `bits`, with `rank` counting the marks of
-/// the bytes before each; `u32::MAX` if `i` is not marked. Bytes and a table rather than
-/// words and `count_ones`: without a CPU feature the build does not assume, that is a
-/// dozen instructions, and the release asks once for every edge.
+/// The near filter every way of finding blockers shares: a pair farther apart than this is
+/// clearly out of reach (with a relative slack far above rounding), and [`blocks`] decides
+/// the rest. The squared distance and the contact distance do not depend on which robot of
+/// the pair looks.
 #[inline]
-pub(super) fn place(bits: &[u8], rank: &[u32], i: usize) -> u32 {
-    let (b, bit) = (bits[i >> 3], 1u8 << (i & 7));
-    if b & bit == 0 {
-        u32::MAX
-    } else {
-        rank[i >> 3] + u32::from(ONES[usize::from(b & (bit - 1))])
-    }
+fn far(dx: f64, dy: f64, r: f64) -> bool {
+    dx * dx + dy * dy > r * r * 1.000_001
 }
 
-/// The number of bits set in each byte.
-const ONES: [u8; 256] = {
-    let mut t = [0u8; 256];
-    let mut b = 0;
-    while b < 256 {
-        t[b] = (b as u8).count_ones() as u8;
-        b += 1;
-    }
-    t
-};
+/// Half the side of a box holding every robot within the near filter of a contact distance
+/// of `widest`.
+#[inline]
+fn reach_box(widest: f64) -> f64 {
+    widest * 1.000_001 + 1e-9
+}
 
-impl Collisions {
-    /// Who of the blocked robots waits: all but the released, from this step's edges (and
-    /// the places that [`Collisions::rank_blocked`] counted for them).
-    pub(super) fn release_blocked(&mut self) {
-        if self.graph.edge_to.is_empty() {
+/// What one step's rows are found from: the robots' radii, wishes and headings, and the
+/// collision rule's numbers (`r_max`: the largest radius).
+pub(super) struct Ask<'a> {
+    pub x: &'a [f64],
+    pub y: &'a [f64],
+    pub radius: &'a [f64],
+    pub wants: &'a [bool],
+    pub alpha: &'a [f64],
+    pub bay: &'a [bool],
+    pub margin: f64,
+    pub angle: f64,
+    pub r_max: f64,
+    pub uniform: bool,
+}
+
+impl Blocking {
+    /// Sizes the rows for `n` robots, none blocked.
+    pub(super) fn reset(&mut self, n: usize) {
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        self.to.clear();
+        self.blocked.clear();
+        self.dirty.clear();
+        self.dirty.resize(n, false);
+        self.index.clear();
+        self.index.resize(n, u32::MAX);
+        self.low.clear();
+        self.low.resize(n, 0);
+        self.inputs = None;
+        self.same = false;
+    }
+
+    /// [`Blocking::release`] after [`Blocking::update`]: last update's answer again where
+    /// every row is the same.
+    pub(super) fn release_kept(&mut self, waits: &mut [bool]) {
+        if self.same && self.last_waits.len() == waits.len() {
+            waits.copy_from_slice(&self.last_waits);
             return;
         }
-        // Only robots that are blocked can wait, or lie on a cycle: the rest of the step's
-        // work is in proportion to them, not to the fleet.
-        self.release_cycles();
-        for (&i, &released) in self.graph.blocked.iter().zip(&self.graph.released) {
-            let i = i as usize;
-            self.waits[i] = !released;
-            // Back to the resting state for the next step.
-            self.graph.blocked_bits[i >> 3] = 0;
+        self.release(waits);
+        self.last_waits.clear();
+        self.last_waits.extend_from_slice(waits);
+    }
+
+    /// This step's rows, from the index (refreshed to `ask`'s positions, bays, wishes and
+    /// headings).
+    pub(super) fn update(&mut self, index: &mut Index, grid: &Grid, ask: &Ask<'_>) {
+        let n = ask.x.len();
+        let inputs = Inputs { margin: ask.margin.to_bits(), angle: ask.angle.to_bits(), radius: ask.uniform.then(|| ask.radius[0].to_bits()) };
+        let mut all = index.rebuilt || self.start.len() != n + 1 || self.inputs != Some(inputs);
+        if !ask.uniform {
+            let radius = &ask.radius[..n];
+            all |= self.radii.len() != n || self.radii.iter().zip(radius).any(|(a, b)| a.to_bits() != b.to_bits());
+            self.radii.clear();
+            self.radii.extend_from_slice(radius);
+        }
+        if all {
+            self.reset(n);
+        }
+        self.same = false;
+        self.inputs = Some(inputs);
+        index.take_moved(&mut self.moved);
+        let changed = self.moved.len() + index.turned.len();
+        let widest = 2.0 * ask.r_max + ask.margin;
+        // The pass over pairs finds pairs within a cell's width.
+        let fits = reach_box(widest.max(self.contact_span)) * 1.001 < grid.size();
+        if fits && (all || changed * FULL_PASS_BELOW > n) {
+            self.all_rows(index, grid, ask);
+        } else {
+            let dirty = &mut self.dirty[..n];
+            if all {
+                dirty.fill(true);
+            } else {
+                // Robots whose own wish or heading changed.
+                for &i in &index.turned {
+                    dirty[i as usize] = true;
+                }
+                self.spread(index, grid, ask);
+            }
+            self.same = self.some_rows(index, grid, ask) && !all;
         }
     }
 
-    /// Counts the blocked robots byte by byte of `blocked_bits`, for [`Collisions::place`].
-    pub(super) fn rank_blocked(&mut self) {
-        let mut total = 0;
-        for (r, &b) in self.graph.rank.iter_mut().zip(&self.graph.blocked_bits) {
-            *r = total;
-            total += u32::from(ONES[usize::from(b)]);
+    /// Marks the robots whose row may change because another moved: a robot that wants to
+    /// move, near where a moved robot stood (as the last rows saw it) or stands now.
+    fn spread(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) {
+        let (radius, margin) = (ask.radius, ask.margin);
+        let dirty = &mut self.dirty[..];
+        for m in &self.moved {
+            let i = m.robot as usize;
+            dirty[i] = true;
+            let rm = radius[i];
+            let h = reach_box(rm + ask.r_max + margin);
+            let now = ask.bay.is_empty() || !ask.bay[i];
+            for (x, y, was) in [(m.x, m.y, m.blocking), (ask.x[i], ask.y[i], now)] {
+                if !was {
+                    continue;
+                }
+                index.visit(grid, x, y, h, |k| {
+                    let s = &index.slots[k];
+                    let j = s.robot();
+                    if s.wants() && !far(s.x - x, s.y - y, radius[j] + rm + margin) {
+                        dirty[j] = true;
+                    }
+                });
+            }
         }
     }
 
-    /// Robot `i`'s place in `blocked` (ascending ids), `u32::MAX` if it is not blocked.
-    /// Needs [`Collisions::rank_blocked`] after the last robot was marked.
-    #[inline]
-    pub(super) fn place(&self, i: usize) -> u32 {
-        place(&self.graph.blocked_bits, &self.graph.rank, i)
-    }
-}
-
-impl Collisions {
-    /// The "blocked by" edges of robots that want to move, each found from its own search
-    /// box in the sorted order (tiny fleets: from the flags of the pass over pairs), where
-    /// the pairs of `pairs.rs` do not stand in for the boxes; then the places of the blocked.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn edges_from_boxes(&mut self, x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], uniform: bool, margin: f64, angle: f64) {
-        let n = x.len();
-        let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
-        let (grid, tiny) = (self.space.grid, self.space.tiny);
-        // Borrowed field by field: the edges below are written while the runs are read.
-        let runs = grid::Runs { first: &self.space.first, stamp: &self.space.stamp, start: &self.space.start, end: &self.space.end, epoch: self.space.epoch };
-        let cell_of = &self.space.cell_of[..n];
-        let (by_cell, sx, sy, sr) = (&self.space.by_cell[..n], &self.space.sx[..n], &self.space.sy[..n], &self.space.sr[..if uniform { 0 } else { n }]);
-
-        // Half-width of the cone's box across the heading, with slack above rounding; both
-        // in grid units, about half a cell (a hair more, so a box can touch three cells of a
-        // row: `run` takes any number).
-        let narrow = angle <= FRAC_PI_2;
-        let h = self.space.reach * grid.inv_size;
-        if self.sin_angle.0.to_bits() != angle.to_bits() {
-            self.sin_angle = (angle, angle.sin());
-        }
-        let w = (self.space.reach * self.sin_angle.1 * 1.000_001 + 1e-9) * grid.inv_size;
-        // Build the "blocked by" edges (in no particular order: the components, and so who
-        // is released, do not depend on it).
-        let (edge_to, edge_start, blocked, bits_of_blocked) =
-            (&mut self.graph.edge_to, &mut self.graph.edge_start, &mut self.graph.blocked, &mut self.graph.blocked_bits[..]);
-        edge_to.clear();
-        edge_start.clear();
+    /// The rows of the marked robots found again, the others copied from last step; whether
+    /// every row came out as it was.
+    fn some_rows(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) -> bool {
+        let n = ask.x.len();
+        std::mem::swap(&mut self.start, &mut self.old_start);
+        std::mem::swap(&mut self.to, &mut self.old_to);
+        let (old_start, old_to) = (&self.old_start[..], &self.old_to[..]);
+        let (start, to, blocked) = (&mut self.start, &mut self.to, &mut self.blocked);
+        start.clear();
+        to.clear();
         blocked.clear();
-        // Robot `i`, whose edges start at `before`, is blocked if it has any: it takes the next
-        // place (robots come in id order, so `blocked` is ascending).
-        let mut row = |i: usize, before: usize, after: usize| {
-            if after > before {
-                bits_of_blocked[i >> 3] |= 1 << (i & 7);
+        let (x, y, radius, wants, alpha, bay) = (&ask.x[..n], &ask.y[..n], &ask.radius[..n], &ask.wants[..n], &ask.alpha[..n], ask.bay);
+        let (margin, angle) = (ask.margin, ask.angle);
+        let mut same = true;
+        for (i, d) in self.dirty[..n].iter_mut().enumerate() {
+            let before = to.len();
+            start.push(before as u32);
+            let old = &old_to[old_start[i] as usize..old_start[i + 1] as usize];
+            if *d {
+                *d = false;
+                if wants[i] && (bay.is_empty() || !bay[i]) {
+                    let (xi, yi, ri) = (x[i], y[i], radius[i]);
+                    index.visit(grid, xi, yi, reach_box(ri + ask.r_max + margin), |k| {
+                        let s = &index.slots[k];
+                        let j = s.robot();
+                        if j == i || !s.blocking() {
+                            return;
+                        }
+                        let r = ri + radius[j] + margin;
+                        if !far(s.x - xi, s.y - yi, r) && blocks(xi, yi, alpha[i], s.x, s.y, r, angle) {
+                            to.push(j as u32);
+                        }
+                    });
+                }
+                // Blockers in another order count as a change: it only costs a release.
+                same &= to[before..] == *old;
+            } else {
+                to.extend_from_slice(old);
+            }
+            if to.len() > before {
                 blocked.push(i as u32);
-                edge_start.push(before as u32);
-            }
-        };
-        // Tiny fleets with every flag clear (most steps of the paper's runs): nobody stands
-        // within reach of anybody, so nobody is blocked and there is nothing to test.
-        if tiny && !self.space.clear {
-            let bits = &self.space.bits[..];
-            // Robots in the grid are placed in id order: `p` is the place of robot `i`.
-            let mut p = 0;
-            for i in 0..n {
-                if cell_of[i] == u32::MAX {
-                    continue;
-                }
-                p += 1;
-                if !wants[i] {
-                    continue;
-                }
-                let (xi, yi, a, ri) = (x[i], y[i], alpha[i], radius[i]);
-                let contact = |k: usize| if uniform { ri + ri + margin } else { ri + sr[k] + margin };
-                // Clearly out of reach (with a relative slack far above rounding): skip the
-                // square root and the angle. Near the boundary, `blocks` decides exactly.
-                let near = |k: usize| {
-                    let r = contact(k);
-                    let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    let far = dx * dx + dy * dy > r * r * 1.000_001;
-                    !far
-                };
-                // `bits` holds every near one (and some that are not), in id order.
-                let before = edge_to.len();
-                let mut mask = bits[p - 1];
-                while mask != 0 {
-                    let k = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    if near(k) && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
-                        edge_to.push(by_cell[k]);
-                    }
-                }
-                row(i, before, edge_to.len());
-            }
-        } else if !tiny {
-            for i in 0..n {
-                if !wants[i] || cell_of[i] == u32::MAX {
-                    continue;
-                }
-                // Only robots in the cone ahead can block. Moving along an aisle (heading exactly
-                // along an axis) with a cone of at most 90°, the cone lies in a box `reach` long
-                // ahead and `reach · sin(angle)` to each side (the robot's own point included, for
-                // dist = 0): fewer cells to read. Other headings search the whole square.
-                let (xi, yi, a) = (x[i], y[i], alpha[i]);
-                // The box's reach left, right, down and up of the robot.
-                let (l, r, d, u) = if !narrow {
-                    (h, h, h, h)
-                } else if a == 0.0 {
-                    (0.0, h, w, w)
-                } else if a == PI || a == -PI {
-                    (h, 0.0, w, w)
-                } else if a == FRAC_PI_2 {
-                    (w, w, 0.0, h)
-                } else if a == -FRAC_PI_2 {
-                    (w, w, h, 0.0)
-                } else {
-                    (h, h, h, h)
-                };
-                let ri = radius[i];
-                // Clearly out of reach (with a relative slack far above rounding): skip the
-                // square root and the angle. Near the boundary, `blocks` decides exactly.
-                let contact = |k: usize| if uniform { ri + ri + margin } else { ri + sr[k] + margin };
-                let near = |k: usize| {
-                    let r = contact(k);
-                    let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                    let far = dx * dx + dy * dy > r * r * 1.000_001;
-                    // 1 or 0, combined without a branch.
-                    u64::from(!far) & u64::from(by_cell[k] as usize != i)
-                };
-                // One or two rows; in each, the box's one or two cells are one run of robots.
-                let (tx, ty) = grid.scaled(xi, yi);
-                let (cx, cy) = grid.cell(tx, ty);
-                let (gx0, gx1) = span(tx, cx, l, r);
-                let (gy0, gy1) = span(ty, cy, d, u);
-                let before = edge_to.len();
-                let (mut cells, last_cells) = (gy0 * grid.cols, gy1 * grid.cols);
-                loop {
-                    let (k0, k1) = runs.of(cells + gx0, cells + gx1);
-                    if k1 - k0 <= 64 {
-                        // Most candidates are far: flag the near ones without a branch each (the
-                        // outcome is hard to predict), then test only those.
-                        let mut mask = 0u64;
-                        for k in k0..k1 {
-                            mask |= near(k) << (k - k0);
-                        }
-                        while mask != 0 {
-                            let k = k0 + mask.trailing_zeros() as usize;
-                            mask &= mask - 1;
-                            if blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
-                                edge_to.push(by_cell[k]);
-                            }
-                        }
-                    } else {
-                        for k in k0..k1 {
-                            if near(k) == 1 && blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
-                                edge_to.push(by_cell[k]);
-                            }
-                        }
-                    }
-                    if cells == last_cells {
-                        break;
-                    }
-                    cells += grid.cols;
-                }
-                row(i, before, edge_to.len());
             }
         }
-        edge_start.push(edge_to.len() as u32);
-        if !self.graph.edge_to.is_empty() {
-            self.rank_blocked();
+        start.push(to.len() as u32);
+        same
+    }
+
+    /// Every row at once, from the pairs of neighbouring robots; the pairs within the contact
+    /// count's reach are kept for it (`near`).
+    fn all_rows(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) {
+        let n = ask.x.len();
+        let (radius, margin, angle) = (&ask.radius[..n], ask.margin, ask.angle);
+        let widest = 2.0 * ask.r_max + margin;
+        let reach2 = widest * widest * 1.000_001;
+        let span2 = self.contact_span * self.contact_span;
+        let slots = &index.slots[..];
+        let (edges, near) = (&mut self.edges, &mut self.near);
+        edges.clear();
+        near.clear();
+        index.pairs(grid, reach2.max(span2), |k, m| {
+            let (a, b) = (&slots[k], &slots[m]);
+            let (i, j) = (a.robot(), b.robot());
+            let (dx, dy) = (b.x - a.x, b.y - a.y);
+            let d2 = dx * dx + dy * dy;
+            if within(d2, span2) {
+                near.push((i as u32, j as u32));
+            }
+            if !(a.wants() || b.wants()) || !(a.blocking() && b.blocking()) || d2 > reach2 {
+                return;
+            }
+            let r = radius[i] + radius[j] + margin;
+            if far(dx, dy, r) {
+                return;
+            }
+            if a.wants() && blocks(a.x, a.y, a.alpha, b.x, b.y, r, angle) {
+                edges.push((i as u32, j as u32));
+            }
+            if b.wants() && blocks(b.x, b.y, b.alpha, a.x, a.y, r, angle) {
+                edges.push((j as u32, i as u32));
+            }
+        });
+        self.near_generation = (span2 > 0.0).then_some(index.generation);
+        self.near_span = self.contact_span;
+        // Counted into rows by robot id.
+        let start = &mut self.start;
+        start.clear();
+        start.resize(n + 1, 0);
+        for &(i, _) in edges.iter() {
+            start[i as usize + 1] += 1;
         }
+        self.blocked.clear();
+        let mut total = 0;
+        for i in 0..n {
+            let c = start[i + 1];
+            if c > 0 {
+                self.blocked.push(i as u32);
+            }
+            start[i + 1] = total;
+            total += c;
+        }
+        self.to.clear();
+        self.to.resize(total as usize, 0);
+        // `start[i + 1]` is now the start of row `i`: it walks to the row's end as the row is
+        // written, and so becomes the start of row `i + 1`.
+        for &(i, j) in edges.iter() {
+            let c = &mut start[i as usize + 1];
+            self.to[*c as usize] = j;
+            *c += 1;
+        }
+    }
+
+    /// The rows by the definition, pair by pair: a NaN radius or margin, which scenarios
+    /// refuse but the public API takes, lets robots any distance apart block (`blocks`).
+    pub(super) fn every_pair(&mut self, ask: &Ask<'_>) {
+        let n = ask.x.len();
+        self.reset(n);
+        let (x, y, radius, wants, alpha, bay) = (ask.x, ask.y, ask.radius, ask.wants, ask.alpha, ask.bay);
+        let out = |i: usize| !bay.is_empty() && bay[i];
+        self.start.clear();
+        for i in 0..n {
+            self.start.push(self.to.len() as u32);
+            if !wants[i] || out(i) {
+                continue;
+            }
+            for j in (0..n).filter(|&j| j != i && !out(j)) {
+                if blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + ask.margin, ask.angle) {
+                    self.to.push(j as u32);
+                }
+            }
+            if self.to.len() > self.start[i] as usize {
+                self.blocked.push(i as u32);
+            }
+        }
+        self.start.push(self.to.len() as u32);
+        // Nothing of this graph may be kept.
+        self.inputs = None;
     }
 }

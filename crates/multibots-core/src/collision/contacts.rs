@@ -1,7 +1,17 @@
 //! Contacts: pairs of robots closer than r_i + r_j after a move (docs/metrics.md), found
-//! with the step's collision grid.
+//! with the step's pass over pairs (tiny fleets) or the index (larger ones).
+//!
+//! The count after every step is a function of the positions alone: every pair closer than
+//! r_i + r_j, and the smallest distance among pairs within r_i + r_j + margin. Larger fleets
+//! keep the pairs in contact from the last count ([`Touching`]) and look again only at the
+//! pairs of robots that moved since: the others' distances are what they were. The
+//! smallest distance is then that of the pairs looked at, which is all the tally needs: it
+//! keeps the smallest over the run, and every other pair's distance was looked at when one
+//! of its robots last moved (a full count comes first).
 
-use super::Collisions;
+use super::index::Index;
+use super::{grid::Grid, Collisions};
+use crate::fleet::motion::axis_dist;
 
 /// Tiny fleets: how far apart, before the moves, two robots must stand for the contact count
 /// (with the fleet's largest radius `r_max` and moves of at most `slack`) to pass them by.
@@ -35,12 +45,7 @@ impl Collisions {
         if self.space.tiny {
             return self.contacts_tiny(x, y, radius, moved, r_max, slack);
         }
-        if self.space.dense {
-            if let Some(found) = self.contacts_by_cell_pairs(x, y, radius, moved, r_max, slack) {
-                return found;
-            }
-        }
-        self.contacts_by_boxes(x, y, radius, moved, r_max, slack)
+        self.contacts_by_index(x, y, radius, moved, r_max, slack)
     }
 
     /// Contacts after this step's moves, from positions alone (docs/metrics.md): every pair
@@ -49,17 +54,35 @@ impl Collisions {
     /// (`f64::INFINITY` if none). `slack` is at least twice the farthest any robot moved; the
     /// grid is this step's, built before the moves (as for [`Collisions::contacts`]).
     ///
-    /// Robots in the grid are counted as [`Collisions::contacts_within`] counts them with
-    /// every one of them marked as moved (each pair once, from the smaller id); robots in
-    /// bays, out of the grid, against the grid from their own side (a box around each), and
-    /// against one another by a sort of their cells (cells are at least `2 r_max + margin`
-    /// wide, so a pair within that stands in neighbouring cells). Widening `slack` by
-    /// `2 margin` makes every pair within `r_i + r_j + margin` one that is looked at.
+    /// Tiny fleets: robots in the pass are counted as [`Collisions::contacts_within`] counts
+    /// them with every one of them marked as moved (each pair once, from the smaller id);
+    /// robots in bays against the others from their own side, and against one another by a
+    /// sort of their cells (cells are at least `2 r_max + margin` wide, so a pair within that
+    /// stands in neighbouring cells). Widening `slack` by `2 margin` makes every pair within
+    /// `r_i + r_j + margin` one that is looked at. Larger fleets: [`Touching`], from the index
+    /// brought to the positions after the moves (so `slack` is not needed); the smallest
+    /// distance is then that of the pairs of robots that moved since the last count (module
+    /// doc), `f64::INFINITY` if none.
     #[allow(clippy::too_many_arguments)]
     pub fn contacts_of_every_pair(&mut self, x: &[f64], y: &[f64], radius: &[f64], r_max: f64, slack: f64, margin: f64) -> (u64, f64) {
         let n = x.len();
         if n < 2 {
             return (0, f64::INFINITY);
+        }
+        if !self.space.tiny {
+            let span = ((2.0 * r_max + margin) + slack) * (1.0 + 1e-6) + 1e-9;
+            // The collision test's pairs, if it collected them this step, wide enough.
+            let kept = self.graph.near_generation == Some(self.index.generation) && self.graph.near_span >= span;
+            // From the next step on, the pass over pairs collects them this wide.
+            self.graph.contact_span = span;
+            // The index follows the moves where the count reads it: without the collision
+            // test's pairs. With them the count reads positions alone, and the next refresh
+            // notes this step's moves for both the test and the next count all the same.
+            if !kept {
+                self.index.refresh(&self.space.grid, x, y, None, None);
+            }
+            let near = kept.then_some(&self.graph.near[..]);
+            return self.touching.count(&mut self.index, &self.space.grid, near, (x, y), &radius[..n], r_max, margin);
         }
         self.closest_within = margin;
         let slack = slack + 2.0 * margin;
@@ -74,11 +97,7 @@ impl Collisions {
         if in_bay.contains(&true) {
             // Robots in bays against the grid: each bay robot looks from its own side (the
             // grid's robots are never "moved" here, so each pair is seen once).
-            let (c, d) = if self.space.tiny {
-                self.contacts_tiny(x, y, radius, &in_bay, r_max, slack)
-            } else {
-                self.contacts_by_boxes(x, y, radius, &in_bay, r_max, slack)
-            };
+            let (c, d) = self.contacts_tiny(x, y, radius, &in_bay, r_max, slack);
             count += c;
             closest = closest.min(d);
             let (c, d) = self.bays_among_themselves(x, y, radius, &in_bay, margin);
@@ -198,135 +217,170 @@ impl Collisions {
         (count, closest)
     }
 
-    /// [`Collisions::contacts_within`] robot by robot: the cells of a box around each robot
-    /// that moved.
-    fn contacts_by_boxes(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
+    /// [`Collisions::contacts_within`] for larger fleets, robot by robot: the slots of a box
+    /// around each robot that moved, by their places before the moves (robots in bays are
+    /// not counted).
+    fn contacts_by_index(&self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> (u64, f64) {
         let within = self.closest_within;
         let n = x.len();
         let (y, radius, moved) = (&y[..n], &radius[..n], &moved[..n]);
-        let grid = self.space.grid;
-        let (by_cell, sx, sy) = (&self.space.by_cell[..], &self.space.sx[..], &self.space.sy[..]);
+        let (grid, slots) = (&self.space.grid, &self.index.slots);
         let (mut count, mut closest) = (0u64, f64::INFINITY);
         for i in 0..n {
             if !moved[i] {
                 continue;
             }
-            let (xi, yi) = (x[i], y[i]);
+            let (xi, yi, ri) = (x[i], y[i], radius[i]);
             // A robot within contact of `i` after the moves stood within contact plus half the
-            // slack of it before them: test the sorted (pre-move) positions first, read in
-            // order, and only the few near ones by id.
-            let near = radius[i] + r_max + 0.5 * slack;
+            // slack of it before them: test the slots' (pre-move) positions first.
+            let near = ri + r_max + 0.5 * slack;
             let near2 = near * near * 1.000_001;
-            let ri = radius[i];
-            let mut pair = |k: usize| {
-                let j = by_cell[k] as usize;
-                if moved[j] && j < i {
+            self.index.visit(grid, xi, yi, near * 1.000_1 + 1e-9, |k| {
+                let s = &slots[k];
+                let j = s.robot();
+                let (dx, dy) = (s.x - xi, s.y - yi);
+                if j == i || s.in_bay() || dx * dx + dy * dy > near2 || (moved[j] && j < i) {
                     return;
                 }
-                let d = crate::fleet::motion::axis_dist(x[j] - xi, y[j] - yi);
+                let d = axis_dist(x[j] - xi, y[j] - yi);
                 if d <= ri + radius[j] + within {
                     closest = closest.min(d);
                 }
                 count += u64::from(d < ri + radius[j]);
-            };
-            // Far is `d² > near2`, and the rest near (NaN included, as ever).
-            let near_k = |k: usize| {
-                let (dx, dy) = (sx[k] - xi, sy[k] - yi);
-                let far = dx * dx + dy * dy > near2;
-                u64::from(!far) & u64::from(by_cell[k] as usize != i)
-            };
-            // The cells of a box around `i`. Every position that passes the test above lies
-            // within `near` (and a hair, from `near2`'s slack and rounding) of `i` along each
-            // axis; which cells the box covers changes only what is read, never what is
-            // counted.
-            let hw = (near * 1.000_1 + 1e-9) * grid.inv_size + 1e-6;
-            let (tx, ty) = grid.scaled(xi, yi);
-            let (c0, r0) = grid.cell(tx - hw, ty - hw);
-            let (c1, r1) = grid.cell(tx + hw, ty + hw);
-            let (c0, r0, c1, r1) = (c0 as usize, r0 as usize, c1 as usize, r1 as usize);
-            for row in r0..=r1 {
-                let (mut k0, k1) = {
-                    let base = row * grid.cols;
-                    self.runs().of(base + c0, base + c1)
-                };
-                // Most candidates are far: flag the near ones without a branch each, 64 at a
-                // time, then look at those.
-                while k0 < k1 {
-                    let end = k1.min(k0 + 64);
-                    let mut mask = 0u64;
-                    for k in k0..end {
-                        mask |= near_k(k) << (k - k0);
-                    }
-                    while mask != 0 {
-                        pair(k0 + mask.trailing_zeros() as usize);
-                        mask &= mask - 1;
-                    }
-                    k0 = end;
-                }
-            }
+            });
         }
         (count, closest)
     }
+}
 
-    /// [`Collisions::contacts_within`] for dense grids: each pair of neighbouring robots is
-    /// found once, from the cell of the first in grid order (the rest of its cell, the next
-    /// cell of its row and the three cells below), instead of once from each robot's box.
-    /// The pairs the collision test collected this step are read again where they reach
-    /// far enough; else the count collects its own (`pairs.rs`).
-    /// Each pair found is then judged exactly as the box scan judges it, from the same robot
-    /// (the one that moved; of two that moved, the smaller id), so the pairs looked at, the
-    /// count and the closest approach are the same to the bit. `None` where that cannot be
-    /// promised: a neighbour could lie beyond the next cell, or a robot that moved stands
-    /// in a bay, out of the grid.
-    fn contacts_by_cell_pairs(&mut self, x: &[f64], y: &[f64], radius: &[f64], moved: &[bool], r_max: f64, slack: f64) -> Option<(u64, f64)> {
-        let within = self.closest_within;
-        let n = x.len();
-        let (y, radius, moved, cell_of) = (&y[..n], &radius[..n], &moved[..n], &self.space.cell_of[..n]);
-        // A pair the box scan looks at stood (before the moves) within its `near` (at most
-        // `2 r_max + slack / 2`) plus one robot's move (at most `slack / 2`): within `span`.
-        let span = (2.0 * r_max + slack) * 1.000_1 + 1e-9;
-        let fits = span * 1.001 < 1.0 / self.space.grid.inv_size;
-        if !fits || (0..n).any(|i| moved[i] && cell_of[i] == u32::MAX) {
-            return None;
+/// A pass over every pair beats looking again robot by robot when more than one robot in
+/// this many moved since the last count (as for the collision test's rows, `blocking.rs`).
+const RECOUNT_BELOW: usize = 8;
+
+/// Larger fleets' contacts as of the last count: the pairs closer than `r_i + r_j`.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Touching {
+    /// The pairs `(i, j)`, `i < j`, in contact at the last count.
+    pairs: Vec<(u32, u32)>,
+    /// Pairs to look at, for a full count without the collision test's (reused).
+    near: Vec<(u32, u32)>,
+    /// What they were counted with (the margin, the fleet's one radius or `None` for mixed,
+    /// then `radii`); `None` before the first count.
+    inputs: Option<(u64, Option<u64>)>,
+    radii: Vec<f64>,
+    /// Robots moved since the last count, and a mark per robot id for them.
+    shifted: Vec<u32>,
+    mark: Vec<bool>,
+}
+
+impl Touching {
+    /// The contacts at the positions after the moves (where the index stands now), and the
+    /// smallest distance among the pairs looked at: every pair at the first count, after a
+    /// change of radii or margin, or when many robots moved (from `near`, the collision
+    /// test's pairs within the count's reach before the moves, when it kept them this step);
+    /// else the pairs of robots that moved since the last count.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn count(
+        &mut self,
+        index: &mut Index,
+        grid: &Grid,
+        near: Option<&[(u32, u32)]>,
+        (x, y): (&[f64], &[f64]),
+        radius: &[f64],
+        r_max: f64,
+        margin: f64,
+    ) -> (u64, f64) {
+        let n = radius.len();
+        let (x, y) = (&x[..n], &y[..n]);
+        let uniform = radius.iter().all(|&r| r.to_bits() == radius[0].to_bits());
+        let inputs = (margin.to_bits(), uniform.then(|| radius[0].to_bits()));
+        // Radii are the same for the life of a run; a caller that changes them gets a full
+        // count.
+        let mut all = index.take_shifted(&mut self.shifted) || self.inputs != Some(inputs) || self.mark.len() != n;
+        if !uniform {
+            all |= self.radii.len() != n || self.radii.iter().zip(radius).any(|(a, b)| a.to_bits() != b.to_bits());
+            self.radii.clear();
+            self.radii.extend_from_slice(radius);
         }
-        let span2 = span * span;
-        // From the next step on, the collision test collects its pairs this wide too.
-        self.near.contact_span2 = self.near.contact_span2.max(span2);
-        let half = 0.5 * slack;
-        if span2 > self.near.pairs_r2 && !self.collect_pairs(span2) {
-            // The collision test did not collect them this step, or not this wide, and there
-            // are too many to keep: the boxes count without keeping them.
-            return None;
+        self.inputs = Some(inputs);
+        if self.mark.len() != n {
+            self.mark.clear();
+            self.mark.resize(n, false);
         }
-        let placed = self.space.placed;
-        let (by_cell, sx, sy) = (&self.space.by_cell[..placed], &self.space.sx[..placed], &self.space.sy[..placed]);
-        let (mut count, mut closest) = (0u64, f64::INFINITY);
-        for &(k, m) in &self.near.pairs[..self.near.pairs_len] {
-            let (k, m) = (k as usize, m as usize);
-            let (dx, dy) = (sx[m] - sx[k], sy[m] - sy[k]);
-            if dx * dx + dy * dy > span2 {
-                continue;
-            }
-            let (i, j) = (by_cell[k] as usize, by_cell[m] as usize);
-            let (mi, mj) = (moved[i], moved[j]);
-            if !(mi || mj) {
-                continue;
-            }
-            // The robot the box scan would look from, and the other, by its place.
-            let (l, o, ko) = if mi && (!mj || i < j) { (i, j, m) } else { (j, i, k) };
-            let near = radius[l] + r_max + half;
-            let near2 = near * near * 1.000_001;
-            let (ex, ey) = (sx[ko] - x[l], sy[ko] - y[l]);
-            if ex * ex + ey * ey > near2 {
-                continue;
-            }
-            let d = crate::fleet::motion::axis_dist(x[o] - x[l], y[o] - y[l]);
-            if d <= radius[l] + radius[o] + within {
+        // The collision test's pairs, when given, are this step's: a full count from them
+        // (the index was not brought to the moves for the pairs of the moved).
+        if let Some(near) = near {
+            return self.count_pairs(near.iter().copied(), x, y, radius, margin);
+        }
+        if !all && self.shifted.is_empty() {
+            return (self.pairs.len() as u64, f64::INFINITY);
+        }
+        let widest = 2.0 * r_max + margin;
+        if (all || self.shifted.len() * RECOUNT_BELOW > n) && (widest * 1.000_001 + 1e-9) * 1.001 < grid.size() {
+            let mut near = std::mem::take(&mut self.near);
+            near.clear();
+            let slots = &index.slots[..];
+            index.pairs(grid, widest * widest * 1.000_001, |k, m| near.push((slots[k].robot() as u32, slots[m].robot() as u32)));
+            let found = self.count_pairs(near.iter().copied(), x, y, radius, margin);
+            self.near = near;
+            return found;
+        }
+        if all {
+            self.pairs.clear();
+            self.shifted.clear();
+            self.shifted.extend(0..n as u32);
+        }
+        let mark = &mut self.mark[..];
+        for &i in &self.shifted {
+            mark[i as usize] = true;
+        }
+        self.pairs.retain(|&(a, b)| !mark[a as usize] && !mark[b as usize]);
+        let (slots, pairs) = (&index.slots, &mut self.pairs);
+        let mut closest = f64::INFINITY;
+        // Each pair of a moved robot once: from the smaller id where both moved.
+        for &i in &self.shifted {
+            let i = i as usize;
+            let (xi, yi, ri) = (x[i], y[i], radius[i]);
+            let h = (ri + r_max + margin) * 1.000_001 + 1e-9;
+            index.visit(grid, xi, yi, h, |k| {
+                let s = &slots[k];
+                let j = s.robot();
+                if j == i || (mark[j] && j < i) {
+                    return;
+                }
+                let d = axis_dist(s.x - xi, s.y - yi);
+                let touch = ri + radius[j];
+                if d <= touch + margin {
+                    closest = closest.min(d);
+                }
+                if d < touch {
+                    pairs.push((i.min(j) as u32, i.max(j) as u32));
+                }
+            });
+        }
+        for &i in &self.shifted {
+            mark[i as usize] = false;
+        }
+        (pairs.len() as u64, closest)
+    }
+
+    /// Every pair in contact, from pairs that hold all of them (each pair once).
+    fn count_pairs(&mut self, near: impl Iterator<Item = (u32, u32)>, x: &[f64], y: &[f64], radius: &[f64], margin: f64) -> (u64, f64) {
+        let pairs = &mut self.pairs;
+        pairs.clear();
+        let mut closest = f64::INFINITY;
+        for (i, j) in near {
+            let (i, j) = (i as usize, j as usize);
+            let d = axis_dist(x[j] - x[i], y[j] - y[i]);
+            let touch = radius[i] + radius[j];
+            if d <= touch + margin {
                 closest = closest.min(d);
             }
-            count += u64::from(d < radius[l] + radius[o]);
+            if d < touch {
+                pairs.push((i.min(j) as u32, i.max(j) as u32));
+            }
         }
-        Some((count, closest))
+        (pairs.len() as u64, closest)
     }
 }
 
@@ -340,52 +394,68 @@ mod tests {
         (*state >> 11) as f64 / (1u64 << 53) as f64
     }
 
-    #[test]
-    fn cell_pairs_count_what_boxes_count_to_the_bit() {
-        let mut seed = 7;
-        let mut found = 0;
-        for case in 0..200 {
-            let n = 300 + case * 7;
-            // Crowded: about 6 cells per robot, so the grid is dense.
-            let side = (n as f64 * 6.0).sqrt() * 50.0;
-            let mut c = Collisions::new([0.0, 0.0, side, side], 25.0, n);
-            assert!(c.space.dense);
-            let (mut x, mut y) = (Vec::with_capacity(n), Vec::with_capacity(n));
-            for _ in 0..n {
-                // Some on an aisle's line, some anywhere, a few on top of each other.
-                let on_line = lcg(&mut seed) < 0.5;
-                x.push(if on_line { (lcg(&mut seed) * 10.0).floor() * 50.0 + 25.0 } else { lcg(&mut seed) * side });
-                y.push(lcg(&mut seed) * side);
-            }
-            let radius: Vec<f64> = (0..n).map(|i| if case % 3 == 0 { 12.5 } else { 10.0 + (i % 5) as f64 }).collect();
-            let (px, py) = (x.clone(), y.clone());
-            c.build_grid(&x, &y, &radius, &[]);
-            let moved: Vec<bool> = (0..n).map(|_| lcg(&mut seed) < 0.6).collect();
-            for i in 0..n {
-                if moved[i] {
-                    let a = lcg(&mut seed) * std::f64::consts::TAU;
-                    x[i] += 4.0 * a.cos();
-                    y[i] += 4.0 * a.sin();
+    /// Every pair closer than touching, and the smallest distance within `+ margin`.
+    fn every_pair_brute(x: &[f64], y: &[f64], radius: &[f64], margin: f64) -> (u64, f64) {
+        let (mut count, mut closest) = (0, f64::INFINITY);
+        for i in 0..x.len() {
+            for j in i + 1..x.len() {
+                let d = crate::fleet::motion::axis_dist(x[j] - x[i], y[j] - y[i]);
+                if d <= radius[i] + radius[j] + margin {
+                    closest = closest.min(d);
                 }
+                count += u64::from(d < radius[i] + radius[j]);
             }
-            let r_max = radius.iter().copied().fold(0.0, f64::max);
-            let pairs = c.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
-            let boxes = c.contacts_by_boxes(&x, &y, &radius, &moved, r_max, 8.0);
-            assert_eq!((pairs.0, pairs.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}");
-            // A grid as the simulation builds it (reaching the widest contact distance)
-            // through the collision test, which collects the pairs as wide as the count
-            // asked for once: the count reads them instead of collecting its own.
-            let mut k = Collisions::new([0.0, 0.0, side, side], 2.0 * r_max, n);
-            k.build_grid(&px, &py, &radius, &[]);
-            let _ = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
-            let heading = vec![0.0; n];
-            k.resolve(&px, &py, &radius, &vec![true; n], &heading, &[], 0.0, 0.5);
-            assert!(k.near.pairs_r2 > 0.0, "case {case}: the collision test collected pairs");
-            let kept = k.contacts_by_cell_pairs(&x, &y, &radius, &moved, r_max, 8.0).expect("fits the grid");
-            assert_eq!((kept.0, kept.1.to_bits()), (boxes.0, boxes.1.to_bits()), "case {case}, pairs kept");
-            found += pairs.0;
         }
-        assert!(found > 1000, "the cases hold contacts: {found}");
+        (count, closest)
+    }
+
+    #[test]
+    fn a_kept_count_of_every_pair_counts_what_the_definition_counts_to_the_bit() {
+        // A crowded floor walked for many steps: in some steps most robots move (the pass
+        // over pairs), in others a few (the pairs of those only), some step into bays and out
+        // (robots in bays count too), and now and then the margin changes (a fresh count).
+        // The count must be the definition's every step, and the smallest distance so far
+        // (all the tally keeps) too; a full count's smallest distance is the definition's.
+        let mut seed = 11;
+        let (mut found, mut passes, mut kept) = (0, 0, 0);
+        for case in 0..24 {
+            let n = [40, 300, 1000][case % 3];
+            let side = (n as f64 * 4.0).sqrt() * 50.0;
+            let radius: Vec<f64> = (0..n).map(|i| if case % 4 == 3 { 10.0 + (i % 5) as f64 } else { 12.5 }).collect();
+            let r_max = radius.iter().copied().fold(0.0, f64::max);
+            let mut c = Collisions::new([-50.0, -50.0, side + 50.0, side + 50.0], 2.0 * r_max + 3.0, n);
+            let (mut x, mut y): (Vec<f64>, Vec<f64>) = (0..n).map(|_| ((lcg(&mut seed) * side).round(), (lcg(&mut seed) * 10.0).floor() * 50.0)).unzip();
+            let mut bay = vec![false; n];
+            let (mut lowest_got, mut lowest_want) = (f64::INFINITY, f64::INFINITY);
+            for step in 0..60 {
+                let margin = if step % 20 < 10 { 0.0 } else { 3.0 };
+                let share = if step % 7 == 0 { 0.9 } else { 0.02 };
+                for i in 0..n {
+                    if lcg(&mut seed) < share {
+                        if lcg(&mut seed) < 0.1 {
+                            bay[i] = !bay[i];
+                            y[i] += if bay[i] { 25.0 } else { -25.0 };
+                        } else {
+                            x[i] = (x[i] + [4.0, -4.0, 1.5][(lcg(&mut seed) * 3.0) as usize]).clamp(0.0, side);
+                        }
+                    }
+                }
+                c.build_grid(&x, &y, &radius, &bay);
+                let got = c.contacts_of_every_pair(&x, &y, &radius, r_max, 8.0, margin);
+                let want = every_pair_brute(&x, &y, &radius, margin);
+                assert_eq!(got.0, want.0, "case {case} (n = {n}), step {step}");
+                (lowest_got, lowest_want) = (lowest_got.min(got.1), lowest_want.min(want.1));
+                assert_eq!(lowest_got.to_bits(), lowest_want.to_bits(), "case {case}, step {step}");
+                if share > 0.5 || step % 10 == 0 {
+                    assert_eq!(got.1.to_bits(), want.1.to_bits(), "case {case}, step {step}: a full count");
+                    passes += 1;
+                } else {
+                    kept += 1;
+                }
+                found += got.0;
+            }
+        }
+        assert!(found > 1000 && passes > 100 && kept > 100, "{found} contacts, {passes} full counts, {kept} kept");
     }
 
     /// The count's definition over every pair (`px`, `py` before the moves, `x`, `y` after).

@@ -1,6 +1,5 @@
-//! The collision phase's uniform grid: positions to cells, and the robots sorted by cell so
-//! that the cells a search box covers in one grid row are one contiguous run, and so that
-//! the pairs of neighbouring robots can be read from it (`pairs.rs`).
+//! The collision phase's uniform grid (positions to cells, for the index of `index.rs`), and
+//! tiny fleets' pass over pairs, which needs no cells.
 
 use super::Collisions;
 
@@ -14,6 +13,9 @@ pub(super) struct Grid {
     /// the same one.
     pub(super) inv_size: f64,
     pub(super) cols: usize,
+    /// A cell's key is its row shifted by this, plus its column (`2^shift >= cols`): keys
+    /// follow the rows, and a key's row is one shift away.
+    pub(super) shift: u32,
     pub(super) last_col: i32,
     pub(super) last_row: i32,
 }
@@ -23,6 +25,36 @@ impl Grid {
     #[inline]
     pub(super) fn scaled(&self, x: f64, y: f64) -> (f64, f64) {
         ((x - self.x0) * self.inv_size, (y - self.y0) * self.inv_size)
+    }
+
+    /// The cell column and row of a point.
+    #[inline]
+    pub(super) fn cell_of(&self, x: f64, y: f64) -> (u32, u32) {
+        let (tx, ty) = self.scaled(x, y);
+        self.cell(tx, ty)
+    }
+
+    /// The key of the cell of a point (row-major: see `shift`).
+    #[inline]
+    pub(super) fn key(&self, x: f64, y: f64) -> u32 {
+        let (c, r) = self.cell_of(x, y);
+        (r << self.shift) | c
+    }
+
+    /// The key of column `c` of row `r`.
+    #[inline]
+    pub(super) fn key_at(&self, c: u32, r: u32) -> u32 {
+        (r << self.shift) | c
+    }
+
+    /// Rows of cells (the last is always empty).
+    pub(super) fn rows(&self) -> usize {
+        self.last_row as usize + 2
+    }
+
+    /// The side of a cell.
+    pub(super) fn size(&self) -> f64 {
+        1.0 / self.inv_size
     }
 
     /// The cell column and row of a point in grid units, clamped into the grid (robots never
@@ -35,58 +67,37 @@ impl Grid {
     }
 }
 
-/// The spatial index: the robots (bays aside) sorted into a uniform grid by their positions,
-/// with their positions and radii copied alongside in that order.
+/// Tiny fleets (at most [`super::TINY`] robots, such as the paper's six): no cells at all.
+/// Each step one pass over the pairs of robots out of bays flags, for each, the others within
+/// `cover` of it (`bits`); the collision test and the contact count look only at those.
+/// Robots far apart, as they mostly are, then cost one distance per pair and step. The tests
+/// decide, not the flags, so the results are the same.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Space {
     pub(super) grid: Grid,
     /// Half-width of the box searched around a robot: the contact distance, a hair wider.
     pub(super) reach: f64,
-    /// Each robot's cell (`u32::MAX`: in a bay, out of the grid). Its column and row are
-    /// computed again where needed: two conversions are cheaper than 8 bytes a robot read
-    /// from memory.
+    /// Tiny fleets: `u32::MAX` for a robot in a bay, out of the pass; 0 for the others.
     pub(super) cell_of: Vec<u32>,
-    // Robots sorted by cell: the cells of a grid row that a search box covers are one
-    // contiguous run, read without chasing links. Two ways to sort, chosen by the grid's
-    // size per robot:
-    // - dense (a big fleet): a counting sort each step; the robots of cell `c` are
-    //   `first[c]..first[c + 1]`. It costs O(cells) per step, cheap when cells are few per
-    //   robot.
-    // - sparse (a small fleet in a big grid): last step's `order` repaired by insertion sort
-    //   (robots seldom change cells), O(N) per step. A cell's run is `start[c]..end[c]`,
-    //   valid only when `stamp[c]` is this step's `epoch`; other cells are empty.
-    pub(super) dense: bool,
-    // - tiny (a handful of robots, such as the paper's six): no cells at all. Each step one
-    //   pass over the pairs of robots in the grid flags, for each, the others within
-    //   `cover` of it (`bits`); the collision test and the contact count look only at those.
-    //   Robots far apart, as they mostly are, then cost one distance per pair and step. The
-    //   tests decide, not the flags, so the results are the same.
     pub(super) tiny: bool,
-    /// Tiny fleets: for the robot in place `k` of `by_cell`, the places of the others that
-    /// stood within `cover` of it (a relative slack far above rounding included), as bits.
+    /// For the robot in place `k` of `by_cell`, the places of the others that stood within
+    /// `cover` of it (a relative slack far above rounding included), as bits.
     pub(super) bits: Vec<u32>,
     pub(super) cover: f64,
-    /// Tiny fleets: whether the pass over pairs can be skipped (see [`Apart`]).
+    /// Whether the pass over pairs can be skipped (see [`Apart`]).
     pub(super) apart: Apart,
-    /// Tiny fleets: no two robots in the grid stand within `cover` (every flag is clear), so
-    /// none blocks another this step.
+    /// No two robots in the pass stand within `cover` (every flag is clear), so none blocks
+    /// another this step.
     pub(super) clear: bool,
     /// The farthest a coordinate can be from 0 (robots never leave the bounds): rounding
     /// in a move is at most a few units in the last place of it.
     pub(super) far_coordinate: f64,
-    /// Robots in the grid (bays aside): `by_cell[..placed]`.
+    /// Robots out of bays, `by_cell[..placed]`, in id order, with their positions (and
+    /// radii, for a fleet of mixed sizes) copied alongside.
     pub(super) placed: usize,
-    pub(super) first: Vec<u32>,
-    pub(super) order: Vec<u32>,
-    pub(super) epoch: u64,
-    pub(super) stamp: Vec<u64>,
-    pub(super) start: Vec<u32>,
-    pub(super) end: Vec<u32>,
     pub(super) by_cell: Vec<u32>,
     pub(super) sx: Vec<f64>,
     pub(super) sy: Vec<f64>,
-    /// Radii, copied only for a fleet of mixed sizes (empty for one radius: then every
-    /// contact distance is the same, and no robot reads it).
     pub(super) sr: Vec<f64>,
 }
 
@@ -96,52 +107,7 @@ pub(super) fn max_radius(radius: &[f64]) -> f64 {
     radius.iter().fold(0.0, |m: f64, &r| if m.is_nan() || r.is_nan() { f64::NAN } else { m.max(r) })
 }
 
-/// The range of cells from `c` (the cell of `t`, in grid units) that a box from `t - lo` to
-/// `t + hi` overlaps, with `lo, hi` at most one cell: one comparison on each side instead of
-/// two float-to-integer conversions. These are the cells `floor` gives for the box's ends,
-/// so every robot inside the box is found.
-#[inline]
-pub(super) fn span(t: f64, c: u32, lo: f64, hi: f64) -> (usize, usize) {
-    let (c, cf) = (c as usize, f64::from(c));
-    (c - usize::from(t - lo < cf), c + usize::from(t + hi >= cf + 1.0))
-}
-
-/// The sorted order's runs by cell, borrowed apart from the rest of [`Collisions`]: the
-/// collision test reads them while it writes its edges. Dense grids: `first`; sparse grids:
-/// `stamp`, `start`, `end` (non-empty only for them).
-#[derive(Clone, Copy)]
-pub(super) struct Runs<'a> {
-    pub(super) first: &'a [u32],
-    pub(super) stamp: &'a [u64],
-    pub(super) start: &'a [u32],
-    pub(super) end: &'a [u32],
-    pub(super) epoch: u64,
-}
-
-impl Runs<'_> {
-    /// The robots in cells `c0..=c1` of one grid row, as a range of the sorted order (the
-    /// runs of adjacent cells are adjacent).
-    #[inline]
-    pub(super) fn of(&self, c0: usize, c1: usize) -> (usize, usize) {
-        if !self.stamp.is_empty() {
-            let (mut k0, mut k1) = (u32::MAX, 0);
-            for c in c0..=c1 {
-                if self.stamp[c] == self.epoch {
-                    k0 = k0.min(self.start[c]);
-                    k1 = self.end[c];
-                }
-            }
-            return if k0 == u32::MAX { (0, 0) } else { (k0 as usize, k1 as usize) };
-        }
-        (self.first[c0] as usize, self.first[c1 + 1] as usize)
-    }
-}
-
 impl Collisions {
-    pub(super) fn runs(&self) -> Runs<'_> {
-        Runs { first: &self.space.first, stamp: &self.space.stamp, start: &self.space.start, end: &self.space.end, epoch: self.space.epoch }
-    }
-
     /// Tiny fleets: the flags' reach for robots of radii `radius`: every contact distance
     /// plus the margin, for the collision test, and the widest contact count so far (see
     /// `contacts.rs`). A NaN radius or margin (scenarios refuse them; the public API does
@@ -209,92 +175,61 @@ impl Collisions {
         self.space.apart.anchor(placed, sx, sy, clear, closest2);
         self.space.clear = clear;
     }
+}
 
-    /// Dense grids: a counting sort by cell into `first`, `by_cell`, `sx`, `sy` (and `sr`).
-    pub(super) fn counting_sort(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool) {
-        let n = x.len();
-        let cell_of = &self.space.cell_of[..n];
-        let first = &mut self.space.first[..];
-        first.fill(0);
-        for &c in cell_of {
-            if c != u32::MAX {
-                first[c as usize] += 1;
+impl Collisions {
+    /// Tiny fleets: the "blocked by" rows, from the flags of the pass over pairs, robot by
+    /// robot in id order.
+    pub(super) fn tiny_rows(&mut self, ask: &super::blocking::Ask<'_>) {
+        let n = ask.x.len();
+        let (x, y, radius, wants, alpha) = (&ask.x[..n], &ask.y[..n], &ask.radius[..n], &ask.wants[..n], &ask.alpha[..n]);
+        let (uniform, margin, angle) = (ask.uniform, ask.margin, ask.angle);
+        let space = &self.space;
+        let (cell_of, by_cell, sx, sy, sr, bits) =
+            (&space.cell_of[..n], &space.by_cell[..], &space.sx[..], &space.sy[..], &space.sr[..if uniform { 0 } else { n }], &space.bits[..]);
+        let g = &mut self.graph;
+        g.start.clear();
+        g.to.clear();
+        g.blocked.clear();
+        // Every flag clear (most steps of the paper's runs): nobody stands within reach of
+        // anybody, so nobody is blocked and there is nothing to test.
+        let clear = space.clear;
+        // Robots in the pass are placed in id order: `p` is the place of robot `i`.
+        let mut p = 0;
+        for i in 0..n {
+            let before = g.to.len();
+            g.start.push(before as u32);
+            if cell_of[i] == u32::MAX {
+                continue;
             }
-        }
-        // Running totals: `first[c]` is the end of cell `c`; placing robots from the last
-        // back to the first turns it into the start.
-        let mut total = 0;
-        for f in first.iter_mut() {
-            total += *f;
-            *f = total;
-        }
-        let (by_cell, sx, sy, sr) =
-            (&mut self.space.by_cell[..n], &mut self.space.sx[..n], &mut self.space.sy[..n], &mut self.space.sr[..if uniform { 0 } else { n }]);
-        for i in (0..n).rev() {
-            let c = cell_of[i];
-            if c != u32::MAX {
-                first[c as usize] -= 1;
-                let k = first[c as usize] as usize;
-                (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
-                if !uniform {
-                    sr[k] = radius[i];
+            p += 1;
+            if clear || !wants[i] {
+                continue;
+            }
+            let (xi, yi, a, ri) = (x[i], y[i], alpha[i], radius[i]);
+            let contact = |k: usize| if uniform { ri + ri + margin } else { ri + sr[k] + margin };
+            // Clearly out of reach (with a relative slack far above rounding): skip the
+            // square root and the angle. Near the boundary, `blocks` decides exactly.
+            let near = |k: usize| {
+                let r = contact(k);
+                let (dx, dy) = (sx[k] - xi, sy[k] - yi);
+                let far = dx * dx + dy * dy > r * r * 1.000_001;
+                !far
+            };
+            // `bits` holds every near one (and some that are not), in id order.
+            let mut mask = bits[p - 1];
+            while mask != 0 {
+                let k = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                if near(k) && super::blocks(xi, yi, a, sx[k], sy[k], contact(k), angle) {
+                    g.to.push(by_cell[k]);
                 }
             }
-        }
-    }
-
-    /// Sparse grids: last step's order repaired by insertion sort (robots out of the grid
-    /// sort last), then the runs of the occupied cells stamped with a new epoch.
-    pub(super) fn repair_order(&mut self, x: &[f64], y: &[f64], radius: &[f64], uniform: bool, placed: usize) {
-        let n = x.len();
-        let cell_of = &self.space.cell_of[..n];
-        if self.space.order.len() != n {
-            self.space.order.clear();
-            self.space.order.extend(0..n as u32);
-        }
-        let order = &mut self.space.order[..];
-        let mut moves = 0;
-        for k in 1..n {
-            let v = order[k];
-            let key = cell_of[v as usize];
-            let mut j = k;
-            while j > 0 && cell_of[order[j - 1] as usize] > key {
-                order[j] = order[j - 1];
-                j -= 1;
-            }
-            order[j] = v;
-            moves += k - j;
-            if moves > 8 * n {
-                // Far from sorted (the first step, a new fleet): sort outright.
-                order.sort_unstable_by_key(|&i| (cell_of[i as usize], i));
-                break;
+            if g.to.len() > before {
+                g.blocked.push(i as u32);
             }
         }
-        self.space.epoch += 1;
-        let epoch = self.space.epoch;
-        let (stamp, start, end) = (&mut self.space.stamp[..], &mut self.space.start[..], &mut self.space.end[..]);
-        let (by_cell, sx, sy, sr) =
-            (&mut self.space.by_cell[..n], &mut self.space.sx[..n], &mut self.space.sy[..n], &mut self.space.sr[..if uniform { 0 } else { n }]);
-        let mut last = u32::MAX;
-        for (k, &i) in order[..placed].iter().enumerate() {
-            let i = i as usize;
-            (by_cell[k], sx[k], sy[k]) = (i as u32, x[i], y[i]);
-            if !uniform {
-                sr[k] = radius[i];
-            }
-            let c = cell_of[i];
-            if c != last {
-                if last != u32::MAX {
-                    end[last as usize] = k as u32;
-                }
-                stamp[c as usize] = epoch;
-                start[c as usize] = k as u32;
-                last = c;
-            }
-        }
-        if last != u32::MAX {
-            end[last as usize] = placed as u32;
-        }
+        g.start.push(g.to.len() as u32);
     }
 }
 

@@ -1,7 +1,7 @@
 //! Collision waiting (spec phase 3, paper III-C), and the contact count after the moves.
-//! The folder holds the rule (`blocks`, here), the spatial index the robots are sorted into
-//! (`grid.rs`), the pairs of neighbours found in it (`pairs.rs`), the "blocked by" graph
-//! and who of the blocked is released (`blocking.rs`, `cycles.rs`), and the contacts
+//! The folder holds the rule (`blocks`, here), the grid and tiny fleets' pass over pairs
+//! (`grid.rs`), the sorted index of larger fleets (`index.rs`), the "blocked by" graph and
+//! who of the blocked is released (`blocking.rs`, `cycles.rs`), and the contacts
 //! (`contacts.rs`).
 //!
 //! Robot `i`, wanting to move with heading α, is blocked by robot `j` when
@@ -12,16 +12,16 @@
 //!
 //! Candidates come from a uniform grid whose cells are twice the `reach` given to
 //! [`Collisions::new`] wide (the largest contact distance; wider where the cell count is
-//! capped), so the cost grows with N, not N². Each step the robots are sorted by cell, with
-//! their positions copied alongside, so the cells a search box covers in a grid row are one
-//! contiguous run. In a dense grid the pairs of neighbouring robots are found once from the
-//! sorted order instead of a box per robot (`pairs.rs`), and the contact count after the
-//! moves reads the same pairs. The speed-ups are exact: shortcuts (distances along the axes,
-//! the cone box, the "clearly far" filter) only skip work whose outcome is certain, and
-//! `blocks` decides every case near a boundary, so results are bit-identical to the
-//! brute-force definition (tested in `tests/collision_grid.rs`) as long as every contact
-//! distance is within `reach`. All buffers live in [`Collisions`] and are reused from step
-//! to step.
+//! capped), so the cost grows with N, not N². Fleets beyond [`TINY`] robots keep every robot
+//! in an index sorted by cell and repaired from step to step (`index.rs`), and keep the
+//! "blocked by" graph too, finding again only the rows of robots that changed or stand near
+//! one that moved (`blocking.rs`); the contact count is kept the same way (`contacts.rs`).
+//! In a jam, where most robots stand, that is most of the work saved. The speed-ups are
+//! exact: shortcuts (distances along the axes, the "clearly far" filter) only skip work whose
+//! outcome is certain, `blocks` decides every case near a boundary, and a kept graph or count
+//! equals a fresh one, so results are bit-identical to the brute-force definition (tested in
+//! `tests/collision_grid.rs` and `tests/contacts.rs`). All buffers live in [`Collisions`] and
+//! are reused from step to step.
 
 use crate::fleet::motion::{bearing, folded_angle};
 
@@ -44,39 +44,38 @@ mod blocking;
 mod contacts;
 mod cycles;
 mod grid;
-mod pairs;
+mod index;
 
 /// Fleets of at most this many robots use no cells (see [`Collisions`]): with 32 robots a
 /// pass over all of them is as cheap as reading a few cells.
 const TINY: usize = 32;
 
-use blocking::Blocking;
-use grid::{Grid, Space};
-use pairs::Near;
+use blocking::{Ask, Blocking};
+use contacts::Touching;
+use grid::{max_radius, Grid, Space};
+use index::Index;
 
-/// Reusable state of the collision phase, in three parts: the spatial index that sorts the
-/// robots into the grid ([`Space`], `grid.rs`), the pairs of neighbours found in it
-/// ([`Near`], `pairs.rs`), and the "blocked by" graph with its release of cycles
-/// ([`Blocking`], `blocking.rs`, `cycles.rs`). The contact count (`contacts.rs`) reads the
-/// first two.
+/// Reusable state of the collision phase: tiny fleets' pass over pairs ([`Space`],
+/// `grid.rs`) or larger fleets' sorted index ([`Index`], `index.rs`), the "blocked by" graph
+/// with its release of cycles ([`Blocking`], `blocking.rs`, `cycles.rs`), and the contacts
+/// kept from the last count (`contacts.rs`).
 #[derive(Clone, Debug, Default)]
 pub struct Collisions {
     space: Space,
-    near: Near,
+    index: Index,
     graph: Blocking,
+    touching: Touching,
     /// The margin of the last [`Collisions::resolve`] (0 before it).
     margin: f64,
     /// Tiny fleets: the widest distance [`Collisions::contacts`] has looked at.
     contact_need: f64,
     /// `closest` counts pairs within `r_i + r_j` plus this (infinite: every pair looked at).
     closest_within: f64,
-    /// [`Collisions::contacts_of_every_pair`]'s buffers: who is in the grid, who is in a bay,
-    /// and the robots in bays by cell.
+    /// Tiny fleets, [`Collisions::contacts_of_every_pair`]: who is in the pass and who is in
+    /// a bay, and the robots in bays by cell.
     in_grid: Vec<bool>,
     in_bay: Vec<bool>,
     bays_by_cell: Vec<(u64, u32)>,
-    /// The last collision angle and its sine (the same every step).
-    sin_angle: (f64, f64),
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
 }
@@ -86,9 +85,9 @@ impl Collisions {
     /// of side `reach` (the largest contact distance).
     #[must_use]
     pub fn new(bounds: [f64; 4], reach: f64, robots: usize) -> Collisions {
-        // Cells twice the contact distance wide: the box of half-width `reach` around a robot
-        // then overlaps at most 2 × 2 cells (4 list heads to read instead of 9), and the grid
-        // is 4 times smaller, so it stays in cache.
+        // Cells twice the contact distance wide: a box of half-width `reach` around a robot
+        // then overlaps at most 2 × 2 cells, and a pair within reach stands in one cell or in
+        // two neighbouring ones.
         let (w, h) = ((bounds[2] - bounds[0]).max(0.0), (bounds[3] - bounds[1]).max(0.0));
         // Tiny robots in a big warehouse would want billions of cells: past the limit the
         // cells grow, which only adds candidates (every test is still `blocks`).
@@ -97,100 +96,79 @@ impl Collisions {
         let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 3;
         let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;
         let last = |k: usize| i32::try_from(k - 2).unwrap_or(i32::MAX);
-        let cells = cols * rows;
-        // Measured at two points: at 6.4 cells per robot (1,000 robots) the counting sort is
-        // about 10% faster; at 44 (the paper's 6 robots in 266 cells) keeping the order is
-        // about 45% faster. The switch lies between.
         let tiny = robots <= TINY;
-        let dense = !tiny && cells <= 16 * robots;
-        let sparse = !tiny && !dense;
         Collisions {
             space: Space {
-                grid: Grid { x0: bounds[0] - size, y0: bounds[1] - size, inv_size: 1.0 / size, cols, last_col: last(cols), last_row: last(rows) },
+                grid: Grid {
+                    x0: bounds[0] - size,
+                    y0: bounds[1] - size,
+                    inv_size: 1.0 / size,
+                    cols,
+                    shift: usize::BITS - (cols - 1).leading_zeros(),
+                    last_col: last(cols),
+                    last_row: last(rows),
+                },
                 reach: reach.max(1e-6) * (1.0 + 1e-9) + 1e-9,
                 far_coordinate: bounds.iter().fold(0.0, |m: f64, b| m.max(b.abs())),
-                cell_of: vec![0; robots],
-                dense,
+                cell_of: if tiny { vec![0; robots] } else { Vec::new() },
                 tiny,
                 bits: if tiny { vec![0; robots] } else { Vec::new() },
                 cover: 0.0,
                 apart: grid::Apart::default(),
                 clear: false,
                 placed: 0,
-                first: if dense { vec![0; cells + 1] } else { Vec::new() },
-                order: if sparse { (0..robots as u32).collect() } else { Vec::new() },
-                epoch: 0,
-                stamp: if sparse { vec![0; cells] } else { Vec::new() },
-                start: if sparse { vec![0; cells] } else { Vec::new() },
-                end: if sparse { vec![0; cells] } else { Vec::new() },
-                by_cell: vec![0; robots],
-                sx: vec![0.0; robots],
-                sy: vec![0.0; robots],
+                by_cell: if tiny { vec![0; robots] } else { Vec::new() },
+                sx: if tiny { vec![0.0; robots] } else { Vec::new() },
+                sy: if tiny { vec![0.0; robots] } else { Vec::new() },
                 sr: Vec::new(),
             },
-            near: Near::default(),
-            graph: Blocking { blocked_bits: vec![0; robots.div_ceil(8)], rank: vec![0; robots.div_ceil(8)], ..Blocking::default() },
+            index: Index::default(),
+            graph: Blocking::default(),
+            touching: Touching::default(),
             margin: 0.0,
             contact_need: 0.0,
             closest_within: f64::INFINITY,
             in_grid: Vec::new(),
             in_bay: Vec::new(),
             bays_by_cell: Vec::new(),
-            sin_angle: (0.0, 0.0),
             waits: vec![false; robots],
         }
     }
 
-    /// Sorts the robots into the grid by their positions, robots in a bay (`bay[i]`; empty:
-    /// nobody) aside; returns whether the fleet shares one radius. [`Collisions::resolve`] and
-    /// [`Collisions::contacts`] read it.
+    /// Brings the robots' places up to date, robots in a bay (`bay[i]`; empty: nobody)
+    /// aside; returns whether the fleet shares one radius. [`Collisions::resolve`] does it
+    /// too; [`Collisions::contacts`] reads the places as they were before the moves.
     pub fn build_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64], bay: &[bool]) -> bool {
-        self.sort_into_grid(x, y, radius, bay).0
-    }
-
-    /// [`Collisions::build_grid`]; also returns whether a robot in the grid stands at a NaN
-    /// coordinate.
-    fn sort_into_grid(&mut self, x: &[f64], y: &[f64], radius: &[f64], bay: &[bool]) -> (bool, bool) {
         let n = x.len();
-        let (y, radius) = (&y[..n], &radius[..n]);
-        self.near.pairs_r2 = 0.0;
-        let grid = self.space.grid;
-        let bay: &[bool] = if bay.is_empty() { &[] } else { &bay[..n] };
-        let cell_of = &mut self.space.cell_of[..n];
-        // Every robot can block, so every robot goes into the grid (bays aside).
-        let mut placed = 0;
-        let mut nan = false;
-        for i in 0..n {
-            if !bay.is_empty() && bay[i] {
-                cell_of[i] = u32::MAX;
-                continue;
-            }
-            placed += 1;
-            if self.space.tiny {
-                // No cells: any mark but "in a bay" will do.
-                cell_of[i] = 0;
-                continue;
-            }
-            nan |= x[i].is_nan() | y[i].is_nan();
-            let (tx, ty) = grid.scaled(x[i], y[i]);
-            let (cx, cy) = grid.cell(tx, ty);
-            cell_of[i] = (cy as usize * grid.cols + cx as usize) as u32;
-        }
+        let radius = &radius[..n];
         // One radius for the whole fleet (the usual case): one contact distance, and no
         // radii to copy or read per candidate.
         let uniform = radius.iter().all(|&r| r == radius[0]);
+        if self.space.tiny {
+            self.tiny_places(x, y, radius, bay, uniform);
+        } else {
+            self.index.refresh(&self.space.grid, x, y, Some(bay), None);
+        }
+        uniform
+    }
+
+    /// Tiny fleets: the robots out of bays in id order, and the pass over pairs.
+    fn tiny_places(&mut self, x: &[f64], y: &[f64], radius: &[f64], bay: &[bool], uniform: bool) {
+        let n = x.len();
+        let bay: &[bool] = if bay.is_empty() { &[] } else { &bay[..n] };
+        let cell_of = &mut self.space.cell_of[..n];
+        let mut placed = 0;
+        for i in 0..n {
+            let aside = !bay.is_empty() && bay[i];
+            // No cells: any mark but "in a bay" will do.
+            cell_of[i] = if aside { u32::MAX } else { 0 };
+            placed += usize::from(!aside);
+        }
         if !uniform && self.space.sr.len() < n {
             self.space.sr.resize(n, 0.0);
         }
         self.space.placed = placed;
-        if self.space.tiny {
-            self.copy_placed(x, y, radius, uniform);
-        } else if self.space.dense {
-            self.counting_sort(x, y, radius, uniform);
-        } else {
-            self.repair_order(x, y, radius, uniform, placed);
-        }
-        (uniform, nan)
+        self.copy_placed(x, y, radius, uniform);
     }
 
     /// For how many steps from now collision waiting surely blocks nobody and
@@ -260,24 +238,36 @@ impl Collisions {
         let n = x.len();
         // Slices of exactly `n`: indexing by `i < n` then needs no bounds checks.
         let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
-        self.waits[..n].fill(false);
-        self.near.pairs_r2 = 0.0;
         // A robot alone is never blocked (the paper's N = 1 runs: 40% of its steps).
-        if n < 2 || !wants.contains(&true) {
+        let nobody = n < 2 || !wants.contains(&true);
+        if !self.space.tiny {
+            // The index follows every step, so that the next step sees what moved since; the
+            // wishes only where the graph follows them too.
+            let wishes = (!nobody).then_some(index::Wishes { wants, alpha });
+            self.index.refresh(&self.space.grid, x, y, Some(bay), wishes);
+        }
+        if nobody {
+            self.waits[..n].fill(false);
             return;
         }
         self.margin = margin;
-        let (uniform, nan) = self.sort_into_grid(x, y, radius, bay);
-        // A robot at a NaN coordinate lands in a cell of its own choosing: the boxes decide
-        // what it finds, as they always did.
-        let pairs = if nan { None } else { self.pair_reach2(radius, uniform, margin) };
-        if pairs.is_some_and(|r2| self.collect_pairs(r2)) {
-            self.edges_from_pairs(wants, alpha, radius, margin, angle);
-            self.release_blocked();
+        if self.graph.start.len() != n + 1 {
+            self.graph.reset(n);
+        }
+        let uniform = radius.iter().all(|&r| r == radius[0]);
+        let r_max = if uniform { radius[0] } else { max_radius(radius) };
+        let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
+        if self.space.tiny {
+            self.tiny_places(x, y, radius, bay, uniform);
+            self.tiny_rows(&ask);
+        } else if (2.0 * r_max + margin).is_nan() {
+            self.graph.every_pair(&ask);
+        } else {
+            self.graph.update(&mut self.index, &self.space.grid, &ask);
+            self.graph.release_kept(&mut self.waits[..n]);
             return;
         }
-        self.edges_from_boxes(x, y, radius, wants, alpha, uniform, margin, angle);
-        self.release_blocked();
+        self.graph.release(&mut self.waits[..n]);
     }
 }
 

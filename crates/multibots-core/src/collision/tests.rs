@@ -152,7 +152,7 @@ fn one_collisions_kept_from_step_to_step_decides_as_a_fresh_one() {
             let mut fresh = Collisions::new(bounds, 28.0, n);
             fresh.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
             assert_eq!(kept.waits, fresh.waits, "{n} robots in {side} px, step {step}");
-            released += kept.graph.blocked.iter().filter(|&&i| !kept.waits[i as usize]).count();
+            released += kept.graph.released.len();
         }
         assert!(n < 40 || released > 0, "{n} robots in {side} px: some cycle was released");
     }
@@ -243,32 +243,104 @@ fn a_tiny_fleet_that_skips_the_pass_over_pairs_decides_and_counts_as_a_fresh_one
     assert!(skipped * 3 > steps && waited > 100 && touched > 10, "skipped {skipped} of {steps}, waited {waited}, touched {touched}");
 }
 
+/// Who waits by the definition: O(N²) rows, components by reachability.
+fn brute(x: &[f64], y: &[f64], radius: &[f64], wants: &[bool], alpha: &[f64], margin: f64) -> Vec<bool> {
+    let n = x.len();
+    let edge = |i: usize, j: usize| i != j && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], radius[i] + radius[j] + margin, ANGLE);
+    let mut reach: Vec<Vec<bool>> = (0..n).map(|i| (0..n).map(|j| edge(i, j)).collect()).collect();
+    for k in 0..n {
+        let via = reach[k].clone();
+        for row in &mut reach {
+            if row[k] {
+                for (c, &v) in row.iter_mut().zip(&via) {
+                    *c |= v;
+                }
+            }
+        }
+    }
+    (0..n)
+        .map(|i| {
+            let cycle = |j: usize| j != i && reach[i][j] && reach[j][i];
+            (0..n).any(|j| edge(i, j)) && (!(0..n).any(cycle) || (0..i).any(cycle))
+        })
+        .collect()
+}
+
 #[test]
-fn the_pairs_stand_in_for_the_boxes_only_where_they_find_the_same() {
-    // A dense grid of robots on aisles: the pairs are collected (and the contact count
-    // can read them). A robot at a NaN coordinate, a contact distance wider than the
-    // boxes reach, or a pile with more pairs than the list keeps: the boxes decide.
-    let n = 300;
+fn odd_inputs_of_the_public_api_decide_as_the_definition() {
+    // A robot at a NaN coordinate, a contact distance wider than the grid's reach, a NaN
+    // margin, a pile of robots on one spot: each as the definition decides, step after step
+    // of one kept `Collisions`.
+    let n = 120;
     let mut rnd = uniform(7);
     let x: Vec<f64> = (0..n).map(|_| (rnd() * 400.0).round()).collect();
     let y: Vec<f64> = (0..n).map(|_| (rnd() * 8.0).floor() * 50.0).collect();
-    let (wants, alpha, radius) = (vec![true; n], vec![0.0; n], vec![12.5; n]);
-    let kept_pairs = |x: &[f64], y: &[f64], margin: f64| {
-        let mut c = Collisions::new([-50.0, -50.0, 450.0, 450.0], 25.0, n);
-        assert!(c.space.dense);
-        c.resolve(x, y, &radius, &wants, &alpha, &[], margin, ANGLE);
-        c.near.pairs_r2 > 0.0
-    };
-    assert!(kept_pairs(&x, &y, 0.0), "the usual case uses the pairs");
+    let (wants, radius) = (vec![true; n], vec![12.5; n]);
+    let alpha: Vec<f64> = (0..n).map(|i| [0.0, PI, FRAC_PI_2, 1.0][i % 4]).collect();
     let mut nan_y = y.clone();
     nan_y[17] = f64::NAN;
-    assert!(!kept_pairs(&x, &nan_y, 0.0), "a NaN coordinate");
-    assert!(!kept_pairs(&x, &y, 1.0), "contacts wider than the boxes reach");
     let (mut px, mut py) = (x.clone(), y.clone());
-    for i in 0..200 {
+    for i in 0..80 {
         (px[i], py[i]) = (200.0, 200.0);
     }
-    assert!(!kept_pairs(&px, &py, 0.0), "a pile past the list's limit");
+    let mut c = Collisions::new([-50.0, -50.0, 450.0, 450.0], 25.0, n);
+    for (x, y, margin) in [(&x, &y, 0.0), (&x, &nan_y, 0.0), (&x, &y, 30.0), (&x, &y, 0.0), (&px, &py, 0.0), (&x, &y, 0.0)] {
+        c.resolve(x, y, &radius, &wants, &alpha, &[], margin, ANGLE);
+        assert_eq!(c.waits, brute(x, y, &radius, &wants, &alpha, margin), "margin {margin}");
+    }
+    // A NaN margin: every pair whose angle fits blocks, however far apart.
+    let few = 40;
+    c = Collisions::new([-50.0, -50.0, 450.0, 450.0], 25.0, few);
+    c.resolve(&x[..few], &y[..few], &radius[..few], &wants[..few], &alpha[..few], &[], f64::NAN, ANGLE);
+    assert_eq!(c.waits, brute(&x[..few], &y[..few], &radius[..few], &wants[..few], &alpha[..few], f64::NAN));
+}
+
+#[test]
+fn a_kept_graph_finds_again_only_what_changed_and_decides_as_a_fresh_one() {
+    // Many steps of a crowded floor in which a few robots move, turn or stop wanting to move
+    // (the kept rows are read again), and now and then most do (the pass over pairs), some
+    // stepping into bays and out: the kept `Collisions` must decide as a fresh one.
+    let mut rnd = uniform(31);
+    let mut released = 0;
+    for n in [33, 200, 800] {
+        let side = (n as f64 * 3.0).sqrt() * 50.0;
+        let bounds = [0.0, 0.0, side, side];
+        let mut kept = Collisions::new(bounds, 25.0, n);
+        let mut x: Vec<f64> = (0..n).map(|_| (rnd() * side).round()).collect();
+        let mut y: Vec<f64> = (0..n).map(|_| (rnd() * side / 50.0).floor() * 50.0).collect();
+        let radius = vec![12.5; n];
+        let headings = [0.0, PI, FRAC_PI_2, -FRAC_PI_2, 0.7];
+        let mut alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() * 5.0) as usize]).collect();
+        let mut wants: Vec<bool> = (0..n).map(|_| rnd() < 0.9).collect();
+        let mut bay = vec![false; n];
+        for step in 0..80 {
+            let share = if step % 9 == 0 { 0.8 } else { 0.01 };
+            for i in 0..n {
+                if rnd() < share {
+                    match (rnd() * 4.0) as usize {
+                        0 => alpha[i] = headings[(rnd() * 5.0) as usize],
+                        1 => wants[i] = !wants[i],
+                        2 => bay[i] = !bay[i],
+                        _ => x[i] = (x[i] + 4.0 * alpha[i].cos()).clamp(0.0, side),
+                    }
+                }
+            }
+            kept.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
+            let mut fresh = Collisions::new(bounds, 25.0, n);
+            fresh.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
+            assert_eq!(kept.waits, fresh.waits, "{n} robots, step {step}");
+            assert_eq!((&kept.graph.start, &kept.graph.blocked), (&fresh.graph.start, &fresh.graph.blocked), "{n} robots, step {step}");
+            released += kept.graph.released.len();
+            // Those that may move do.
+            for i in 0..n {
+                if wants[i] && !kept.waits[i] && !bay[i] && rnd() < 0.5 {
+                    x[i] = (x[i] + 4.0 * alpha[i].cos()).clamp(0.0, side);
+                    y[i] = (y[i] + 4.0 * alpha[i].sin()).clamp(0.0, side);
+                }
+            }
+        }
+    }
+    assert!(released > 0, "some cycle was released");
 }
 
 #[test]
@@ -284,8 +356,7 @@ fn grid_finds_neighbours_across_cell_borders_and_agrees_with_brute_force() {
     c.resolve(&x, &y, &vec![12.5; n], &wants, &alpha, &[], 0.0, ANGLE);
     for i in 0..n {
         let brute: Vec<u32> = (0..n).filter(|&j| j != i && wants[i] && blocks(x[i], y[i], alpha[i], x[j], y[j], 25.0, ANGLE)).map(|j| j as u32).collect();
-        let s = c.graph.blocked.binary_search(&(i as u32)).ok();
-        let mut got = s.map_or(Vec::new(), |s| c.graph.edge_to[c.graph.edge_start[s] as usize..c.graph.edge_start[s + 1] as usize].to_vec());
+        let mut got = c.graph.to[c.graph.start[i] as usize..c.graph.start[i + 1] as usize].to_vec();
         got.sort_unstable();
         assert_eq!(got, brute, "robot {i}");
     }

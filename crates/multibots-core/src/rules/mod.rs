@@ -14,6 +14,10 @@ pub mod run;
 
 pub use run::Run;
 
+/// The paper rules' per-phase profile (`--features profiling`, `examples/phases.rs`).
+#[cfg(feature = "profiling")]
+pub use paper::profile;
+
 use crate::alloc::{self, Allocator};
 use crate::error::Result;
 use crate::fleet::robot::Robots;

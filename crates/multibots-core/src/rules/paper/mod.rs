@@ -32,6 +32,8 @@ pub mod lifelong;
 mod moves;
 mod params;
 mod pipeline;
+#[cfg(feature = "profiling")]
+pub mod profile;
 mod state;
 mod tasks;
 

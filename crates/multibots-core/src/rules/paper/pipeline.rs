@@ -54,11 +54,40 @@ pub(crate) enum Phase {
     End,
 }
 
-/// Runs one phase: the one place a per-phase timer or trace would go (inlined away today).
+// Read by the `profiling` feature's totals, and by the test below.
+#[cfg_attr(not(feature = "profiling"), allow(dead_code))]
+impl Phase {
+    pub(crate) const COUNT: usize = 11;
+    /// Every phase, in the order of the table.
+    pub(crate) const ALL: [Phase; Phase::COUNT] = [
+        Phase::Arrive,
+        Phase::HandOut,
+        Phase::Intend,
+        Phase::PeopleGuard,
+        Phase::Decide,
+        Phase::Travel,
+        Phase::Contacts,
+        Phase::PeopleWalk,
+        Phase::PeopleAloneWalk,
+        Phase::Tasks,
+        Phase::End,
+    ];
+}
+
+/// Runs one phase: the one place a per-phase timer goes. It compiles to the call alone,
+/// unless the `profiling` feature times each phase (`profile.rs`).
 #[allow(clippy::inline_always)] // a hook that must cost nothing
 #[inline(always)]
-fn run<R>(_phase: Phase, f: impl FnOnce() -> R) -> R {
-    f()
+fn run<R>(phase: Phase, f: impl FnOnce() -> R) -> R {
+    #[cfg(feature = "profiling")]
+    {
+        super::profile::run(phase, f)
+    }
+    #[cfg(not(feature = "profiling"))]
+    {
+        let _ = phase;
+        f()
+    }
 }
 
 /// The step's own buffers: what one phase leaves for the next (rebuilt every step), and the
@@ -173,7 +202,9 @@ mod tests {
         let code = include_str!("pipeline.rs");
         let code = &code[..code.find("#[cfg(test)]").unwrap()];
         let ran: Vec<&str> = code.split("run(Phase::").skip(1).map(|s| &s[..s.find(',').unwrap()]).collect();
-        assert_eq!(ran.len(), 11, "{ran:?}");
+        assert_eq!(ran.len(), super::Phase::COUNT, "{ran:?}");
+        let names: Vec<String> = super::Phase::ALL.iter().map(|p| format!("{p:?}")).collect();
+        assert_eq!(names, ran, "Phase::ALL");
         assert_eq!(table(code), ran, "pipeline.rs");
         assert_eq!(table(include_str!("mod.rs")), ran, "mod.rs");
     }
