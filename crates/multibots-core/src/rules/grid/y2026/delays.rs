@@ -10,7 +10,7 @@
 //! gaussStdRatio`, rounded half away from zero and clamped (no draw when the deviation is 0).
 //!
 //! The draws are libstdc++'s (`random.rs`), so the intervals are the Start-Kit's for the same
-//! `delayConfig` and team, tick for tick (`tests/lorr26_delays.rs`).
+//! `delayConfig` and team, tick for tick (`tests/engine/lorr26_delays.rs`).
 
 use super::random::{poisson, round_half_away, shuffle, Mt19937, Normal};
 use crate::input::lorr::{DelayConfig, DurationModel, EventModel};

@@ -8,7 +8,7 @@
 //! Every figure is an `f32`, every operation a single `f32` operation, in the order the
 //! Start-Kit writes it: its build (x86-64, SSE, no fused multiply-add) rounds each step to
 //! single precision, so the same sequence here gives the same bits and the same verdicts
-//! (checked tick by tick against the Start-Kit's own model in `tests/lorr26_model.rs`).
+//! (checked tick by tick against the Start-Kit's own model in `tests/engine/lorr26_model.rs`).
 
 use crate::rules::grid::action::Action;
 
