@@ -96,7 +96,8 @@ def measure(size: str, window: str, repeats: int) -> dict:
 
 def table(rows: list[dict]) -> list[str]:
     """One Markdown table: a column pair (instructions, wall share) per measured case."""
-    phases = [p for p in sorted(rows[0]["wall"], key=ORDER.index) if any(r["instructions"].get(p, 0) >= 0.5 or r["wall"][p] > 0 for r in rows)]
+    phases = [p for p in sorted(rows[0]["wall"], key=ORDER.index)
+              if any(r["instructions"].get(p, 0) >= 0.5 or r["wall"][p] > 0 for r in rows)]
     head = "| phase | " + " | ".join(f"{r['label']}: {r['size']} {r['window']}, instr. | share" for r in rows) + " |"
     out = [head, "| --- |" + " ---: | ---: |" * len(rows)]
     for p in phases:
