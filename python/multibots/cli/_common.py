@@ -272,7 +272,8 @@ class _ReaderMayLeave:
 
     def write(self, text: str) -> int:
         try:
-            return int(self._stream.write(text))
+            written = self._stream.write(text)
+            return len(text) if written is None else int(written)
         except BrokenPipeError:
             self._drop()
             return len(text)

@@ -224,7 +224,7 @@ def plan_runs(
     for key in ("robots", "allocator", "starts", "traffic", "rules") + (("tasks",) if spec.kind != "scenario" else ()):
         template.pop(key, None)
     runs = []
-    played_by_n: dict[int, str] = {}
+    played_by_n: dict[tuple[int, str], str] = {}
     from multibots.strategies import strategy_labels
 
     labels = strategy_labels(list(strategies))
@@ -248,7 +248,7 @@ def plan_runs(
                     scenario = Scenario._parsed_only(fields)
                 except ScenarioError as e:
                     raise ScenarioError(f"{arm}, N = {n}: {e}") from None
-                played = tr if tr != "auto" else _played_traffic(scenario, played_by_n, n)
+                played = tr if tr != "auto" else _played_traffic(scenario, played_by_n, (n, ru))
                 runs.append(Run(arm, n, list_id, scenario, played, ru, hu, s))
     # All at once: each layout is built once, not once per run.
     failed = _core.check_many([r.scenario._core for r in runs], workers)
@@ -260,15 +260,15 @@ def plan_runs(
     return runs
 
 
-def _played_traffic(scenario: Scenario, known: dict[int, str], n: int) -> str:
-    """The policy ``traffic = "auto"`` plays at fleet size ``n`` (the layout is the same for
-    every run of a study, so once per size)."""
-    if n not in known:
+def _played_traffic(scenario: Scenario, known: dict[tuple[int, str], str], key: tuple[int, str]) -> str:
+    """The policy ``traffic = "auto"`` plays for a (fleet size, rule set) ``key`` (the layout
+    is the same for every run of a study, so once per key)."""
+    if key not in known:
         try:
-            known[n] = str(scenario.resolved().to_dict().get("traffic", "wait"))
+            known[key] = str(scenario.resolved().to_dict().get("traffic", "wait"))
         except ScenarioError:
-            known[n] = "auto"  # check_many reports the scenario's error below
-    return known[n]
+            known[key] = "auto"  # check_many reports the scenario's error below
+    return known[key]
 
 
 def _row(run: Run, spec: TaskSpec, raw: dict[str, Any]) -> dict[str, Any]:

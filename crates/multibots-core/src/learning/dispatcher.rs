@@ -85,7 +85,9 @@ pub struct Dispatcher {
 /// The world of `scenario`, the one given when it is on the same layout with the same routes
 /// (`reserve` has its own, `World::of`).
 pub(crate) fn world_for(world: &Arc<World>, old: &Scenario, new: &Scenario) -> Result<Arc<World>> {
-    let reserve = |s: &Scenario| s.traffic == crate::input::scenario::Traffic::Reserve;
+    // The traffic the run will play: "auto" resolved for this layout's departure zones.
+    let departures = world.layout.departure.len();
+    let reserve = |s: &Scenario| s.resolved(departures).traffic == crate::input::scenario::Traffic::Reserve;
     if new.layout == old.layout && new.layout_generate == old.layout_generate && reserve(new) == reserve(old) {
         Ok(Arc::clone(world))
     } else {

@@ -77,7 +77,7 @@ pub struct Scenario {
     /// Where robots start (extension): `"departure"` (the paper: one per departure zone, at
     /// its charger), `"spread"` (parked evenly along the aisles, for large fleets), or
     /// `"auto"`: departure when the fleet fits the layout's departure zones (or `starts` names
-    /// them), spread beyond. Default: `"auto"`.
+    /// them, or `charging.chargers` is `"home"`), spread beyond. Default: `"auto"`.
     #[serde(default, skip_serializing_if = "Placement::is_auto")]
     #[schemars(extend("default" = "auto"))]
     pub placement: Placement,
@@ -198,7 +198,8 @@ impl Scenario {
     pub fn resolved(&self, departures: usize) -> Scenario {
         let mut s = self.clone();
         if s.placement == Placement::Auto {
-            let paper = s.rules == Rules::Original || s.starts.is_some() || s.robots as usize <= departures;
+            // Home chargers are the paper's too: a fleet on the aisles cannot have them.
+            let paper = s.rules == Rules::Original || s.starts.is_some() || s.charging.chargers == ChargerUse::Home || s.robots as usize <= departures;
             s.placement = if paper { Placement::Departure } else { Placement::Spread };
         }
         let spread = s.placement == Placement::Spread;
@@ -534,6 +535,9 @@ mod tests {
         // Named starts, or the original rules: the paper's placement whatever the size.
         let named = Scenario { robots: 200, starts: Some(vec!["A".into()]), ..Scenario::paper(1, &[11]) }.resolved(6);
         assert_eq!(named.placement, Placement::Departure);
+        let mut home = Scenario { robots: 200, ..Scenario::paper(1, &[11]) };
+        home.charging.chargers = ChargerUse::Home;
+        assert_eq!(home.resolved(6).placement, Placement::Departure, "home chargers are the paper's placement");
         let original = Scenario { robots: 200, rules: Rules::Original, ..Scenario::paper(1, &[11]) }.resolved(6);
         assert_eq!((original.placement, original.traffic), (Placement::Departure, Traffic::Wait));
         // A choice the scenario makes stays; staggering needs room between threshold and level.

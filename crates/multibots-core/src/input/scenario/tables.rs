@@ -169,8 +169,8 @@ impl Rules {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Placement {
-    /// `departure` when the fleet fits the layout's departure zones (or `starts` names them),
-    /// `spread` beyond ([`crate::input::scenario::Scenario::resolved`]).
+    /// `departure` when the fleet fits the layout's departure zones (or `starts` names them, or
+    /// chargers are `home`), `spread` beyond ([`crate::input::scenario::Scenario::resolved`]).
     #[default]
     Auto,
     /// The paper: robot i starts at the charger of the i-th start node.
