@@ -77,6 +77,7 @@ def run(
     planner_py: Optional[Union[str, os.PathLike[str]]] = None,
     scheduler_py: Optional[Union[str, os.PathLike[str]]] = None,
     executor_py: Optional[Union[str, os.PathLike[str]]] = None,
+    delay_seed: Optional[int] = None,
 ) -> LorrResult:
     """Runs a LoRR problem for ``steps`` steps.
 
@@ -106,6 +107,9 @@ def run(
             import is ``MAPF``) playing that part in place of the built-in
             (:mod:`multibots.lorr_python`); any subset. An executor needs a 2026 problem, a
             scheduler a 2024 or 2026 one.
+        delay_seed: (2026 rules) the seed of the delays in place of the problem's
+            ``delayConfig.seed``: another draw of the same delay model, the one the Start-Kit
+            gives with that seed in the problem file. None: the problem's.
 
     Raises:
         ScenarioError: a problem file that cannot be read (the message names the file and
@@ -119,7 +123,7 @@ def run(
     """
     problem = _args.path("problem", problem)
     for name, value in (("steps", steps), ("planner", planner), ("scheduler", scheduler), ("seed", seed),
-                        ("plan_time_limit_ms", plan_time_limit_ms), ("robots", robots)):
+                        ("plan_time_limit_ms", plan_time_limit_ms), ("robots", robots), ("delay_seed", delay_seed)):
         check_option(name, value, error=ArgumentError)
     out = _args.path("out", out, optional=True)
     record = _args.path("record", record, optional=True)
@@ -138,7 +142,7 @@ def run(
     with OutputSet({"out": out, "figures": None if out is None else figures_path(out), "record": record}) as tmp:
         recorded = os.fspath(tmp["record"]) if "record" in tmp else None
         engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded,
-                               entries)
+                               entries, delay_seed)
         while engine.t < steps:
             engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
             if progress is not None:
@@ -205,5 +209,7 @@ def check_option(name: str, value: Any, where: Optional[str] = None, error: type
         raise bad(f"expected a number of steps from 0 to {limits['lorr_steps']:,}")
     if name == "seed" and not (whole and 0 <= value < 2**64):
         raise bad("expected an integer from 0 to 2^64 - 1")
+    if name == "delay_seed" and not (value is None or (whole and 0 <= value < 2**32)):
+        raise bad("expected an integer from 0 to 2^32 - 1 (the Start-Kit's delay seed is unsigned 32-bit)")
     if name == "plan_time_limit_ms" and not (value is None or (whole and 1 <= value <= limits["plan_time_limit_ms"])):
         raise bad(f"expected milliseconds from 1 to {limits['plan_time_limit_ms']:,}")

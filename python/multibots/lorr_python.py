@@ -108,12 +108,71 @@ def load_entry(role: str, file: "os.PathLike[str] | str") -> Any:
             pass
 
 
+def _task(task_id: int, revealed: int, agent: int, locations: list[int], done: int) -> mapf.Task:
+    t = mapf.Task()
+    t.task_id, t.t_revealed, t.agent_assigned = task_id, revealed, agent
+    t.locations, t.idx_next_loc = locations, done
+    return t
+
+
 def _state(loc: int, heading: int, count: int, held: bool, tick: int, counter: int) -> mapf.State:
     s = mapf.State(loc, tick, heading)
     s.counter.count = count
     s.counter.maxCount = counter
     s.delay.inDelay = held
     return s
+
+
+class _PlanSource:
+    """Makes a planner-side field of ``env`` from a ``PlanSnapshot`` (the binding's
+    ``lorr_entries.rs``), when the entry reads it."""
+
+    def __init__(self, env: mapf.SharedEnvironment, snapshot: Any, news: Any) -> None:
+        self.env, self.snapshot, self.news = env, snapshot, news
+
+    def __call__(self, name: str) -> Any:
+        snap, m = self.snapshot, self.env.max_counter
+        if name == "curr_states":
+            return [_state(*p, -1, m) for p in snap.predicted()]
+        if name == "start_states":
+            return self.env.curr_states
+        if name == "system_states":
+            return [_state(*p, snap.tick, m) for p in snap.system()]
+        if name == "task_pool":
+            return {row[0]: _task(*row) for row in snap.tasks()}
+        if name == "curr_task_schedule":
+            return snap.schedule()
+        if name == "goal_locations":
+            return [[] if g is None else [(g[0], g[1])] for g in snap.goals()]
+        if name == "new_tasks":
+            return self.news.new_tasks()
+        if name == "new_freeagents":
+            return self.news.new_free()
+        if name == "staged_actions":
+            return [[mapf.Action(a) for a in q] for q in snap.staged()]
+        raise AttributeError(name)
+
+
+class _ExecSource:
+    """Makes an executor-side field of ``env`` from an ``ExecSnapshot``, when read; the
+    states it predicted stand for ``curr_states``."""
+
+    def __init__(self, env: mapf.SharedEnvironment, snapshot: Any, predicted: list[mapf.State]) -> None:
+        self.env, self.snapshot, self.predicted = env, snapshot, predicted
+
+    def __call__(self, name: str) -> Any:
+        if name in ("curr_states", "start_states"):
+            return self.predicted
+        if name == "system_states":
+            return [_state(*p, self.snapshot.tick, self.env.max_counter) for p in self.snapshot.system()]
+        if name == "staged_actions":
+            return [[mapf.Action(a) for a in q] for q in self.snapshot.staged()]
+        # The executor is not handed the tasks (the Start-Kit's executor sees them empty).
+        return {} if name == "task_pool" else []
+
+
+#: The executor's fields that change between its calls (the others stay as first given).
+_EXEC_FIELDS = ("curr_states", "start_states", "system_states", "staged_actions")
 
 
 class Entries:
@@ -133,6 +192,8 @@ class Entries:
         self.exec_env = mapf.SharedEnvironment()
         self.version = "2026"
         self.predicted: list[mapf.State] = []
+        #: The scheduler's snapshot at the last call, whose news the planner then sees.
+        self._scheduled: Any = None
         #: The map file's name (``map_name``), set by the caller from the problem.
         self.map_name = ""
 
@@ -172,48 +233,30 @@ class Entries:
             except EntryError as e:
                 raise EntryError(f"{self.label(role)}: initialize {e}") from e.__cause__
 
-    def _sync(self, tick: int, predicted: Sequence[tuple[int, int, int, bool]],
-              system: Sequence[tuple[int, int, int, bool]], tasks: Sequence[tuple[int, int, int, list[int], int]],
-              schedule: Sequence[int], goals: Sequence[Optional[tuple[int, int]]], new_tasks: Sequence[int],
-              new_free: Sequence[int], staged: Sequence[Sequence[int]]) -> None:
-        env = self.env
-        m = env.max_counter
-        env.system_timestep = tick
-        env.curr_states = [_state(*p, -1, m) for p in predicted]
-        env.start_states = env.curr_states
-        env.system_states = [_state(*p, tick, m) for p in system]
-        pool: dict[int, mapf.Task] = {}
-        for task_id, revealed, agent, locations, done in tasks:
-            t = mapf.Task()
-            t.task_id, t.t_revealed, t.agent_assigned = task_id, revealed, agent
-            t.locations, t.idx_next_loc = list(locations), done
-            pool[task_id] = t
-        env.task_pool = pool
-        env.curr_task_schedule = list(schedule)
-        env.goal_locations = [[] if g is None else [(int(g[0]), int(g[1]))] for g in goals]
-        env.new_tasks = list(new_tasks)
-        env.new_freeagents = list(new_free)
-        env.staged_actions = [[mapf.Action(a) for a in q] for q in staged]
+    def _sync(self, snapshot: Any, news: Any = None) -> None:
+        """A planner-side call: the environment's fields made from ``snapshot`` (a
+        ``PlanSnapshot``) when read; ``news``: the snapshot whose new tasks and freed robots
+        stand (the scheduler's, for a planner called after it)."""
+        self.env.system_timestep = snapshot.tick
+        self.env._load(_PlanSource(self.env, snapshot, news or snapshot))
 
-    def schedule(self, time_limit: int, *state: Any) -> list[int]:
+    def schedule(self, time_limit: int, snapshot: Any) -> list[int]:
         """The scheduler's call: a task id or -1 per robot."""
-        self._sync(*state)
+        self._sync(snapshot)
+        self._scheduled = snapshot
         answer = self._call("scheduler", "plan", time_limit)
+        if type(answer) is list and set(map(type, answer)) <= {int}:
+            return answer  # as it is: a copy costs a millisecond a call at 10,000 robots
         try:
             return [int(x) for x in answer]
         except (TypeError, ValueError) as e:
             raise EntryError(f"answered {type(answer).__name__}, not a list of task ids: {e}") from None
 
-    def plan(self, time_limit: int, synced: bool, *state: Any) -> list[list[int]]:
+    def plan(self, time_limit: int, synced: bool, snapshot: Any) -> list[list[int]]:
         """The planner's call: each robot's actions (2024 rules: its one action, as a list of
-        one). ``synced``: the scheduler was Python and the environment is already filled; the
-        schedule and goals are then the proposal's."""
-        if synced:
-            _, _, _, _, schedule, goals, *_ = state
-            self.env.curr_task_schedule = list(schedule)
-            self.env.goal_locations = [[] if g is None else [(int(g[0]), int(g[1]))] for g in goals]
-        else:
-            self._sync(*state)
+        one). ``synced``: the scheduler was Python; the planner then sees the tasks and robots
+        that were new at the scheduler's call, and the schedule and goals of its proposal."""
+        self._sync(snapshot, self._scheduled if synced else None)
         answer = self._call("planner", "plan", time_limit)
         try:
             # One action per robot (the 2024 Start-Kit's answer) or a list per robot.
@@ -221,22 +264,18 @@ class Entries:
         except (TypeError, ValueError) as e:
             raise EntryError(f"answered {type(answer).__name__}, not a list of actions per robot: {e}") from None
 
-    def _sync_exec(self, tick: int, system: Sequence[tuple[int, int, int, bool]],
-                   staged: Sequence[Sequence[int]]) -> None:
+    def _sync_exec(self, snapshot: Any) -> None:
         env = self.exec_env
-        env.system_timestep = tick
-        env.system_states = [_state(*p, tick, env.max_counter) for p in system]
+        env.system_timestep = snapshot.tick
         if not self.predicted:
-            self.predicted = [_state(p[0], p[1], 0, False, -1, env.max_counter) for p in system]
-        env.curr_states = self.predicted
-        env.start_states = self.predicted
-        env.staged_actions = [[mapf.Action(a) for a in q] for q in staged]
+            self.predicted = [_state(p[0], p[1], 0, False, -1, env.max_counter) for p in snapshot.system()]
+        env._load(_ExecSource(env, snapshot, self.predicted), _EXEC_FIELDS)
 
-    def process_new_plan(self, sync_limit: int, tick: int, system: Any, staged: Any,
+    def process_new_plan(self, sync_limit: int, snapshot: Any,
                          plan: Sequence[Sequence[int]]) -> tuple[list[list[int]], list[tuple[int, int]]]:
         """The executor's ``process_new_plan``: the staged actions it left (changed in place)
         and where it says each robot will be."""
-        self._sync_exec(tick, system, staged)
+        self._sync_exec(snapshot)
         queues = self.exec_env.staged_actions
         new_plan = mapf.Plan([[mapf.Action(a) for a in row] for row in plan])
         answer = self._call("executor", "process_new_plan", sync_limit, new_plan, queues)
@@ -249,9 +288,9 @@ class Entries:
         self.predicted = [mapf.State(loc, -1, ori) for loc, ori in out]
         return [[int(a) for a in q] for q in queues], out
 
-    def next_command(self, exec_limit: int, tick: int, system: Any, staged: Any) -> list[int]:
+    def next_command(self, exec_limit: int, snapshot: Any) -> list[int]:
         """The executor's ``next_command``: GO (0) or STOP (1) per robot."""
-        self._sync_exec(tick, system, staged)
+        self._sync_exec(snapshot)
         answer = self._call("executor", "next_command", exec_limit)
         try:
             return [int(c) for c in answer]

@@ -11,7 +11,9 @@ names, fields and enum values as the Start-Kit's compiled ``MAPF`` module (v3.1.
 Differences from the Start-Kit's module: containers are plain Python lists and dicts (copies,
 not views of the simulator's memory; ``staged_actions`` handed to ``process_new_plan`` is
 still changed in place and read back), pairs are tuples (``pair_first``/``pair_second`` work on
-them), and ``task_pool`` iterates in task id order.
+them), and ``task_pool`` iterates in task id order. The fields that grow with the fleet are
+made Python objects the first time an entry reads them in a call, not before: the Start-Kit
+copies a field at each read, and a call that reads little costs little here too.
 """
 
 from __future__ import annotations
@@ -61,6 +63,10 @@ def pair_second(p: Any) -> Any:
 class Counter:
     """Ticks done of the action under way (``count``) out of ``maxCount`` (``agentCounter``)."""
 
+    # Slots: the Start-Kit's types take no new attributes either, and 10,000 states a call
+    # are made faster without a dict each.
+    __slots__ = ("count", "maxCount")
+
     def __init__(self, max_counter: int = 10) -> None:
         self.count = 0
         self.maxCount = max_counter
@@ -80,6 +86,8 @@ class Counter:
 class Delay:
     """Whether a robot is held by a delay now (``inDelay``)."""
 
+    __slots__ = ("minDelay", "maxDelay", "inDelay")
+
     def __init__(self) -> None:
         self.minDelay = 0
         self.maxDelay = 0
@@ -89,6 +97,8 @@ class Delay:
 class State:
     """A robot's state: cell (``row * cols + col``), orientation (0 east, 1 south, 2 west,
     3 north), the counter of the action under way, and its delay."""
+
+    __slots__ = ("location", "timestep", "orientation", "counter", "delay")
 
     def __init__(self, location: int = -1, timestep: int = -1, orientation: int = -1) -> None:
         self.location = location
@@ -140,6 +150,34 @@ class Plan:
         self.actions: list[list[Action]] = actions if actions is not None else []
 
 
+class _Lazy:
+    """A field of :class:`SharedEnvironment` made on first read in a call, by the source the
+    environment was last handed (``SharedEnvironment._load``); assigning it keeps the value
+    assigned until the next call."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+        self.slot = "_" + name
+
+    def __get__(self, env: Any, owner: Optional[type] = None) -> Any:
+        if env is None:
+            return self
+        cache = env.__dict__
+        try:
+            return cache[self.slot]
+        except KeyError:
+            value = env._source(self.name) if env._source is not None else ({} if self.name == "task_pool" else [])
+            cache[self.slot] = value
+            return value
+
+    def __set__(self, env: Any, value: Any) -> None:
+        env.__dict__[self.slot] = value
+
+
+_LAZY = ("goal_locations", "curr_states", "start_states", "system_states", "task_pool", "new_tasks",
+         "new_freeagents", "curr_task_schedule", "staged_actions")
+
+
 class SharedEnvironment:
     """What an entry sees (``self.env``), with the Start-Kit's field names.
 
@@ -153,24 +191,34 @@ class SharedEnvironment:
     ``min_planner_communication_time``, ``action_time``, ``max_counter``.
     """
 
+    goal_locations = _Lazy()
+    curr_states = _Lazy()
+    start_states = _Lazy()
+    system_states = _Lazy()
+    task_pool = _Lazy()
+    new_tasks = _Lazy()
+    new_freeagents = _Lazy()
+    curr_task_schedule = _Lazy()
+    staged_actions = _Lazy()
+
     def __init__(self) -> None:
+        #: Makes a lazy field's value by its name (None: the fields are empty or assigned).
+        self._source: Optional[Any] = None
         self.num_of_agents = 0
         self.rows = 0
         self.cols = 0
         self.map_name = ""
         self.map: list[int] = []
         self.file_storage_path = ""
-        self.goal_locations: list[list[tuple[int, int]]] = []
         self.curr_timestep = 0
         self.system_timestep = 0
-        self.curr_states: list[State] = []
-        self.start_states: list[State] = []
-        self.system_states: list[State] = []
-        self.task_pool: dict[int, Task] = {}
-        self.new_tasks: list[int] = []
-        self.new_freeagents: list[int] = []
-        self.curr_task_schedule: list[int] = []
-        self.staged_actions: list[list[Action]] = []
         self.min_planner_communication_time = 1000
         self.action_time = 100
         self.max_counter = 10
+
+    def _load(self, source: Any, names: tuple[str, ...] = _LAZY) -> None:
+        """A new call: the lazy fields ``names`` are made again from ``source`` (a function of
+        the field's name) when read; the others keep their values."""
+        self._source = source
+        for name in names:
+            self.__dict__.pop("_" + name, None)

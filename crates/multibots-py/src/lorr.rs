@@ -58,7 +58,7 @@ pub(crate) struct PyLorrRun {
 #[pymethods]
 impl PyLorrRun {
     #[new]
-    #[pyo3(signature = (problem, planner="auto", scheduler="auto", seed=0, plan_time_limit_ms=None, team_size=None, record=None, entries=None))]
+    #[pyo3(signature = (problem, planner="auto", scheduler="auto", seed=0, plan_time_limit_ms=None, team_size=None, record=None, entries=None, delay_seed=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -70,9 +70,22 @@ impl PyLorrRun {
         team_size: Option<usize>,
         record: Option<PathBuf>,
         entries: Option<PyObject>,
+        delay_seed: Option<u32>,
     ) -> PyResult<Self> {
         let options = LorrOptions { planner: planner.into(), scheduler: scheduler.into(), seed, plan_time_limit_ms };
-        let problem = Arc::new(engine(py, move || Problem::load_team(&problem, team_size))?);
+        let mut problem = engine(py, move || Problem::load_team(&problem, team_size))?;
+        if let Some(s) = delay_seed {
+            // Another draw of the same delay model: what the problem file with this
+            // `delayConfig.seed` gives, in the Start-Kit as here.
+            let Some(rules) = problem.y2026.as_mut() else {
+                return Err(crate::errors::ScenarioError::new_err(format!(
+                    "delay_seed = {s}: a {} problem has no delays (only the 2026 rules draw them)",
+                    if problem.version == Version::Y2023 { "2023" } else { "2024" }
+                )));
+            };
+            rules.delays.seed = s;
+        }
+        let problem = Arc::new(problem);
         let made = match entries {
             None => None,
             Some(bridge) => Some(crate::lorr_entries::made(py, &problem, options.clone(), bridge)?),

@@ -112,8 +112,158 @@ type TaskRow = (u32, u32, i64, Vec<u32>, u32);
 
 /// What a planner call hands Python: the tick, the predicted and the true states, the open
 /// tasks, the schedule, the goals (cell, tick revealed), the new tasks and freed robots, the
-/// staged actions.
-type PlanState = (u32, Vec<State>, Vec<State>, Vec<TaskRow>, Vec<i64>, Vec<Option<(u32, u32)>>, Vec<u32>, Vec<u32>, Vec<Vec<u8>>);
+/// staged actions. Copied as flat vectors (a few memory copies at 10,000 robots); each field
+/// becomes Python objects only when the entry reads it (`multibots.mapf.SharedEnvironment`
+/// builds it on first access), so that a call costs what the entry reads.
+#[pyclass(module = "multibots._core", name = "PlanSnapshot", frozen)]
+pub(crate) struct PlanSnapshot {
+    #[pyo3(get)]
+    tick: u32,
+    predicted: Vec<State>,
+    system: Vec<State>,
+    /// Open tasks: id, tick revealed, robot or -1, errands done, and the span of their
+    /// errand cells in `cells`.
+    tasks: Vec<(u32, u32, i64, u32, u32, u32)>,
+    cells: Vec<u32>,
+    schedule: Vec<i64>,
+    goals: Vec<Option<(u32, u32)>>,
+    new_tasks: Vec<u32>,
+    new_free: Vec<u32>,
+    staged: Staged,
+}
+
+/// Every robot's staged actions, as codes, in one vector (one allocation a call, not one a
+/// robot): robot `k`'s are `codes[ends[k - 1]..ends[k]]`.
+struct Staged {
+    codes: Vec<u8>,
+    ends: Vec<u32>,
+}
+
+impl Staged {
+    fn of<Q: AsRef<[Action]>>(queues: &[Q]) -> Staged {
+        let mut codes = Vec::new();
+        let ends = queues
+            .iter()
+            .map(|q| {
+                codes.extend(q.as_ref().iter().map(|&a| a as u8));
+                codes.len() as u32
+            })
+            .collect();
+        Staged { codes, ends }
+    }
+
+    fn rows(&self) -> Vec<&[u8]> {
+        let mut from = 0;
+        self.ends
+            .iter()
+            .map(|&end| {
+                let row = &self.codes[from..end as usize];
+                from = end as usize;
+                row
+            })
+            .collect()
+    }
+}
+
+#[pymethods]
+impl PlanSnapshot {
+    /// `curr_states` (cell, heading, count, held).
+    fn predicted(&self) -> Vec<State> {
+        self.predicted.clone()
+    }
+
+    /// `system_states` (cell, heading, count, held).
+    fn system(&self) -> Vec<State> {
+        self.system.clone()
+    }
+
+    /// The open tasks: (id, tick revealed, robot or -1, errand cells, errands done).
+    fn tasks(&self) -> Vec<TaskRow> {
+        self.tasks
+            .iter()
+            .map(|&(id, revealed, agent, done, from, len)| (id, revealed, agent, self.cells[from as usize..(from + len) as usize].to_vec(), done))
+            .collect()
+    }
+
+    /// `curr_task_schedule`.
+    fn schedule(&self) -> Vec<i64> {
+        self.schedule.clone()
+    }
+
+    /// Each robot's goal (cell, tick revealed), or None.
+    fn goals(&self) -> Vec<Option<(u32, u32)>> {
+        self.goals.clone()
+    }
+
+    fn new_tasks(&self) -> Vec<u32> {
+        self.new_tasks.clone()
+    }
+
+    fn new_free(&self) -> Vec<u32> {
+        self.new_free.clone()
+    }
+
+    /// Each robot's staged actions, as codes.
+    fn staged(&self) -> Vec<Vec<u8>> {
+        self.staged.rows().into_iter().map(<[u8]>::to_vec).collect()
+    }
+}
+
+impl PlanSnapshot {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        tick: u32,
+        predicted: Vec<State>,
+        system: Vec<State>,
+        open: Option<(&TaskPool, &[Vec<u32>])>,
+        schedule: Vec<i64>,
+        goals: Vec<Option<(u32, u32)>>,
+        news: (Vec<u32>, Vec<u32>),
+        staged: Staged,
+    ) -> PlanSnapshot {
+        let mut cells = Vec::new();
+        let mut tasks = Vec::new();
+        if let Some((pool, lines)) = open {
+            for &id in pool.open() {
+                let t = &pool.tasks[id as usize];
+                let line = &lines[t.line as usize];
+                tasks.push((id, t.revealed, t.agent, t.done, cells.len() as u32, line.len() as u32));
+                cells.extend_from_slice(line);
+            }
+        }
+        let (new_tasks, new_free) = news;
+        PlanSnapshot { tick, predicted, system, tasks, cells, schedule, goals, new_tasks, new_free, staged }
+    }
+}
+
+/// What an executor call hands Python: the tick, the true states and the staged actions, each
+/// made Python objects on first access (as `PlanSnapshot`'s).
+#[pyclass(module = "multibots._core", name = "ExecSnapshot", frozen)]
+pub(crate) struct ExecSnapshot {
+    #[pyo3(get)]
+    tick: u32,
+    system: Vec<State>,
+    staged: Staged,
+}
+
+#[pymethods]
+impl ExecSnapshot {
+    /// `system_states` (cell, heading, count, held).
+    fn system(&self) -> Vec<State> {
+        self.system.clone()
+    }
+
+    /// Each robot's staged actions, as codes.
+    fn staged(&self) -> Vec<Vec<u8>> {
+        self.staged.rows().into_iter().map(<[u8]>::to_vec).collect()
+    }
+}
+
+impl ExecSnapshot {
+    fn new(env: &ExecEnv<'_>, staged: &[Vec<Action>]) -> ExecSnapshot {
+        ExecSnapshot { tick: env.tick, system: states(env.system, env.held), staged: Staged::of(staged) }
+    }
+}
 
 /// One role played by the Python object `bridge` (a `multibots.lorr_python.Entries`).
 pub(crate) struct PyEntry {
@@ -175,16 +325,6 @@ fn states(poses: &[Pose], held: &[bool]) -> Vec<State> {
     poses.iter().enumerate().map(|(i, p)| (p.loc, p.heading, p.count, held.get(i).copied().unwrap_or(false))).collect()
 }
 
-fn tasks(pool: &TaskPool, lines: &[Vec<u32>]) -> Vec<TaskRow> {
-    pool.open()
-        .iter()
-        .map(|&id| {
-            let t = &pool.tasks[id as usize];
-            (id, t.revealed, t.agent, lines[t.line as usize].clone(), t.done)
-        })
-        .collect()
-}
-
 fn goals(pool: &TaskPool, schedule: &[i64], goals: &[u32]) -> Vec<Option<(u32, u32)>> {
     goals
         .iter()
@@ -220,17 +360,16 @@ impl PyEntry {
     }
 
     /// The 2026 state the planner side sees.
-    fn plan_state(env: &PlanEnv<'_>) -> PlanState {
-        (
+    fn plan_state(env: &PlanEnv<'_>) -> PlanSnapshot {
+        PlanSnapshot::new(
             env.tick,
             states(env.predicted, &[]),
             states(env.system, env.held),
-            tasks(env.pool, env.lines),
+            Some((env.pool, env.lines)),
             env.schedule.to_vec(),
             goals(env.pool, env.schedule, env.goals),
-            env.new_tasks.to_vec(),
-            env.new_free.to_vec(),
-            env.staged.iter().map(|q| codes(q)).collect(),
+            (env.new_tasks.to_vec(), env.new_free.to_vec()),
+            Staged::of(env.staged),
         )
     }
 }
@@ -241,8 +380,8 @@ impl Scheduler26 for PyEntry {
     }
 
     fn schedule(&mut self, env: &PlanEnv<'_>, proposal: &mut Vec<i64>) -> Result<(), Error> {
-        let (a, b, c, d, e, f, g, h, i) = PyEntry::plan_state(env);
-        let answer: Vec<i64> = self.call("schedule", |py| (env.time_limit_ms, a, b, c, d, e, f, g, h, i).into_pyobject(py))?;
+        let snapshot = PyEntry::plan_state(env);
+        let answer: Vec<i64> = self.call("schedule", |py| (env.time_limit_ms, snapshot).into_pyobject(py))?;
         if answer.len() != proposal.len() {
             return Err(self.fail(format!("answered {} task ids for {} robots", answer.len(), proposal.len())));
         }
@@ -257,8 +396,8 @@ impl Planner26 for PyEntry {
     }
 
     fn plan(&mut self, env: &PlanEnv<'_>, plan: &mut [Vec<Action>]) -> Result<(), Error> {
-        let (a, b, c, d, e, f, g, h, i) = PyEntry::plan_state(env);
-        let rows: Vec<Vec<i64>> = self.call("plan", |py| (env.time_limit_ms, self.synced, a, b, c, d, e, f, g, h, i).into_pyobject(py))?;
+        let snapshot = PyEntry::plan_state(env);
+        let rows: Vec<Vec<i64>> = self.call("plan", |py| (env.time_limit_ms, self.synced, snapshot).into_pyobject(py))?;
         for (slot, row) in plan.iter_mut().zip(self.actions(rows, env.system.len())?) {
             *slot = row;
         }
@@ -273,13 +412,7 @@ impl Executor for PyEntry {
 
     fn process_new_plan(&mut self, env: &ExecEnv<'_>, plan: &[Vec<Action>], staged: &mut [Vec<Action>], predicted: &mut Vec<Pose>) -> Result<(), Error> {
         let n = env.system.len();
-        let args = (
-            TICK_MS,
-            env.tick,
-            states(env.system, env.held),
-            staged.iter().map(|q| codes(q)).collect::<Vec<_>>(),
-            plan.iter().map(|q| codes(q)).collect::<Vec<_>>(),
-        );
+        let args = (TICK_MS, ExecSnapshot::new(env, staged), plan.iter().map(|q| codes(q)).collect::<Vec<_>>());
         let (queues, states_): (Vec<Vec<i64>>, Vec<(i64, i64)>) = self.call("process_new_plan", |py| args.into_pyobject(py))?;
         for (slot, q) in staged.iter_mut().zip(self.actions(queues, n)?) {
             *slot = q;
@@ -302,7 +435,7 @@ impl Executor for PyEntry {
     }
 
     fn next_command(&mut self, env: &ExecEnv<'_>, staged: &[Vec<Action>], go: &mut [bool]) -> Result<(), Error> {
-        let args = (TICK_MS, env.tick, states(env.system, env.held), staged.iter().map(|q| codes(q)).collect::<Vec<_>>());
+        let args = (TICK_MS, ExecSnapshot::new(env, staged));
         let answer: Vec<i64> = self.call("next_command", |py| args.into_pyobject(py))?;
         if answer.len() != go.len() {
             return Err(self.fail(format!("next_command answered {} commands for {} robots", answer.len(), go.len())));
@@ -351,9 +484,10 @@ impl Scheduler for PyEntry {
             .iter()
             .map(|&id| view.pool.is_open(id).then(|| (view.pool.next_errand(id as u32, view.lines), view.pool.tasks[id as usize].revealed)))
             .collect();
-        let staged: Vec<Vec<u8>> = vec![Vec::new(); view.loc.len()];
-        let args = (1000u32, view.t, st.clone(), st, tasks(view.pool, view.lines), view.pool.current.clone(), goals, new_tasks, new_free, staged);
-        let answer: Result<Vec<i64>, Error> = self.call("schedule", |py| args.into_pyobject(py));
+        let staged = Staged::of(&vec![[]; view.loc.len()]);
+        let snapshot =
+            PlanSnapshot::new(view.t, st.clone(), st, Some((view.pool, view.lines)), view.pool.current.clone(), goals, (new_tasks, new_free), staged);
+        let answer: Result<Vec<i64>, Error> = self.call("schedule", |py| (1000u32, snapshot).into_pyobject(py));
         match answer {
             Ok(a) if a.len() == proposal.len() => proposal.copy_from_slice(&a),
             Ok(a) => self.failure = Some(self.fail(format!("answered {} task ids for {} robots", a.len(), proposal.len()))),
@@ -374,16 +508,13 @@ impl Planner for PyEntry {
     fn plan(&mut self, view: &PlanView<'_>, actions: &mut [Action]) {
         let n = view.loc.len();
         let st: Vec<State> = view.loc.iter().zip(view.heading).map(|(&l, &h)| (l, h, 0, false)).collect();
-        let (task_rows, schedule, goal_rows) = match &view.tasks {
-            Some(tv) => {
-                let g = goals(tv.pool, tv.proposal, view.goals);
-                (tasks(tv.pool, tv.lines), tv.proposal.to_vec(), g)
-            }
-            None => (Vec::new(), vec![-1; n], view.goals.iter().map(|&g| (g != NO_GOAL).then_some((g, 0))).collect()),
+        let (open, schedule, goal_rows) = match &view.tasks {
+            Some(tv) => (Some((tv.pool, tv.lines)), tv.proposal.to_vec(), goals(tv.pool, tv.proposal, view.goals)),
+            None => (None, vec![-1; n], view.goals.iter().map(|&g| (g != NO_GOAL).then_some((g, 0))).collect()),
         };
-        let staged: Vec<Vec<u8>> = vec![Vec::new(); n];
-        let args = (1000u32, self.synced, view.t, st.clone(), st, task_rows, schedule, goal_rows, Vec::<u32>::new(), Vec::<u32>::new(), staged);
-        let answer: Result<Vec<Vec<i64>>, Error> = self.call("plan", |py| args.into_pyobject(py));
+        let staged = Staged::of(&vec![[]; n]);
+        let snapshot = PlanSnapshot::new(view.t, st.clone(), st, open, schedule, goal_rows, (Vec::new(), Vec::new()), staged);
+        let answer: Result<Vec<Vec<i64>>, Error> = self.call("plan", |py| (1000u32, self.synced, snapshot).into_pyobject(py));
         let rows = match answer.and_then(|rows| self.actions(rows, n)) {
             Ok(rows) => rows,
             Err(e) => {

@@ -44,6 +44,10 @@ def lorr(
         help="The competition's planning time limit per step, in ms: past it every robot waits a step (T).",
     ),
     seed: str = typer.Option("0", "--seed", metavar="INT", help="Seed of the planner's tie-breaks."),
+    delay_seed: Optional[str] = typer.Option(
+        None, "--delay-seed", metavar="INT", show_default=False,
+        help="(2026) Seed of the delays in place of the problem's delayConfig.seed: another draw of its delay model.",
+    ),
     record: Optional[Path] = typer.Option(
         None, "--record", show_default=False,
         help="Write a replay of every step to this file (.mbr); multibots view plays it.",
@@ -71,9 +75,10 @@ def lorr(
     n_steps = parse_number(steps, "--steps", int)
     limit = parse_number(plan_time_limit, "--plan-time-limit", int)
     n_seed = parse_number(seed, "--seed", int)
+    n_delay_seed = parse_number(delay_seed, "--delay-seed", int)
     for name, value, flag in (("steps", n_steps, "--steps"), ("plan_time_limit_ms", limit, "--plan-time-limit"),
-                              ("seed", n_seed, "--seed"), ("planner", planner, "--planner"),
-                              ("scheduler", scheduler, "--scheduler")):
+                              ("seed", n_seed, "--seed"), ("delay_seed", n_delay_seed, "--delay-seed"),
+                              ("planner", planner, "--planner"), ("scheduler", scheduler, "--scheduler")):
         engine.check_option(name, value, flag)
     began = time.monotonic()
     # The bar only when a person watches: stdout on a terminal (not piped or redirected).
@@ -90,19 +95,22 @@ def lorr(
             result = engine.run(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
                 progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
-                planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
+                planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py, delay_seed=n_delay_seed,
             )
     else:
         result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record,
-                            planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py)
+                            planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
+                            delay_seed=n_delay_seed)
     fig = result.figures
     wall = time.monotonic() - began
     if result.version == "2026":
+        # A Python scheduler's share of a planner call: what the user's code costs.
+        mine = f" (its scheduler {fig['schedule_ms_mean']:.2f})" if scheduler_py is not None else ""
         print(
             f"{problem.name}: {result.finished:,} finished in {result.steps:,} ticks "
             f"({result.team_size:,} robots, 2026 rules, planner {result.planner.removeprefix('planner ')}, "
             f"scheduler {result.scheduler.removeprefix('scheduler ')}); "
-            f"planning {fig['plan_ms_mean']:.2f} ms/call mean, {fig['plan_ms_max']:.0f} ms max; "
+            f"planning {fig['plan_ms_mean']:.2f} ms/call mean{mine}, {fig['plan_ms_max']:.0f} ms max; "
             f"delays {fig.get('delays', 0):,}, action model messages {fig['action_errors']:,}, "
             f"schedule errors {fig['schedule_errors']}; wall {wall:.1f} s"
         )

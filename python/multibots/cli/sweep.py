@@ -47,6 +47,7 @@ def sweep(
     from multibots.experiments.summary import progress_bar
     from multibots.strategies import is_python_allocator
     from multibots.sweeps import OUTPUTS, inputs_of, load_spec, run_planned, write_outputs
+    from multibots.sweeps.lorr import is_entry
     from multibots.sweeps.store import polars
 
     polars()  # the extra, before any work
@@ -57,7 +58,7 @@ def sweep(
     check_folder(out)
     # Before the spec is loaded: checking its base, or a planned run, loads the strategy,
     # which runs its code.
-    code = sorted(n for n in _named_allocators(spec) if is_python_allocator(n))
+    code = sorted(n for n in _named_allocators(spec) if is_python_allocator(n) or is_entry(n))
     if code and not allow_code and os.environ.get("MULTIBOTS_ALLOW_CODE") != "1":
         raise InputError(f"{spec}: names Python code ({', '.join(code)}), which would run; add --allow-code if you "
                          "trust the spec")
@@ -105,4 +106,11 @@ def _named_allocators(spec: Path) -> set[str]:
     axes = data.get("axes")
     values = axes.get("allocator") if isinstance(axes, dict) else None
     named = {name} | set(values if isinstance(values, list) else [])
+    # A LoRR study's Start-Kit Python entries (a planner or scheduler named by its .py file).
+    from multibots.sweeps.lorr import ENTRY_AXES, is_entry
+
+    for option in ENTRY_AXES:
+        named.add(base.get(option) if isinstance(base, dict) else None)
+        values = axes.get(option) if isinstance(axes, dict) else None
+        named |= {v for v in (values if isinstance(values, list) else []) if is_entry(v)}
     return {n for n in named if isinstance(n, str)}

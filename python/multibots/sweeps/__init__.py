@@ -78,6 +78,8 @@ def inputs_of(points: list[Any], spec: Optional[Spec] = None) -> list[tuple[str,
     for p in points:
         if isinstance(p, lorr_sweep.LorrPoint):
             files = [("problem file", Path(f)) for f in _core.lorr_files(p.run.problem)]
+            files += [("Python entry file", lorr_sweep.entry_path(v, p.run.folder))
+                      for v in (p.run.planner, p.run.scheduler) if lorr_sweep.is_entry(v)]
         else:
             files = p.scenario.files()
         for what, f in files:
@@ -107,19 +109,23 @@ def write_outputs(df: Any, spec: Spec, out: Union[str, os.PathLike[str]], baseli
     the plots, and for lifelong runs the throughput over time (``throughput-time-AXIS.png``),
     staged so they land together."""
     from multibots._io import atomic_write_text, staged_folder
-    from multibots.sweeps.analysis import paired_tests, parse_baseline, plot, summarize, throughput_over_time
+    from multibots.sweeps import lorr as lorr_sweep
+    from multibots.sweeps.analysis import METRICS, paired_tests, parse_baseline, plot, summarize, throughput_over_time
 
     rows = df.to_dicts()
     axes = spec.axis_names
+    # A LoRR study's figures are its own, not the paper's (which its runs do not have).
+    metrics = lorr_sweep.METRICS if isinstance(spec.base, lorr_sweep.LorrBase) else METRICS
     written: list[Path] = []
     out = Path(out)
     with staged_folder(out) as stage:
         df.write_csv(stage / "results.csv")
         written.append(stage / "results.csv")
-        written.append(atomic_write_text(stage / "summary.csv", _csv(summarize(rows, axes))))
+        written.append(atomic_write_text(stage / "summary.csv", _csv(summarize(rows, axes, metrics))))
         if baseline:
             axis, value = parse_baseline(baseline, axes)
-            written.append(atomic_write_text(stage / "tests.csv", _csv(paired_tests(rows, axes, axis, value))))
+            written.append(atomic_write_text(stage / "tests.csv",
+                                             _csv(paired_tests(rows, axes, axis, value, metrics))))
         for p in plots:
             written.append(plot(rows, axes, p, stage))
         written += throughput_over_time(rows, axes, stage)

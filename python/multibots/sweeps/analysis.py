@@ -34,7 +34,9 @@ _NON_NEGATIVE = ("T", "S", "C", "cost", "distance", "steps", "delivered", "goods
                  "sustained_throughput", "contacts", "latency_p50", "latency_p95", "energy_per_delivery", "ordered",
                  "window", "people_protective_stops", "people_warning_steps", "people_person_wait_steps",
                  "people_tours", "people_picks", "people_walk_steps", "people_blocked_steps", "people_picks_per_hour",
-                 "people_tours_per_hour", "people_alone_picks_per_hour", "people_alone_tours_per_hour")
+                 "people_tours_per_hour", "people_alone_picks_per_hour", "people_alone_tours_per_hour",
+                 # A LoRR study's (sweeps/lorr.py).
+                 "plan_ms_mean", "schedule_ms_mean", "schedule_errors", "action_errors", "delays")
 RANGE: dict[str, tuple[Optional[float], Optional[float]]] = {
     **{m: (0.0, None) for m in _NON_NEGATIVE}, **{m: (0.0, 1.0) for m in _SHARES}}
 
@@ -51,7 +53,8 @@ def _number(v: Any) -> Optional[float]:
     return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
 
 
-def summarize(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[dict[str, Any]]:
+def summarize(rows: Sequence[dict[str, Any]], axes: Sequence[str],
+              metrics: Sequence[str] = METRICS) -> list[dict[str, Any]]:
     """One row per cell (the axes' values other than ``seed``) and metric: n, mean, sd and the
     95% interval of the mean (:func:`interval`, clipped to the figure's range)."""
     cells = [a for a in axes if a != "seed"]
@@ -60,7 +63,7 @@ def summarize(rows: Sequence[dict[str, Any]], axes: Sequence[str]) -> list[dict[
         groups.setdefault(tuple(r.get(a) for a in cells), []).append(r)
     out = []
     for cell, members in groups.items():
-        for m in METRICS:
+        for m in metrics:
             values = [x for x in (_number(r.get(m)) for r in members) if x is not None]
             mean, sd, lo, hi = interval(values, m)
             out.append({**dict(zip(cells, cell)), "metric": m, "n": len(values), "mean": mean, "sd": sd,
@@ -75,7 +78,8 @@ def parse_baseline(text: str, axes: Sequence[str]) -> tuple[str, str]:
     return axis, value
 
 
-def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str, value: str) -> list[dict[str, Any]]:
+def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str, value: str,
+                 metrics: Sequence[str] = METRICS) -> list[dict[str, Any]]:
     """Each other value of ``axis`` against ``value``, run for run: pairs agree on every other
     axis (the seed included). Mean difference, paired t test and Wilcoxon signed-rank p-values."""
     others = [a for a in axes if a != axis]
@@ -88,7 +92,7 @@ def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str,
     cell_keys = sorted({tuple(r.get(a) for a in cells) for r in rows}, key=repr)
     for v in values:
         for cell in cell_keys:
-            for m in METRICS:
+            for m in metrics:
                 xs, ys = [], []
                 for r in rows:
                     if str(r.get(axis)) != value or tuple(r.get(a) for a in cells) != cell:

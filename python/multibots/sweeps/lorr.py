@@ -11,9 +11,18 @@ robots = [1000, 2000, 5000]          # the first N agents; the 2024 pool sized f
 seed = [0, 1]
 ```
 
-Axes: ``planner``, ``scheduler``, ``robots``, ``seed``, ``steps``, ``plan_time_limit_ms``.
-Each run stores the competition's score and MultiBots' figures (:data:`FIGURES`); ``delivered``
-and ``throughput`` repeat the score and its rate under the names the sweep's summary reads.
+Axes: ``planner``, ``scheduler``, ``robots``, ``seed``, ``steps``, ``plan_time_limit_ms``,
+``delay_seed``. A planner or scheduler value ending in ``.py`` is a Start-Kit Python entry
+file (``pyMAPFPlanner.py``, ``pyTaskScheduler.py``; relative to the spec), compared with the
+built-ins run for run (``multibots sweep`` asks for ``--allow-code``: the file runs); an edited
+file runs again. Under the 2026 rules a run's ``seed`` also draws its delays: seed ``s`` plays
+the delays of ``delayConfig.seed + s`` (seed 0, the problem's own, as the Start-Kit plays it),
+so that the seeds of a study are draws of the delays and every strategy meets the same draws
+(paired); a ``delay_seed`` axis or option sets the seed of the delays itself.
+
+Each run stores the competition's score and MultiBots' figures (:data:`FIGURES`);
+``delivered`` and ``throughput`` repeat the score and its rate under the names the sweep's
+summary reads, which (with :data:`METRICS`) are what summary.csv and tests.csv give.
 """
 
 from __future__ import annotations
@@ -29,14 +38,22 @@ from typing import Any, Optional
 from multibots._text import shown
 from multibots.exceptions import InputError, MultibotsError, ScenarioError
 
-__all__ = ["AXES", "FIGURES", "LorrBase", "LorrPoint", "figures_of", "is_lorr_base", "keys_of", "parse_base",
-           "plan", "run_one"]
+__all__ = ["AXES", "ENTRY_AXES", "FIGURES", "METRICS", "LorrBase", "LorrPoint", "entry_path", "figures_of", "is_entry",
+           "is_lorr_base", "keys_of", "parse_base", "plan", "run_one"]
 
 #: The options a LoRR sweep may vary.
-AXES = ("planner", "scheduler", "robots", "seed", "steps", "plan_time_limit_ms")
+AXES = ("planner", "scheduler", "robots", "seed", "steps", "plan_time_limit_ms", "delay_seed")
+#: What a LoRR study summarises and tests (the rest of :data:`FIGURES` is in results.csv):
+#: tasks (errands under 2023) finished and their rate per 1,000 steps, the planner call's and
+#: the scheduler's time, refused schedules, and (2026) delays drawn.
+METRICS = ("delivered", "throughput", "plan_ms_mean", "schedule_ms_mean", "schedule_errors", "action_errors",
+           "delays")
+#: The axes whose value may be a Start-Kit Python entry file, and the role it plays.
+ENTRY_AXES = {"planner": "planner", "scheduler": "scheduler"}
 #: What each run stores.
 FIGURES = ("finished", "finished_per_1000", "windows", "plan_ms_mean", "plan_ms_max", "errors", "action_errors",
-           "schedule_errors", "timeouts", "steps", "team_size", "rules", "delivered", "throughput")
+           "schedule_errors", "timeouts", "steps", "team_size", "rules", "delivered", "throughput", "schedule_ms_mean",
+           "delays")
 
 
 @dataclass(frozen=True)
@@ -50,6 +67,23 @@ class LorrBase:
     seed: int = 0
     robots: Optional[int] = None
     plan_time_limit_ms: Optional[int] = None
+    #: (2026) the seed of the delays; None: the problem's ``delayConfig.seed`` plus ``seed``.
+    delay_seed: Optional[int] = None
+    #: The folder relative to which a Python entry file named in the spec is found.
+    folder: Optional[str] = None
+
+
+def is_entry(value: Any) -> bool:
+    """Whether a planner or scheduler value names a Start-Kit Python entry file."""
+    return isinstance(value, str) and value.lower().endswith(".py")
+
+
+def entry_path(value: str, folder: Optional[str]) -> Path:
+    """A Python entry file named in a spec: relative to the spec's folder."""
+    path = Path(value)
+    if not path.is_absolute() and folder is not None and not path.exists():
+        path = Path(folder) / path
+    return path
 
 
 @dataclass(frozen=True)
@@ -85,15 +119,20 @@ def parse_base(value: Any, source: str, folder: Optional[Path]) -> LorrBase:
         path = folder / path
     if not path.is_file():
         raise InputError(f"{source}: base.lorr = {shown(raw)!r}: no such problem file")
+    base_folder = os.path.abspath(folder) if folder is not None else None
     for key, v in table.items():
-        _check(key, v, f"{source}: base.{key}")
-    return LorrBase(problem=os.path.abspath(path), **table)
+        _check(key, v, f"{source}: base.{key}", base_folder)
+    return LorrBase(problem=os.path.abspath(path), folder=base_folder, **table)
 
 
-def _check(name: str, value: Any, where: str) -> None:
+def _check(name: str, value: Any, where: str, folder: Optional[str]) -> None:
     """One option's value, or a one-line error naming where it was and the value."""
     from multibots import lorr
 
+    if name in ENTRY_AXES and is_entry(value):
+        if not entry_path(value, folder).is_file():
+            raise InputError(f"{where} = {shown(value)!r}: no such Python entry file")
+        return
     lorr.check_option(name, value, where)
 
 
@@ -107,20 +146,44 @@ def plan(base: LorrBase, axes: Mapping[str, list[Any]], combos: Sequence[tuple[A
         if name not in AXES:
             raise InputError(f"{source}: axes.{shown(name)}: not an option of a LoRR run (axes: {', '.join(AXES)})")
         for v in values:
-            _check(name, v, f"{source}: axes.{name}")
+            _check(name, v, f"{source}: axes.{name}", base.folder)
     names = list(axes)
+    delays = _delay_seed(base.problem)
+    if delays is None and ("delay_seed" in axes or base.delay_seed is not None):
+        raise InputError(f"{source}: delay_seed: {Path(base.problem).name} has no delays (only the 2026 rules draw "
+                         "them)")
     out: list[LorrPoint] = []
     for combo in combos:
         for rep in reps:
             values = list(zip(names, combo)) + ([("seed", rep)] if rep is not None else [])
-            out.append(LorrPoint(len(out), tuple(values), replace(base, **dict(values))))
+            run = replace(base, **dict(values))
+            if delays is not None and run.delay_seed is None:
+                run = replace(run, delay_seed=(delays + run.seed) % 2**32)
+            out.append(LorrPoint(len(out), tuple(values), run))
     teams = [p.run.robots for p in out if p.run.robots is not None]
     try:
-        _core.LorrRun(base.problem, base.planner, base.scheduler, 0, None, max(teams) if teams else None)
+        # Built-in names only: an entry file is checked when its run loads it.
+        names = [base.planner, base.scheduler]
+        _core.LorrRun(base.problem, *("auto" if is_entry(v) else v for v in names), 0, None,
+                      max(teams) if teams else None)
     except MultibotsError as e:
         where = f" at robots = {max(teams)}" if teams else ""
         raise ScenarioError(f"{source}:{where} {e}") from None
     return out
+
+
+def _delay_seed(problem: str) -> Optional[int]:
+    """The ``delayConfig.seed`` of a 2026 problem (as the Start-Kit reads it: unsigned 32-bit),
+    or None: the 2023/2024 rules draw no delays."""
+    try:
+        with open(problem, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError):
+        return None
+    cfg = data.get("delayConfig") if isinstance(data, dict) else None
+    if not isinstance(cfg, dict) or isinstance(cfg.get("seed"), bool) or not isinstance(cfg.get("seed"), int):
+        return None
+    return cfg["seed"] % 2**32
 
 
 def _files_digest(problem: str) -> str:
@@ -149,7 +212,10 @@ def keys_of(points: Sequence[LorrPoint], engine: str) -> list[str]:
         if p.run.problem not in digests:
             digests[p.run.problem] = _files_digest(p.run.problem)
         text = json.dumps(asdict(p.run), sort_keys=True)
-        keys.append(hashlib.sha256(f"lorr\n{engine}\n{text}\n{digests[p.run.problem]}".encode()).hexdigest())
+        # An entry file's bytes: an edited scheduler runs again though its name is the same.
+        code = "".join(hashlib.sha256(entry_path(v, p.run.folder).read_bytes()).hexdigest()
+                       for v in (p.run.planner, p.run.scheduler) if is_entry(v))
+        keys.append(hashlib.sha256(f"lorr\n{engine}\n{text}\n{digests[p.run.problem]}\n{code}".encode()).hexdigest())
     return keys
 
 
@@ -165,7 +231,8 @@ def figures_of(figures: Mapping[str, Any], team_size: int, rules: str) -> dict[s
         "plan_ms_mean": figures["plan_ms_mean"], "plan_ms_max": figures["plan_ms_max"], "errors": errors,
         "action_errors": figures["action_errors"], "schedule_errors": figures["schedule_errors"],
         "timeouts": figures["timeouts"], "steps": steps, "team_size": team_size, "rules": rules,
-        "delivered": finished, "throughput": rate,
+        "delivered": finished, "throughput": rate, "schedule_ms_mean": figures.get("schedule_ms_mean"),
+        "delays": figures.get("delays"),
     }
 
 
@@ -173,6 +240,13 @@ def run_one(run: LorrBase) -> dict[str, Any]:
     """A worker process's job: one LoRR run, its figures."""
     from multibots import lorr
 
-    r = lorr.run(run.problem, steps=run.steps, planner=run.planner, scheduler=run.scheduler, seed=run.seed,
-                 plan_time_limit_ms=run.plan_time_limit_ms, robots=run.robots)
+    names, files = {}, {}
+    for option in ENTRY_AXES:
+        value = getattr(run, option)
+        if is_entry(value):
+            files[f"{option}_py"] = entry_path(value, run.folder)
+        else:
+            names[option] = value
+    r = lorr.run(run.problem, steps=run.steps, seed=run.seed, plan_time_limit_ms=run.plan_time_limit_ms,
+                 robots=run.robots, delay_seed=run.delay_seed, **names, **files)
     return figures_of(r.figures, r.team_size, r.version)

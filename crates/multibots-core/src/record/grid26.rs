@@ -46,6 +46,9 @@ pub struct Record26 {
     pub held_ticks: u64,
     /// (tick, milliseconds) of every planner call: scheduler and planner together.
     pub plan_ms: Vec<(u32, f64)>,
+    /// Milliseconds of the scheduler's part of each planner call (what a Python scheduler
+    /// costs, its conversions included, is read here).
+    pub schedule_ms: Vec<f64>,
     /// (tick, tasks finished in the tick that led to it), one per tick.
     pub finished_at: Vec<(u32, u32)>,
 }

@@ -29,6 +29,11 @@ pub struct Figures {
     pub delays: Option<u64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub held_ticks: Option<u64>,
+    /// 2026 rules: the scheduler's part of a planner call, mean and longest, in milliseconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub schedule_ms_mean: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub schedule_ms_max: Option<f64>,
 }
 
 /// Tasks finished per window of 1,000 steps (ticks), from (step, finished in it).
@@ -38,6 +43,14 @@ fn windows(t: u32, finished_at: &[(u32, u32)]) -> Vec<u64> {
         w[(t as usize - 1) / 1000] += u64::from(k);
     }
     w
+}
+
+fn mean(ms: &[f64]) -> f64 {
+    if ms.is_empty() {
+        0.0
+    } else {
+        ms.iter().sum::<f64>() / ms.len() as f64
+    }
 }
 
 impl Lorr26 {
@@ -51,7 +64,7 @@ impl Lorr26 {
             steps: self.t(),
             finished: self.finished(),
             finished_per_1000: windows(self.t(), &r.finished_at),
-            plan_ms_mean: if ms.is_empty() { 0.0 } else { ms.iter().sum::<f64>() / ms.len() as f64 },
+            plan_ms_mean: mean(&ms),
             plan_ms_max: ms.iter().copied().fold(0.0, f64::max),
             plan_rounds_over_1s: ms.iter().filter(|&&m| m > 1000.0).count() as u32,
             action_errors: r.messages.min(u64::from(u32::MAX)) as u32,
@@ -59,6 +72,8 @@ impl Lorr26 {
             timeouts: 0,
             delays: Some(r.delays.iter().map(|d| d.len() as u64).sum()),
             held_ticks: Some(r.held_ticks),
+            schedule_ms_mean: Some(mean(&r.schedule_ms)),
+            schedule_ms_max: Some(r.schedule_ms.iter().copied().fold(0.0, f64::max)),
         }
     }
 }
@@ -84,6 +99,8 @@ impl LorrRun {
             timeouts: r.timeouts,
             delays: None,
             held_ticks: None,
+            schedule_ms_mean: None,
+            schedule_ms_max: None,
         }
     }
 }

@@ -198,6 +198,7 @@ impl Lorr26 {
             };
         }
         entries.scheduler.schedule(&env!(goals, &pool.current), &mut proposal)?;
+        let scheduled = began.elapsed();
         let mut next_goals = vec![NO_GOAL; n];
         for (k, g) in next_goals.iter_mut().enumerate() {
             if let Some(&id) = proposal.get(k) {
@@ -217,6 +218,7 @@ impl Lorr26 {
         self.new_tasks.clear();
         self.new_free.clear();
         self.record.plan_ms.push((self.t, began.elapsed().as_secs_f64() * 1e3));
+        self.record.schedule_ms.push(scheduled.as_secs_f64() * 1e3);
         Ok(())
     }
 

@@ -49,7 +49,8 @@ impl Pibt {
     #[must_use]
     pub fn lean(mut self, map: &GridMap) -> Pibt {
         let free = map.free.iter().filter(|&&f| f).count().max(1);
-        let capacity = (LEAN_BUDGET / (2 * free)).clamp(8, self.urgency.len() + 1);
+        // At least 8 tables, but never more than robots + 1 (a fleet of 3 needs 4, not 8).
+        let capacity = (LEAN_BUDGET / (2 * free)).max(8).min(self.urgency.len() + 1);
         self.dist = match &self.costs {
             Some(costs) => Distances::weighted(map, capacity, |c, h| costs[c as usize][h as usize]),
             None => Distances::new(map, capacity),
