@@ -9,7 +9,7 @@ step applied.
 
 from __future__ import annotations
 
-from typing import Dict, List
+from typing import Dict, List, Optional
 
 import numpy as np
 
@@ -125,6 +125,26 @@ class ReplayState:
         """Each robot's task (in a grid replay, its goal cell; -1 if none) before chunk
         ``i``'s events (what the viewer starts a chunk from)."""
         return self._snapshot(self._check_chunk(i))["task"].copy()
+
+    def delay_end(self, robot: int, f: int) -> Optional[int]:
+        """In a League of Robot Runners 2026 replay (docs/lorr.md), the tick at which robot
+        ``robot``'s latest delay started by frame ``f`` ends (the third column of its last
+        ``WAIT`` event up to ``f``); None if it had none. Read chunk by chunk backwards from
+        ``f``'s, so it is quick for a robot held now (its delay started a few frames ago).
+        None in any other replay (there a WAIT event is a wait that began, with no end)."""
+        robot = int(robot)
+        if not 0 <= robot < self.robots:
+            raise IndexError(f"robot {robot} out of range 0..{self.robots - 1}")
+        f = self._check_frame(f)
+        lorr = self.header.get("lorr")
+        if not isinstance(lorr, dict) or lorr.get("rules") != "2026":
+            return None
+        for i in range(self.chunk_of(f), -1, -1):
+            ev = self.chunk_events(i)
+            hit = ev[(ev[:, 0] <= f) & (ev[:, 1] == EV_WAIT) & (ev[:, 2] == robot)]
+            if len(hit):
+                return int(hit[-1, 3])
+        return None
 
     def trajectory(self, robot: int, f: int, limit: int = 3000) -> np.ndarray:
         """Where robot ``robot`` drives next from frame ``f``: its positions until the end of

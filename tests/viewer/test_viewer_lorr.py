@@ -75,6 +75,9 @@ def test_a_lorr_replay_is_drawn_and_played(page, tmp_path):
         rows = page.evaluate("() => [...document.querySelectorAll('#counters dt')]"
                              ".filter(e => e.checkVisibility()).map(e => e.textContent)")
         assert rows == ["step", "errors", "finished"]
+        # Discs, as before the 2026 rules: no footprint, no delay in the legend.
+        assert page.evaluate("() => window.mbViewer.robot(0).side") == 0
+        assert "held by a delay" not in page.evaluate("() => window.mbViewer.legend()")
         assert page.evaluate(f"() => window.mbViewer.seek({f})") == f
         page.wait_for_function(f"() => window.mbViewer.state().frame === {f}")
         shot = Image.open(io.BytesIO(page.screenshot())).convert("RGB")

@@ -35,6 +35,19 @@ def _zones(header: Dict[str, Any]) -> Optional[List[float]]:
     return [float(v) for v in z] if ok else None
 
 
+def _lorr(header: Dict[str, Any]) -> Optional[Dict[str, Any]]:
+    """The header's ``lorr`` object, if it is one; ``agentSize`` only if it is a positive
+    finite number (the page draws each robot's square with it)."""
+    lorr = header.get("lorr")
+    if not isinstance(lorr, dict):
+        return None
+    out = dict(lorr)
+    size = out.get("agentSize")
+    if size is not None and not (isinstance(size, (int, float)) and math.isfinite(size) and size > 0):
+        del out["agentSize"]
+    return out
+
+
 class ReplaySource:
     """What the server needs from a replay."""
 
@@ -61,6 +74,9 @@ class ReplaySource:
             "chunk_steps": r.chunk_steps,
             "chunks": [[r.chunk_info(i)["first_frame"], r.chunk_info(i)["frames"]] for i in range(r.chunk_count)],
             "scenario": r.header.get("scenario", ""),
+            # A League of Robot Runners replay's inputs (docs/lorr.md): the rules ("2023",
+            # "2024", "2026") and, under the 2026 rules, agentSize and agentCounter.
+            "lorr": _lorr(r.header),
             # The engine's names of the codes (also in new replays' headers).
             "state_names": list(_core.STATE_NAMES),
             "event_names": {str(k): v for k, v in _core.EVENT_NAMES.items()},
@@ -95,11 +111,12 @@ class ReplaySource:
         fr = r.frame(frame)
         st = r.state_at(frame)
         task = int(st["task"][i])
-        return {
+        marked = bool(fr["marked"][i])
+        info = {
             "id": i,
             "frame": int(frame),
             "state": int(fr["state"][i]),
-            "marked": bool(fr["marked"][i]),
+            "marked": marked,
             "energy": float(fr["energy"][i]),
             "energy_full": r.energy_full,
             "task_cell": task if task >= 0 else None,
@@ -107,6 +124,12 @@ class ReplaySource:
             "C": int(st["robot_C"][i]),
             "route": r.trajectory(i, frame).round(2).tolist(),
         }
+        if self.meta["lorr"] is not None and self.meta["lorr"].get("rules") == "2026":
+            # Under the 2026 rules the marked bit says "held by a delay" (docs/lorr.md), and
+            # its WAIT event the tick the delay ends.
+            info["held"] = marked
+            info["held_until"] = r.delay_end(i, frame) if marked else None
+        return info
 
 
 class LiveSource:

@@ -16,6 +16,7 @@ const app = {
   dirty: true, blink: true, lastNow: 0, scrubbing: false,
   drawn: 0, drawTimes: [], drawMs: 0, frameTimes: [],
   shown: null,   // what was drawn last: {frame, info}
+  y2026: false,  // a League of Robot Runners 2026 replay: footprints and delays (docs/lorr.md)
   error: null,
 };
 
@@ -274,7 +275,10 @@ function refreshPanel(now, force = false) {
     .then((p) => {
       if (app.selected !== id) return;
       app.panel = p; app.panelFrame = f; app.route = p.route; app.dirty = true;
-      setText("p-state", stateName(p.state) + (p.marked ? " \u00b7 to charge" : ""));
+      // Under the 2026 rules the marked bit says "held by a delay" (docs/lorr.md).
+      const mark = !p.marked ? "" : (!app.y2026 ? " \u00b7 to charge"
+        : ` \u00b7 delayed${p.held_until === null || p.held_until === undefined ? "" : ` until tick ${p.held_until}`}`);
+      setText("p-state", stateName(p.state) + mark);
       setText("p-energy", `${p.energy.toFixed(3)} / ${p.energy_full}`);
       setText("p-task", p.task_cell === null ? "\u2014" : String(p.task_cell));
       setText("p-S", String(p.S));
@@ -402,9 +406,12 @@ function exposeHooks() {
       if (!v) return null;
       const fr = v.frame;
       const xs = app.renderer.lastXs || fr.x, ys = app.renderer.lastYs || fr.y;
+      // side: a 2026 robot's square (agentSize cells, in world px), centred at x, y; else 0.
       return { x: xs[i], y: ys[i], state: stateCode(fr.state[i]), marked: isMarked(fr.state[i]),
-        heading: headingAngle(fr.heading[i]), radius: app.meta.radius[i] };
+        heading: headingAngle(fr.heading[i]), radius: app.meta.radius[i], side: app.renderer.side };
     },
+    // The legend's labels, in the order drawn.
+    legend: () => app.renderer.legendItems.map((e) => e.it[2]),
     worldToClient: (x, y) => {
       const rect = $("view").getBoundingClientRect();
       const [sx, sy] = app.renderer.toScreen(x, y);
@@ -456,10 +463,20 @@ async function main() {
       const dt = $(id).previousElementSibling;
       dt.textContent = label; dt.title = hint;
     }
-    // No charging and no task time under these rules: rows that would mean nothing are gone.
-    for (const id of ["c-C", "c-T"]) {
+    // No charging and no task time under these rules: rows that would mean nothing are gone;
+    // under the 2026 rules C counts the delays drawn (the robot's own in its panel).
+    app.y2026 = !!meta.lorr && meta.lorr.rules === "2026";
+    const gone = app.y2026 ? ["c-T", "p-C", "p-energy"] : ["c-C", "c-T"];
+    for (const id of gone) {
       $(id).hidden = true;
       $(id).previousElementSibling.hidden = true;
+    }
+    if (app.y2026) {
+      for (const [id, label, hint] of [["c-C", "delays", "delays drawn so far"],
+        ["p-S", "delays", "delays drawn for this robot so far"]]) {
+        const dt = $(id).previousElementSibling;
+        dt.textContent = label; dt.title = hint;
+      }
     }
   }
   const scale = Math.min(8, Math.max(0.1, Number(params.get("scale")) || 1));

@@ -37,6 +37,8 @@ export const COLOURS = {
   queue: "#e65100",           // a resource's queue: a badge with its robots
   queueText: "#ffffff",
   bottleneck: "#e6007e",      // the run's bottleneck: a ring around it
+  delay: "#9467bd",           // a robot held by a delay (LoRR 2026): outline and pause mark
+  delayMark: "#ffffff",
 };
 
 const GROUP_COLOURS = [COLOURS.blue, COLOURS.red, COLOURS.green, COLOURS.grey, COLOURS.other];
@@ -76,6 +78,12 @@ export class Renderer {
     this.layout = meta.layout;
     // A League of Robot Runners grid (docs/lorr.md): {rows, cols, cells: ["..@.", ...]}.
     this.grid = meta.layout.grid || null;
+    // The League of Robot Runners' 2026 rules (docs/lorr.md): robots are squares of side
+    // agentSize cells, and the marked bit of the state byte says "held by a delay".
+    const lorr = meta.lorr || {};
+    this.y2026 = !!this.grid && lorr.rules === "2026";
+    const size = Number(lorr.agentSize);
+    this.side = this.y2026 ? (Number.isFinite(size) && size > 0 ? size : 1) * (meta.layout.cell_size || 16) : 0;
     this.n = meta.robots;
     // People on the floor (docs/people.md): {count, radius, zones: [protective, warning]}.
     this.humans = meta.humans || null;
@@ -225,10 +233,13 @@ export class Renderer {
     const [wx, wy] = this.toWorld(sx, sy);
     const slack = 4 / this.scale;
     let best = -1, bestD = Infinity;
+    const half = this.side / 2;
     for (let i = 0; i < this.n; i++) {
       const dx = frame.x[i] - wx, dy = frame.y[i] - wy;
       const d = Math.hypot(dx, dy);
-      if (d <= this.radius[i] + slack && d < bestD) { best = i; bestD = d; }
+      // a 2026 robot is its square; any other a disc
+      const inside = this.side ? Math.max(Math.abs(dx), Math.abs(dy)) <= half + slack : d <= this.radius[i] + slack;
+      if (inside && d < bestD) { best = i; bestD = d; }
     }
     return best;
   }
@@ -236,10 +247,13 @@ export class Renderer {
   // --------------------------------------------------------------- background
   _legendItems() {
     if (this.grid) {
+      // 2026: each robot is its square (agentSize), and a robot held by a delay is marked.
+      const robot = this.y2026 ? "square" : "robot";
       return [
-        ["robot", COLOURS.blue, "to an errand"],
-        ["robot", COLOURS.red, "to its task's last errand"],
-        ["robot", COLOURS.green, "no goal"],
+        [robot, COLOURS.blue, "to an errand"],
+        [robot, COLOURS.red, "to its task's last errand"],
+        [robot, COLOURS.green, "no goal"],
+        ...(this.y2026 ? [["delay", COLOURS.delay, "held by a delay"]] : []),
         ["cell", COLOURS.blue, "goal (robot's colour)"],
         ["cell", COLOURS.wall, "obstacle"],
       ];
@@ -302,6 +316,13 @@ export class Renderer {
       if (kind === "robot") {
         ctx.fillStyle = colour; ctx.strokeStyle = COLOURS.wall;
         ctx.beginPath(); ctx.arc(cx, cy, 6 * ui, 0, TAU); ctx.fill(); ctx.stroke();
+      } else if (kind === "square") {
+        ctx.fillStyle = colour; ctx.strokeStyle = COLOURS.wall;
+        ctx.beginPath(); ctx.rect(cx - 6 * ui, cy - 6 * ui, 12 * ui, 12 * ui); ctx.fill(); ctx.stroke();
+      } else if (kind === "delay") {
+        ctx.fillStyle = COLOURS.blue;
+        ctx.fillRect(cx - 7 * ui, cy - 7 * ui, 14 * ui, 14 * ui);
+        this._delayMarks(ctx, [cx], [cy], [0], 1, 14 * ui, 3 * ui);
       } else if (kind === "cell") {
         ctx.fillStyle = colour; ctx.fillRect(cx - 6 * ui, cy - 6 * ui, 12 * ui, 12 * ui);
       } else if (kind === "departure") {
@@ -813,6 +834,7 @@ export class Renderer {
       }
     }
     this.lastXs = xs; this.lastYs = ys;
+    if (this.side) { this._drawSquares(ctx, frame, info, xs, ys); return; }
     const small = this.maxRadius * s < 4;  // a few pixels: a plain dot says enough
     // only the robots in view (zoomed in on a large fleet, most are not)
     const m = this.maxRadius * 3;
@@ -883,6 +905,96 @@ export class Renderer {
     ctx.fillStyle = COLOURS.batteryCritical; ctx.fill(levels[2]);
   }
 
+  /** The robots of a 2026 replay (docs/lorr.md): each one its square of side agentSize
+   * cells, centred where the frame puts it (its cell's top-left corner plus half the side,
+   * slid along its heading while a move is under way), in its state's colour with its
+   * heading; a robot held by a delay (the marked bit) outlined in the delay colour with a
+   * pause mark. */
+  _drawSquares(ctx, frame, info, xs, ys) {
+    const n = this.n, s = this.scale, px = 1 / s, side = this.side, half = side / 2;
+    const H = frame.heading, ST = frame.state;
+    const mask = CODEC.stateMask, turn = TAU / CODEC.headingSteps;
+    const small = half * s < 4;  // a few pixels: the square alone
+    const [vx0, vy0] = this.toWorld(0, this.areaTop), [vx1, vy1] = this.toWorld(this.cssW, this.areaTop + this.areaH);
+    const vis = this._vis && this._vis.length === n ? this._vis : (this._vis = new Int32Array(n));
+    let nv = 0;
+    for (let i = 0; i < n; i++) {
+      if (xs[i] >= vx0 - side && xs[i] <= vx1 + side && ys[i] >= vy0 - side && ys[i] <= vy1 + side) vis[nv++] = i;
+    }
+    ctx.lineWidth = Math.min(1.2 * px, side * 0.06);
+    ctx.strokeStyle = COLOURS.wall;
+    for (let g = 0; g < GROUP_COLOURS.length; g++) {
+      let any = false;
+      ctx.beginPath();
+      for (let j = 0; j < nv; j++) {
+        const i = vis[j];
+        if (STATE_GROUP[ST[i] & mask] !== g) continue;
+        ctx.rect(xs[i] - half, ys[i] - half, side, side);
+        any = true;
+      }
+      if (!any) continue;
+      ctx.fillStyle = GROUP_COLOURS[g];
+      ctx.fill();
+      if (!small) ctx.stroke();
+    }
+    const sel = info.selected;
+    if (sel >= 0 && sel < n) {
+      ctx.lineWidth = 3 * px; ctx.strokeStyle = COLOURS.select;
+      ctx.strokeRect(xs[sel] - half - 2.5 * px, ys[sel] - half - 2.5 * px, side + 5 * px, side + 5 * px);
+    }
+    if (!small) {
+      ctx.beginPath();
+      for (let j = 0; j < nv; j++) {
+        const i = vis[j], a = H[i] * turn;
+        ctx.moveTo(xs[i], ys[i]);
+        ctx.lineTo(xs[i] + Math.cos(a) * half * 0.8, ys[i] + Math.sin(a) * half * 0.8);
+      }
+      ctx.lineWidth = Math.max(1.2 * px, side * 0.08);
+      ctx.strokeStyle = COLOURS.wall;
+      ctx.lineCap = "round";
+      ctx.stroke();
+      ctx.lineCap = "butt";
+    }
+    // held by a delay: on top of the body and its heading
+    let k = 0;
+    const held = this._held && this._held.length === n ? this._held : (this._held = new Int32Array(n));
+    for (let j = 0; j < nv; j++) if (ST[vis[j]] & CODEC.marked) held[k++] = vis[j];
+    if (k) this._delayMarks(ctx, xs, ys, held, k, side, Math.min(side * 0.25, Math.max(2 * px, side * 0.12)),
+      side * s >= 10);
+  }
+
+  /** The delay marks of `count` robots (indices in idx) of side `side`, centred at (xs, ys):
+   * an outline of width lw inside the square and, if `mark`, a pause sign at its centre (a
+   * disc in the delay colour with two white bars). */
+  _delayMarks(ctx, xs, ys, idx, count, side, lw, mark = true) {
+    const half = side / 2;
+    ctx.strokeStyle = COLOURS.delay; ctx.lineWidth = lw;
+    ctx.beginPath();
+    for (let j = 0; j < count; j++) {
+      const i = idx[j];
+      ctx.rect(xs[i] - half + lw / 2, ys[i] - half + lw / 2, side - lw, side - lw);
+    }
+    ctx.stroke();
+    if (!mark) return;
+    const r = side * 0.24, bw = side * 0.06, bh = side * 0.24, gap = side * 0.05;
+    ctx.fillStyle = COLOURS.delay;
+    ctx.beginPath();
+    for (let j = 0; j < count; j++) {
+      const i = idx[j];
+      ctx.moveTo(xs[i] + r, ys[i]);
+      ctx.arc(xs[i], ys[i], r, 0, TAU);
+    }
+    ctx.fill();
+    ctx.fillStyle = COLOURS.delayMark;
+    ctx.beginPath();
+    for (let j = 0; j < count; j++) {
+      const i = idx[j];
+      ctx.rect(xs[i] - gap - bw, ys[i] - bh / 2, bw, bh);
+      ctx.rect(xs[i] + gap, ys[i] - bh / 2, bw, bh);
+    }
+    ctx.fill();
+  }
+
   _drawBanner(ctx, frame, info) {
     const ui = this.ui, d = this.dpr, h = this.bannerH;
     ctx.setTransform(d, 0, 0, d, 0, 0);
@@ -897,7 +1009,7 @@ export class Renderer {
     ctx.fillText(title, x, y);
     x += ctx.measureText(title).width + 18 * ui;
     if (!frame) return;
-    const parts = bannerParts(frame, { ...info, grid: !!this.grid });
+    const parts = bannerParts(frame, { ...info, grid: !!this.grid, delays: this.y2026 });
     for (const [k, v] of parts) {
       ctx.font = `${12 * ui}px ${FONT}`;
       ctx.fillStyle = "#b9c0c8";
@@ -919,7 +1031,11 @@ export function formatT(info) {
 export function bannerParts(frame, info) {
   const step = info.last !== null && info.last !== undefined ? `${frame.step} / ${info.last}` : String(frame.step);
   // A grid replay: S counts refused joint actions, delivered the tasks finished (docs/lorr.md).
-  if (info.grid) return [["step", step], ["errors", String(frame.S)], ["finished", String(frame.delivered)]];
+  // A 2026 replay's C counts the delays drawn so far.
+  if (info.grid) {
+    return [["step", step], ["errors", String(frame.S)], ["finished", String(frame.delivered)],
+      ...(info.delays ? [["delays", String(frame.C)]] : [])];
+  }
   return [["step", step], ["S", String(frame.S)], ["C", String(frame.C)],
     ["delivered", `${frame.delivered} / ${info.goodsTotal}`], ["T", formatT(info)]];
 }
