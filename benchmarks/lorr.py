@@ -454,7 +454,10 @@ def main() -> None:
     command = shlex.join(["python3", "benchmarks/lorr.py", *sys.argv[1:]])
     kits: dict[str, Path] = {}
     for kit in args.startkit:
-        rules = kit_rules(kit)
+        try:
+            rules = kit_rules(kit)
+        except (OSError, subprocess.SubprocessError) as e:
+            ap.error(f"--startkit {kit}: cannot run it ({e})")
         if rules in kits:
             ap.error(f"--startkit {kit} and {kits[rules]} are both {rules} Start-Kits")
         kits[rules] = kit
