@@ -214,11 +214,15 @@ def _lorr_table(rows: list[dict[str, object]], names: list[str], baseline: str) 
     from multibots.stats import mean_ci, paired_t_test
 
     teams = sorted({r["team_size"] for r in rows}, key=lambda t: int(str(t)))
+
+    def tasks(name: str, team: object) -> dict[object, float]:
+        return {r["seed"]: float(str(r["delivered"])) for r in rows if r["scheduler"] == name and r["team_size"] == team}
+
     lines = [f"{'scheduler':<28} {'robots':>7} {'tasks (95% CI)':>24} {'vs ' + baseline:>22} {'p':>7}"]
     for team in teams:
-        base = {r["seed"]: float(str(r["delivered"])) for r in rows if r["scheduler"] == baseline and r["team_size"] == team}
+        base = tasks(baseline, team)
         for name in names:
-            mine = {r["seed"]: float(str(r["delivered"])) for r in rows if r["scheduler"] == name and r["team_size"] == team}
+            mine = tasks(name, team)
             mean, _, lo, hi = mean_ci(list(mine.values()), 0.95, low=0.0)
             ci = f"{mean:,.1f} ({lo:,.1f}-{hi:,.1f})" if lo is not None and hi is not None else f"{mean:,.1f}"
             seeds = sorted(set(mine) & set(base))
