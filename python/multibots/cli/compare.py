@@ -216,7 +216,7 @@ def _lorr_table(rows: list[dict[str, object]], names: list[str], baseline: str) 
     teams = sorted({r["team_size"] for r in rows}, key=lambda t: int(str(t)))
 
     def tasks(name: str, team: object) -> dict[object, float]:
-        return {r["seed"]: float(str(r["delivered"])) for r in rows if r["scheduler"] == name and r["team_size"] == team}
+        return {r["seed"]: float(str(r["delivered"])) for r in rows if (r["scheduler"], r["team_size"]) == (name, team)}
 
     lines = [f"{'scheduler':<28} {'robots':>7} {'tasks (95% CI)':>24} {'vs ' + baseline:>22} {'p':>7}"]
     for team in teams:
