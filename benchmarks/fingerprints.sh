@@ -17,6 +17,7 @@ done
 echo "large 3000+100: $(fp benchmarks/sizes/large.toml 3000 100)"
 echo "huge 200+100: $(fp benchmarks/sizes/huge.toml 200 100)"
 echo "lifelong-1000 2000+0: $(fp benchmarks/sizes/lifelong-1000.toml 2000 0)"
+echo "people 2000+100: $(fp benchmarks/sizes/people.toml 2000 100)"
 for traffic in gate reserve; do
   sed "s/^traffic = .*/traffic = \"$traffic\"/" scenarios/warehouse-1000.toml > "${TMPDIR:-/tmp}/mb-fp-$traffic.toml"
   echo "warehouse-1000 $traffic 3000+0: $(fp "${TMPDIR:-/tmp}/mb-fp-$traffic.toml" 3000 0)"

@@ -11,14 +11,19 @@ A second scheduler reads every field of ``env`` once per call and keeps the sche
 time each read takes at 10,000 robots (the fields are made Python objects on first read; the
 Start-Kit copies them at each read too).
 
-    python benchmarks/python_entry_cost.py [--problem P.json] [--ticks 300] [--repeat 3]
+    python benchmarks/python_entry_cost.py [--problem P.json] [--ticks 300] [--repeat 3] [--write]
+
+``--write`` puts the figures in docs/benchmarks.md (section ``python-entry``). Prints figures;
+it is not a test.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -86,9 +91,12 @@ def main() -> None:
     ap.add_argument("--problem", type=Path, default=PROBLEM)
     ap.add_argument("--ticks", type=int, default=300)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--write", action="store_true", help="put the figures in docs/benchmarks.md")
     args = ap.parse_args()
     team = json.loads(args.problem.read_text(encoding="utf-8")).get("teamSize")
-    print(f"{args.problem.name}: {team} robots, {args.ticks} ticks, the Start-Kit's pyTaskScheduler.py")
+    load = " ".join(f"{x:.1f}" for x in os.getloadavg())
+    lines = [f"{args.problem.name}: {team} robots, {args.ticks} ticks, the Start-Kit's pyTaskScheduler.py"]
+    print(lines[0])
     overheads, owns, calls = [], [], []
     for k in range(args.repeat):
         began = time.perf_counter()
@@ -99,16 +107,30 @@ def main() -> None:
         overheads.append(engine_ms - own_ms)
         owns.append(own_ms)
         calls.append(len(own))
-        print(f"  run {k + 1}: {len(own)} calls, scheduler call {engine_ms:.3f} ms (engine-timed), its own plan "
-              f"{own_ms:.3f} ms, beyond its own work {engine_ms - own_ms:.3f} ms; {figures['finished']} tasks, "
-              f"wall {wall:.1f} s")
-    print(f"beyond its own work, median of {args.repeat} runs: {statistics.median(overheads):.3f} ms a call "
-          f"(its own work {statistics.median(owns):.3f} ms)")
+        lines.append(f"- run {k + 1}: {len(own)} calls, scheduler call {engine_ms:.3f} ms (engine-timed), its own "
+                     f"plan {own_ms:.3f} ms, beyond its own work {engine_ms - own_ms:.3f} ms; "
+                     f"{figures['finished']} tasks, wall {wall:.1f} s")
+        print(lines[-1])
+    lines.append(f"\n**Beyond its own work, median of {args.repeat} runs: {statistics.median(overheads):.2f} ms a "
+                 f"call** (its own work {statistics.median(owns):.1f} ms).\n")
+    print(lines[-1])
     _, reads = run(args.problem, args.ticks, READS)
-    print("first read of each field, median over calls (ms, and its length):")
+    lines += ["First read of each field in a call, median over calls:", "",
+              "| field | ms | length |", "| --- | ---: | ---: |"]
     for name in reads[0]:
         ms = statistics.median(r[name][0] for r in reads) * 1e3
-        print(f"  env.{name}: {ms:.2f} ms ({reads[-1][name][1]})")
+        lines.append(f"| `env.{name}` | {ms:.2f} | {reads[-1][name][1]:,} |")
+    print("\n".join(lines[-len(reads[0]) - 4:]))
+    if args.write:
+        sys.path.insert(0, str(ROOT / "benchmarks"))
+        import sections
+        from run_all import describe, machine
+
+        head = ["## A Start-Kit Python scheduler at 10,000 robots (docs/lorr.md)", "",
+                f"- Command: `.venv/bin/python benchmarks/python_entry_cost.py --ticks {args.ticks} --repeat "
+                f"{args.repeat} --write`",
+                f"- Machine: {describe(machine())}; load {load} at the start.", ""]
+        sections.put("python-entry", "\n".join(head + lines))
 
 
 if __name__ == "__main__":

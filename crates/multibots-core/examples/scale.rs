@@ -43,6 +43,14 @@ fn main() {
             h = (h ^ w).wrapping_mul(0x0100_0000_01b3);
         }
     }
+    // People's positions too, where there are people (a run without them hashes as before).
+    if let Some(p) = sim.people() {
+        for (x, y) in p.x.iter().zip(&p.y) {
+            for w in [x.to_bits(), y.to_bits()] {
+                h = (h ^ w).wrapping_mul(0x0100_0000_01b3);
+            }
+        }
+    }
     println!(
         "{{\"robots\":{},\"steps\":{k},\"seconds\":{secs},\"robot_steps_per_s\":{},\"build_seconds\":{build},\"delivered\":{},\"s\":{},\"c\":{},\"fingerprint\":\"{h:016x}\"}}",
         n,

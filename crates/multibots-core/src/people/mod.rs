@@ -158,7 +158,7 @@ impl People {
     pub(crate) fn clear_of(&self, x: f64, y: f64, radius: f64) -> bool {
         let reach = radius + self.radius + walk::CLEAR;
         let mut clear = true;
-        self.crowd.near(x, y, reach, |k| clear &= (self.x[k] - x).hypot(self.y[k] - y) >= reach);
+        self.crowd.near(x, y, reach, |k| clear = clear && buckets::at_least(self.x[k] - x, self.y[k] - y, reach));
         clear
     }
 

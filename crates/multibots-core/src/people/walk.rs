@@ -13,6 +13,7 @@
 //! Everything is in pixels and steps; the constants are the published ones converted with
 //! `px_per_m` and `step_seconds`.
 
+use super::buckets::at_least;
 use super::{People, Phase};
 use crate::fleet::robot::Robots;
 
@@ -164,7 +165,7 @@ impl People {
                         let grid = &self.robot_grid;
                         let free = |(x, y): (f64, f64)| {
                             let mut ok = true;
-                            grid.near(x, y, w + speed_max, |i| ok &= (robots.x[i] - x).hypot(robots.y[i] - y) >= w);
+                            grid.near(x, y, w + speed_max, |i| ok = ok && at_least(robots.x[i] - x, robots.y[i] - y, w));
                             ok
                         };
                         let back = self.tours.passed(k).find(|&q| free(q)).or_else(|| self.tours.passed(k).last()).unwrap_or((self.seg_x[k], self.seg_y[k]));
@@ -184,8 +185,11 @@ impl People {
             self.crowd.near(px, py, reach_p, |j| {
                 if j != k {
                     let (ox, oy) = (px - xs[j], py - ys[j]);
+                    if at_least(ox, oy, reach_p) {
+                        return;
+                    }
                     let dd = ox.hypot(oy);
-                    if dd < reach_p && dd > 1e-9 {
+                    if dd > 1e-9 {
                         let f = forces.people_a * ((2.0 * rh - dd) / forces.people_b).exp();
                         let (nx, ny) = (ox / dd, oy / dd);
                         let side = if nx * ex + ny * ey < 0.0 { EVADE * f } else { 0.0 };
@@ -201,10 +205,13 @@ impl People {
                 if !(robots.routing[i] && robots.state[i].travels()) {
                     return;
                 }
+                let (ox, oy) = (px - robots.x[i], py - robots.y[i]);
+                if at_least(ox, oy, w) {
+                    return;
+                }
                 let (hx, hy) = (robots.wp_x[i] - robots.x[i], robots.wp_y[i] - robots.y[i]);
                 let len = hx.hypot(hy);
-                let (ox, oy) = (px - robots.x[i], py - robots.y[i]);
-                if len <= 1e-9 || ox.hypot(oy) >= w {
+                if len <= 1e-9 {
                     return;
                 }
                 let (hx, hy) = (hx / len, hy / len);
@@ -220,8 +227,11 @@ impl People {
             let reach_r = rr_max + rh + forces.robot_range;
             self.robot_grid.near(px, py, reach_r + speed_max, |i| {
                 let (ox, oy) = (px - robots.x[i], py - robots.y[i]);
+                if at_least(ox, oy, reach_r) {
+                    return;
+                }
                 let dd = ox.hypot(oy);
-                if dd < reach_r && dd > 1e-9 {
+                if dd > 1e-9 {
                     let f = forces.robot_a * ((robots.radius[i] + rh - dd) / forces.robot_b).exp().min(1e3);
                     let (nx, ny) = (ox / dd, oy / dd);
                     let side = if nx * ex + ny * ey < 0.0 { EVADE * f } else { 0.0 };
@@ -285,7 +295,7 @@ impl People {
         let mut clear = true;
         // The grid holds positions from before the robots' moves: reach one step further.
         self.robot_grid.near(x, y, rr_max + rh + CLEAR + speed_max, |i| {
-            clear &= (robots.x[i] - x).hypot(robots.y[i] - y) >= robots.radius[i] + rh + CLEAR;
+            clear = clear && at_least(robots.x[i] - x, robots.y[i] - y, robots.radius[i] + rh + CLEAR);
         });
         clear
     }

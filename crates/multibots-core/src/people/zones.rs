@@ -13,6 +13,7 @@
 //! never, by construction), protective stops and the steps robots spend stopped, robot-steps
 //! in warning zones, and person-steps spent blocked by robots.
 
+use super::buckets::at_least;
 use super::walk::CLEAR;
 use super::People;
 use crate::fleet::robot::Robots;
@@ -182,10 +183,10 @@ impl People {
                     return;
                 }
                 let (dx, dy) = (qx - robots.x[i], qy - robots.y[i]);
-                let d = dx.hypot(dy);
-                if d >= w {
+                if at_least(dx, dy, w) {
                     return;
                 }
+                let d = dx.hypot(dy);
                 slow[i] = true;
                 if d < p {
                     // The protective field covers the robot's path ahead: a person whose centre
@@ -227,8 +228,9 @@ impl People {
             let (qx, qy) = (self.x[k], self.y[k]);
             let (gap, touched) = (&mut z.gap, &mut z.touched);
             self.robot_grid.near(qx, qy, reach, |i| {
-                let d = (qx - robots.x[i]).hypot(qy - robots.y[i]);
-                if d < z.warning {
+                let (dx, dy) = (qx - robots.x[i], qy - robots.y[i]);
+                if !at_least(dx, dy, z.warning) {
+                    let d = dx.hypot(dy);
                     let g = d - robots.radius[i] - rh;
                     if gap[i].is_infinite() {
                         #[allow(clippy::cast_possible_truncation)]
