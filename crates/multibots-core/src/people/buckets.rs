@@ -34,6 +34,8 @@ pub(crate) struct Buckets {
     /// Point indices, sorted by cell.
     items: Vec<u32>,
     cell_of: Vec<u32>,
+    /// Where the next point of each cell goes while building (kept: no allocation a step).
+    fill: Vec<u32>,
 }
 
 /// The most cells a grid may have; past it the cells grow (the answers do not change).
@@ -50,7 +52,7 @@ impl Buckets {
         // Truncation is intended: a cell count from a bounded, positive ratio.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (cols, rows) = ((w / size) as usize + 1, (h / size) as usize + 1);
-        Buckets { x0: bounds[0], y0: bounds[1], inv: 1.0 / size, cols, rows, start: vec![0; cols * rows + 1], items: Vec::new(), cell_of: Vec::new() }
+        Buckets { x0: bounds[0], y0: bounds[1], inv: 1.0 / size, cols, rows, start: vec![0; cols * rows + 1], items: Vec::new(), cell_of: Vec::new(), fill: Vec::new() }
     }
 
     #[inline]
@@ -86,14 +88,15 @@ impl Buckets {
         let total = self.start[self.cols * self.rows] as usize;
         self.items.clear();
         self.items.resize(total, 0);
-        let mut fill = self.start.clone();
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.start);
         for (k, &c) in self.cell_of.iter().enumerate() {
             if c != u32::MAX {
                 #[allow(clippy::cast_possible_truncation)]
                 {
-                    self.items[fill[c as usize] as usize] = k as u32;
+                    self.items[self.fill[c as usize] as usize] = k as u32;
                 }
-                fill[c as usize] += 1;
+                self.fill[c as usize] += 1;
             }
         }
     }
