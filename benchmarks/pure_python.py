@@ -63,7 +63,7 @@ def measure(repetitions: int = 5) -> dict[str, Any]:
 def measure_experiment(repetitions: int = 3, engine_calls: int = 7) -> dict[str, Any]:
     """The 30-run experiment both ways, interleaved: each repetition runs the pure-Python
     model once (about a second) and the Python API ``engine_calls`` times around it."""
-    from multibots import PAPER_TASKS, Scenario, simulate_many
+    from multibots import PAPER_TASKS, Scenario, simulate, simulate_many
 
     from oracle import reference_model
 
@@ -71,11 +71,23 @@ def measure_experiment(repetitions: int = 3, engine_calls: int = 7) -> dict[str,
     scenarios = [Scenario.paper(robots=n, goods=g) for n, g in runs]
     py_s: list[float] = []
     eng_s: list[float] = []
+    # Each run a separate `simulate` call, as a study that runs one at a time does (issue 44):
+    # with the scenarios made beforehand, and with each made in the call's turn.
+    one_s: list[float] = []
+    made_s: list[float] = []
 
     def engine() -> list[Any]:
         t0 = time.perf_counter()
         out = simulate_many(scenarios, workers=1)
         eng_s.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        for sc in scenarios:
+            simulate(sc)
+        one_s.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        for n, g in runs:
+            simulate(Scenario.paper(robots=n, goods=g))
+        made_s.append(time.perf_counter() - t0)
         return out
 
     for _ in range(repetitions):
@@ -94,6 +106,8 @@ def measure_experiment(repetitions: int = 3, engine_calls: int = 7) -> dict[str,
     robot_steps = sum(n * r.steps for (n, _), r in zip(runs, results))
     return {"runs": len(runs), "robot_steps": robot_steps, "python_ms": py * 1000, "engine_ms": eng * 1000,
             "engine_min_ms": min(eng_s) * 1000, "ratio": py / eng, "best_ratio": py / min(eng_s),
+            "separate_ms": statistics.median(one_s) * 1000, "separate_ratio": py / statistics.median(one_s),
+            "made_ms": statistics.median(made_s) * 1000, "made_ratio": py / statistics.median(made_s),
             "repetitions": repetitions, "engine_calls": engine_calls * repetitions}
 
 
@@ -105,6 +119,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"the paper's {e['runs']}-run experiment ({e['robot_steps']:,} robot-steps), T, S and C equal on every run: "
           f"pure Python {e['python_ms']:,.0f} ms, Python API {e['engine_ms']:.1f} ms (median; best "
           f"{e['engine_min_ms']:.1f}): ratio {e['ratio']:,.0f}x (with the best engine time {e['best_ratio']:,.0f}x)")
+    print(f"  each run a separate simulate call: {e['separate_ms']:.1f} ms, {e['separate_ratio']:,.0f}x; with each "
+          f"Scenario.paper made in its turn: {e['made_ms']:.1f} ms, {e['made_ratio']:,.0f}x")
     r = measure(a.repetitions)
     print(f"paper scenario (N = 6, group 1): T = {r['T']}, S = {r['S']}, C = {r['C']} in both")
     print(
