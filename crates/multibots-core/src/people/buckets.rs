@@ -52,7 +52,17 @@ impl Buckets {
         // Truncation is intended: a cell count from a bounded, positive ratio.
         #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
         let (cols, rows) = ((w / size) as usize + 1, (h / size) as usize + 1);
-        Buckets { x0: bounds[0], y0: bounds[1], inv: 1.0 / size, cols, rows, start: vec![0; cols * rows + 1], items: Vec::new(), cell_of: Vec::new(), fill: Vec::new() }
+        Buckets {
+            x0: bounds[0],
+            y0: bounds[1],
+            inv: 1.0 / size,
+            cols,
+            rows,
+            start: vec![0; cols * rows + 1],
+            items: Vec::new(),
+            cell_of: Vec::new(),
+            fill: Vec::new(),
+        }
     }
 
     #[inline]
