@@ -52,6 +52,11 @@ pub struct ActionModel {
     /// is this tick's. One array, so that a cell costs one cache line.
     bin_head: Vec<(u32, u32)>,
     stamp: u32,
+    /// A bit per cell, set where `bins` has entries: a neighbour search reads the bits of its
+    /// cells and `bin_head` only where one is set. On a map of millions of cells with robots
+    /// few and far between, `bin_head` (8 bytes a cell) is out of cache and a read of every
+    /// cell round a slide was most of the tick; the bits (a 64th of that) stay in cache.
+    occupied: Vec<u64>,
     status: Vec<u8>,
     decided: Vec<bool>,
     chose: Vec<bool>,
@@ -152,6 +157,14 @@ impl ActionModel {
 
     /// Bins every robot by the cells its square covers at the start of the tick.
     fn bin(&mut self, floor: &Floor, prev: &[Pose]) {
+        let n_cells = (floor.rows * floor.cols) as usize;
+        if self.occupied.len() == n_cells.div_ceil(64) {
+            for &(cell, _) in &self.bins {
+                self.occupied[cell as usize / 64] = 0;
+            }
+        } else {
+            self.occupied = vec![0; n_cells.div_ceil(64)];
+        }
         self.bins.clear();
         for (i, p) in prev.iter().enumerate() {
             let (x, y) = corner(p, floor.cols, floor.m);
@@ -165,9 +178,8 @@ impl ActionModel {
         }
         // Stable: robots stay in id order within a cell.
         self.bins.sort_by_key(|&(cell, _)| cell);
-        let cells = (floor.rows * floor.cols) as usize;
-        if self.bin_head.len() != cells {
-            self.bin_head = vec![(0, 0); cells];
+        if self.bin_head.len() != n_cells {
+            self.bin_head = vec![(0, 0); n_cells];
             self.stamp = 0;
         }
         self.stamp = self.stamp.wrapping_add(1);
@@ -179,6 +191,7 @@ impl ActionModel {
             let head = &mut self.bin_head[cell as usize];
             if head.0 != self.stamp {
                 *head = (self.stamp, k as u32);
+                self.occupied[cell as usize / 64] |= 1 << (cell % 64);
             }
         }
     }
@@ -319,27 +332,51 @@ impl Tick<'_> {
             m.seen_stamp = 1;
         }
         let from = m.neighbours.len();
+        if c0 > c1 {
+            return (from, from);
+        }
         for r in r0..=r1 {
-            for c in c0..=c1 {
-                let cell = (r * i64::from(cols) + c) as usize;
-                let (stamp, start) = m.bin_head[cell];
-                if stamp != m.stamp {
-                    continue;
+            // The row's cells c0..=c1 whose bit is set, in increasing order: the cells of the
+            // Start-Kit's walk that hold a robot, in its order.
+            let (lo, hi) = ((r * i64::from(cols) + c0) as usize, (r * i64::from(cols) + c1) as usize);
+            for w in lo / 64..=hi / 64 {
+                let mut bits = m.occupied[w];
+                if w == lo / 64 {
+                    bits &= u64::MAX << (lo % 64);
                 }
-                for &(at, j) in &m.bins[start as usize..] {
-                    if at as usize != cell {
-                        break;
-                    }
-                    if j as usize != i && m.seen[j as usize] != m.seen_stamp {
-                        m.seen[j as usize] = m.seen_stamp;
-                        m.neighbours.push(j);
-                    }
+                if w == hi / 64 {
+                    bits &= u64::MAX >> (63 - hi % 64);
+                }
+                while bits != 0 {
+                    let cell = w * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    m.gather(cell, i);
                 }
             }
         }
         (from, m.neighbours.len())
     }
+}
 
+impl ActionModel {
+    /// Appends to `neighbours` the robots binned at `cell` not yet seen this search, `i` left
+    /// out, by increasing id.
+    fn gather(&mut self, cell: usize, i: usize) {
+        let (stamp, start) = self.bin_head[cell];
+        debug_assert_eq!(stamp, self.stamp, "a cell's bit is set only for this tick's bins");
+        for &(at, j) in &self.bins[start as usize..] {
+            if at as usize != cell {
+                break;
+            }
+            if j as usize != i && self.seen[j as usize] != self.seen_stamp {
+                self.seen[j as usize] = self.seen_stamp;
+                self.neighbours.push(j);
+            }
+        }
+    }
+}
+
+impl Tick<'_> {
     /// The words for the cycle `i` closes on `k`, which is further up the recursion.
     fn cycle(&self, i: usize, k: usize) -> String {
         let m = &*self.model;
