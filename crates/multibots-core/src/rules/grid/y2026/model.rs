@@ -48,14 +48,13 @@ pub struct ActionModel {
     wait_ok: Vec<bool>,
     /// (cell, robot) for each cell a robot's square covers, sorted by cell then robot.
     bins: Vec<(u32, u32)>,
-    /// Per cell, (the tick's stamp, where its entries start in `bins`): valid where the stamp
-    /// is this tick's. One array, so that a cell costs one cache line.
-    bin_head: Vec<(u32, u32)>,
-    stamp: u32,
+    /// Where each binned cell's entries start in `bins`: an open-addressed table of
+    /// (cell, start), [`EMPTY`] where unused, twice the size of `bins` or more, rebuilt each
+    /// tick. A table per cell of the map (8 bytes a cell) was out of cache on a map of
+    /// millions of cells, and its reads most of the tick; this one is the size of the fleet.
+    heads: Vec<(u32, u32)>,
     /// A bit per cell, set where `bins` has entries: a neighbour search reads the bits of its
-    /// cells and `bin_head` only where one is set. On a map of millions of cells with robots
-    /// few and far between, `bin_head` (8 bytes a cell) is out of cache and a read of every
-    /// cell round a slide was most of the tick; the bits (a 64th of that) stay in cache.
+    /// cells, a 64th of a byte a cell, and `heads` only where one is set.
     occupied: Vec<u64>,
     status: Vec<u8>,
     decided: Vec<bool>,
@@ -69,6 +68,15 @@ pub struct ActionModel {
     neighbours: Vec<u32>,
     /// The messages of the last tick.
     pub errors: Vec<ModelMessage>,
+}
+
+/// An unused entry of `ActionModel::heads`.
+const EMPTY: u32 = u32::MAX;
+
+/// Where `cell` goes in a table of `len` entries (a power of two), by Fibonacci hashing.
+#[inline]
+fn slot_of(cell: u32, len: usize) -> usize {
+    (u64::from(cell).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - len.trailing_zeros())) as usize
 }
 
 const UNSEEN: u8 = 0;
@@ -178,22 +186,34 @@ impl ActionModel {
         }
         // Stable: robots stay in id order within a cell.
         self.bins.sort_by_key(|&(cell, _)| cell);
-        if self.bin_head.len() != n_cells {
-            self.bin_head = vec![(0, 0); n_cells];
-            self.stamp = 0;
-        }
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.bin_head.fill((0, 0));
-            self.stamp = 1;
-        }
+        let len = (2 * self.bins.len()).next_power_of_two().max(2);
+        self.heads.clear();
+        self.heads.resize(len, (EMPTY, 0));
+        let mut last = EMPTY;
         for (k, &(cell, _)) in self.bins.iter().enumerate() {
-            let head = &mut self.bin_head[cell as usize];
-            if head.0 != self.stamp {
-                *head = (self.stamp, k as u32);
-                self.occupied[cell as usize / 64] |= 1 << (cell % 64);
+            if cell == last {
+                continue;
             }
+            last = cell;
+            self.occupied[cell as usize / 64] |= 1 << (cell % 64);
+            let mut h = slot_of(cell, len);
+            while self.heads[h].0 != EMPTY {
+                h = (h + 1) & (len - 1);
+            }
+            self.heads[h] = (cell, k as u32);
         }
+    }
+
+    /// Where `cell`'s entries start in `bins`; `cell` must be binned (its bit set).
+    #[inline]
+    fn head(&self, cell: u32) -> usize {
+        let len = self.heads.len();
+        let mut h = slot_of(cell, len);
+        while self.heads[h].0 != cell {
+            debug_assert_ne!(self.heads[h].0, EMPTY, "cell {cell} is binned");
+            h = (h + 1) & (len - 1);
+        }
+        self.heads[h].1 as usize
     }
 }
 
@@ -362,9 +382,7 @@ impl ActionModel {
     /// Appends to `neighbours` the robots binned at `cell` not yet seen this search, `i` left
     /// out, by increasing id.
     fn gather(&mut self, cell: usize, i: usize) {
-        let (stamp, start) = self.bin_head[cell];
-        debug_assert_eq!(stamp, self.stamp, "a cell's bit is set only for this tick's bins");
-        for &(at, j) in &self.bins[start as usize..] {
+        for &(at, j) in &self.bins[self.head(cell as u32)..] {
             if at as usize != cell {
                 break;
             }
