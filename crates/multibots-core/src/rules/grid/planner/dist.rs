@@ -307,7 +307,7 @@ fn pack(neighbours: &[[u32; 4]]) -> Option<Vec<u32>> {
             debug_assert!(!west || n[2] == u - 1);
             let south = if n[1] == u32::MAX { 0 } else { n[1] - u };
             let north = if n[3] == u32::MAX { 0 } else { u - n[3] };
-            (south <= SPAN && north <= SPAN).then_some(u32::from(east) * EAST | u32::from(west) * WEST | south << 2 | north << 17)
+            (south <= SPAN && north <= SPAN).then_some((u32::from(east) * EAST) | (u32::from(west) * WEST) | (south << 2) | (north << 17))
         })
         .collect()
 }
