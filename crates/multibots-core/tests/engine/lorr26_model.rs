@@ -29,7 +29,7 @@ fn check(text: &str) -> usize {
         let (rows, cols) = (s["rows"].as_u64().unwrap() as u32, s["cols"].as_u64().unwrap() as u32);
         let map: Vec<bool> =
             s["map"].as_array().unwrap().iter().flat_map(|r| r.as_str().unwrap().chars().map(|c| c == '@' || c == 'T').collect::<Vec<_>>()).collect();
-        let floor = Floor { rows, cols, obstacle: map, size: s["agentSize"].as_f64().unwrap() as f32, m: s["agentCounter"].as_u64().unwrap() as u32 };
+        let floor = Floor::new(rows, cols, map, s["agentSize"].as_f64().unwrap() as f32, s["agentCounter"].as_u64().unwrap() as u32);
         let mut states: Vec<Pose> = s["start"]
             .as_array()
             .unwrap()

@@ -73,6 +73,16 @@ pub struct Tpg {
     window: usize,
     /// Actions of the current play, per robot (scratch).
     done: Vec<usize>,
+    /// Per robot, a cell whose queue it is known to head (or which has no queue), or
+    /// `u32::MAX`: it stays so until the robot moves or the queues are rebuilt, since only
+    /// a queue's front leaves it, and only when it moves. A robot on its way into a cell asks
+    /// for it every tick of the move; this spares most of those look-ups in `order`, which on
+    /// a large fleet is out of cache.
+    heads: Vec<u32>,
+    /// Scratch of `next_command`: the gates, and `resolve`'s marks and chain.
+    gates: Vec<Gate>,
+    marks: Vec<u8>,
+    chain: Vec<usize>,
 }
 
 impl Tpg {
@@ -146,30 +156,40 @@ impl Executor for Tpg {
             }
         }
         self.play(env, staged, predicted);
+        self.heads.clear();
+        self.heads.resize(n, u32::MAX);
         Ok(())
     }
 
     fn next_command(&mut self, env: &ExecEnv<'_>, staged: &[Vec<Action>], go: &mut [bool]) -> Result<()> {
+        if self.heads.len() != env.system.len() {
+            self.heads = vec![u32::MAX; env.system.len()];
+        }
         for (i, p) in env.system.iter().enumerate() {
             if p.loc != self.seen[i] {
                 let was = self.seen[i];
                 self.pop_front(was, i as u32);
                 self.seen[i] = p.loc;
+                self.heads[i] = u32::MAX;
             }
         }
-        let order = &self.order;
-        let gates: Vec<Gate> = env
-            .system
-            .iter()
-            .enumerate()
-            .map(|(i, p)| match staged[i].first() {
-                None => Gate::Stop,
-                Some(&a) if a != Action::F => Gate::Go,
-                Some(_) => ahead(env.map, p.loc, p.heading)
-                    .map_or(Gate::Go, |c| gate(order, i as u32, c, |j| env.system[j as usize].loc == c && !env.held[j as usize])),
-            })
-            .collect();
-        resolve(&gates, |j| staged[j as usize].first() == Some(&Action::F), go);
+        let Tpg { order, heads, gates, marks, chain, .. } = self;
+        gates.clear();
+        gates.extend(env.system.iter().enumerate().map(|(i, p)| match staged[i].first() {
+            None => Gate::Stop,
+            Some(&a) if a != Action::F => Gate::Go,
+            Some(_) => ahead(env.map, p.loc, p.heading).map_or(Gate::Go, |c| {
+                if heads[i] == c {
+                    return Gate::Go;
+                }
+                let g = gate(order, i as u32, c, |j| env.system[j as usize].loc == c && !env.held[j as usize]);
+                if g == Gate::Go {
+                    heads[i] = c;
+                }
+                g
+            }),
+        }));
+        resolve(gates, |j| staged[j as usize].first() == Some(&Action::F), go, marks, chain);
         Ok(())
     }
 }
@@ -197,12 +217,13 @@ fn gate(order: &HashMap<u32, VecDeque<u32>>, i: u32, c: u32, can_leave: impl Fn(
 /// Decides every gate: a robot waiting on another goes if that one goes and its move leaves
 /// the cell (`moves_on(j)`); a cycle of robots waiting on each other stays (the model forbids
 /// a rotation). Chains are followed with an explicit stack: they can be as long as the fleet.
-fn resolve(gate: &[Gate], moves_on: impl Fn(u32) -> bool, go: &mut [bool]) {
+fn resolve(gate: &[Gate], moves_on: impl Fn(u32) -> bool, go: &mut [bool], mark: &mut Vec<u8>, chain: &mut Vec<usize>) {
     const UNKNOWN: u8 = 0;
     const OPEN: u8 = 1;
     const SET: u8 = 2;
-    let mut mark = vec![UNKNOWN; gate.len()];
-    let mut chain: Vec<usize> = Vec::new();
+    mark.clear();
+    mark.resize(gate.len(), UNKNOWN);
+    chain.clear();
     for start in 0..gate.len() {
         let mut i = start;
         // Walk down the chain to a decided robot, a robot that decides alone, or a cycle.
@@ -277,7 +298,7 @@ impl Tpg {
                     },
                 };
             }
-            resolve(&gates, |j| staged[j as usize].get(self.done[j as usize]) == Some(&Action::F), &mut go);
+            resolve(&gates, |j| staged[j as usize].get(self.done[j as usize]) == Some(&Action::F), &mut go, &mut self.marks, &mut self.chain);
             moved.clear();
             for i in 0..n {
                 if !go[i] {

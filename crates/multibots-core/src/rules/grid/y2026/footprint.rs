@@ -151,9 +151,32 @@ pub struct Floor {
     pub size: f32,
     /// `agentCounter`: ticks per action.
     pub m: u32,
+    /// `obstacle` as bits, a bit per cell in row-major order: the model looks up an obstacle
+    /// for every slide of every tick, and on a map of millions of cells a bit per cell stays
+    /// in cache where a byte per cell does not (the 1,800 × 1,912 map of `iron_harvest`:
+    /// 0.4 MB against 3.4 MB). Private, so that it is made from `obstacle` only
+    /// ([`Floor::new`]).
+    blocked: Vec<u64>,
 }
 
 impl Floor {
+    /// A floor of `rows × cols` cells with `obstacle` (a flag per cell, row-major), squares
+    /// of side `size` and `m` ticks per action.
+    #[must_use]
+    pub fn new(rows: u32, cols: u32, obstacle: Vec<bool>, size: f32, m: u32) -> Floor {
+        let mut blocked = vec![0u64; obstacle.len().div_ceil(64)];
+        for (c, _) in obstacle.iter().enumerate().filter(|(_, &o)| o) {
+            blocked[c / 64] |= 1 << (c % 64);
+        }
+        Floor { rows, cols, obstacle, size, m, blocked }
+    }
+
+    /// Whether `cell` is an obstacle.
+    #[inline]
+    fn is_obstacle(&self, cell: usize) -> bool {
+        (self.blocked[cell / 64] >> (cell % 64)) & 1 == 1
+    }
+
     /// Whether a slide stays on the map and clear of every obstacle cell.
     #[must_use]
     pub fn clear(&self, m: &Motion) -> bool {
@@ -165,7 +188,7 @@ impl Floor {
         for r in r0..=r1 {
             for c in c0..=c1 {
                 let cell = (r * i64::from(self.cols) + c) as usize;
-                if self.obstacle[cell] {
+                if self.is_obstacle(cell) {
                     let (x, y) = (c as f32, r as f32);
                     if collide(m, self.size, &Motion { x0: x, y0: y, x1: x, y1: y }, 1.0) {
                         return false;

@@ -48,10 +48,14 @@ pub struct ActionModel {
     wait_ok: Vec<bool>,
     /// (cell, robot) for each cell a robot's square covers, sorted by cell then robot.
     bins: Vec<(u32, u32)>,
-    /// Per cell, (the tick's stamp, where its entries start in `bins`): valid where the stamp
-    /// is this tick's. One array, so that a cell costs one cache line.
-    bin_head: Vec<(u32, u32)>,
-    stamp: u32,
+    /// Where each binned cell's entries start in `bins`: an open-addressed table of
+    /// (cell, start), [`EMPTY`] where unused, twice the size of `bins` or more, rebuilt each
+    /// tick. A table per cell of the map (8 bytes a cell) was out of cache on a map of
+    /// millions of cells, and its reads most of the tick; this one is the size of the fleet.
+    heads: Vec<(u32, u32)>,
+    /// A bit per cell, set where `bins` has entries: a neighbour search reads the bits of its
+    /// cells, a 64th of a byte a cell, and `heads` only where one is set.
+    occupied: Vec<u64>,
     status: Vec<u8>,
     decided: Vec<bool>,
     chose: Vec<bool>,
@@ -64,6 +68,15 @@ pub struct ActionModel {
     neighbours: Vec<u32>,
     /// The messages of the last tick.
     pub errors: Vec<ModelMessage>,
+}
+
+/// An unused entry of `ActionModel::heads`.
+const EMPTY: u32 = u32::MAX;
+
+/// Where `cell` goes in a table of `len` entries (a power of two), by Fibonacci hashing.
+#[inline]
+fn slot_of(cell: u32, len: usize) -> usize {
+    (u64::from(cell).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> (64 - len.trailing_zeros())) as usize
 }
 
 const UNSEEN: u8 = 0;
@@ -152,6 +165,14 @@ impl ActionModel {
 
     /// Bins every robot by the cells its square covers at the start of the tick.
     fn bin(&mut self, floor: &Floor, prev: &[Pose]) {
+        let n_cells = (floor.rows * floor.cols) as usize;
+        if self.occupied.len() == n_cells.div_ceil(64) {
+            for &(cell, _) in &self.bins {
+                self.occupied[cell as usize / 64] = 0;
+            }
+        } else {
+            self.occupied = vec![0; n_cells.div_ceil(64)];
+        }
         self.bins.clear();
         for (i, p) in prev.iter().enumerate() {
             let (x, y) = corner(p, floor.cols, floor.m);
@@ -165,22 +186,34 @@ impl ActionModel {
         }
         // Stable: robots stay in id order within a cell.
         self.bins.sort_by_key(|&(cell, _)| cell);
-        let cells = (floor.rows * floor.cols) as usize;
-        if self.bin_head.len() != cells {
-            self.bin_head = vec![(0, 0); cells];
-            self.stamp = 0;
-        }
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.bin_head.fill((0, 0));
-            self.stamp = 1;
-        }
+        let len = (2 * self.bins.len()).next_power_of_two().max(2);
+        self.heads.clear();
+        self.heads.resize(len, (EMPTY, 0));
+        let mut last = EMPTY;
         for (k, &(cell, _)) in self.bins.iter().enumerate() {
-            let head = &mut self.bin_head[cell as usize];
-            if head.0 != self.stamp {
-                *head = (self.stamp, k as u32);
+            if cell == last {
+                continue;
             }
+            last = cell;
+            self.occupied[cell as usize / 64] |= 1 << (cell % 64);
+            let mut h = slot_of(cell, len);
+            while self.heads[h].0 != EMPTY {
+                h = (h + 1) & (len - 1);
+            }
+            self.heads[h] = (cell, k as u32);
         }
+    }
+
+    /// Where `cell`'s entries start in `bins`; `cell` must be binned (its bit set).
+    #[inline]
+    fn head(&self, cell: u32) -> usize {
+        let len = self.heads.len();
+        let mut h = slot_of(cell, len);
+        while self.heads[h].0 != cell {
+            debug_assert_ne!(self.heads[h].0, EMPTY, "cell {cell} is binned");
+            h = (h + 1) & (len - 1);
+        }
+        self.heads[h].1 as usize
     }
 }
 
@@ -319,27 +352,49 @@ impl Tick<'_> {
             m.seen_stamp = 1;
         }
         let from = m.neighbours.len();
+        if c0 > c1 {
+            return (from, from);
+        }
         for r in r0..=r1 {
-            for c in c0..=c1 {
-                let cell = (r * i64::from(cols) + c) as usize;
-                let (stamp, start) = m.bin_head[cell];
-                if stamp != m.stamp {
-                    continue;
+            // The row's cells c0..=c1 whose bit is set, in increasing order: the cells of the
+            // Start-Kit's walk that hold a robot, in its order.
+            let (lo, hi) = ((r * i64::from(cols) + c0) as usize, (r * i64::from(cols) + c1) as usize);
+            for w in lo / 64..=hi / 64 {
+                let mut bits = m.occupied[w];
+                if w == lo / 64 {
+                    bits &= u64::MAX << (lo % 64);
                 }
-                for &(at, j) in &m.bins[start as usize..] {
-                    if at as usize != cell {
-                        break;
-                    }
-                    if j as usize != i && m.seen[j as usize] != m.seen_stamp {
-                        m.seen[j as usize] = m.seen_stamp;
-                        m.neighbours.push(j);
-                    }
+                if w == hi / 64 {
+                    bits &= u64::MAX >> (63 - hi % 64);
+                }
+                while bits != 0 {
+                    let cell = w * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    m.gather(cell, i);
                 }
             }
         }
         (from, m.neighbours.len())
     }
+}
 
+impl ActionModel {
+    /// Appends to `neighbours` the robots binned at `cell` not yet seen this search, `i` left
+    /// out, by increasing id.
+    fn gather(&mut self, cell: usize, i: usize) {
+        for &(at, j) in &self.bins[self.head(cell as u32)..] {
+            if at as usize != cell {
+                break;
+            }
+            if j as usize != i && self.seen[j as usize] != self.seen_stamp {
+                self.seen[j as usize] = self.seen_stamp;
+                self.neighbours.push(j);
+            }
+        }
+    }
+}
+
+impl Tick<'_> {
     /// The words for the cycle `i` closes on `k`, which is further up the recursion.
     fn cycle(&self, i: usize, k: usize) -> String {
         let m = &*self.model;

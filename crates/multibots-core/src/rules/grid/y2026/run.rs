@@ -117,13 +117,7 @@ impl Lorr26 {
         // `--plan-time-limit` is the communication interval under these rules.
         let comm_ms = comm_ms(&options);
         let interval = comm_ms.div_ceil(TICK_MS).max(1);
-        let floor = Floor {
-            rows: problem.map.rows,
-            cols: problem.map.cols,
-            obstacle: problem.map.free.iter().map(|&f| !f).collect(),
-            size: rules.agent_size,
-            m: rules.agent_counter,
-        };
+        let floor = Floor::new(problem.map.rows, problem.map.cols, problem.map.free.iter().map(|&f| !f).collect(), rules.agent_size, rules.agent_counter);
         if let Some((i, why)) = floor.misfit(&problem.starts) {
             return Err(Error::scenario("agentSize", rules.agent_size, format!("robot {i} cannot start: {why}")));
         }

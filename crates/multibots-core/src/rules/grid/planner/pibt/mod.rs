@@ -489,7 +489,7 @@ impl Planner for Pibt {
         for a in 0..n {
             let g = view.goals[a];
             // A robot in a dead end goes first: it can only leave the way others come in.
-            self.bonus[a] = if g != NO_GOAL && self.dist.degree(view.loc[a]) == 1 { 10 } else { 0 };
+            self.bonus[a] = if g != NO_GOAL && self.dist.dead_end(view.loc[a]) { 10 } else { 0 };
             if g == NO_GOAL {
                 self.slot[a] = NONE;
             } else if !self.lean {
