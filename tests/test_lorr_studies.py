@@ -180,3 +180,45 @@ def test_compare_lorr_prints_intervals_and_tests_against_the_first(tmp_path: Pat
     bad = subprocess.run([sys.executable, "-m", "multibots", "compare", "--lorr", str(MAZE), "--tasks", "random:3",
                           "--out", str(tmp_path / "d")], capture_output=True, text=True)
     assert bad.returncode == 2 and bad.stderr.startswith("multibots: error: --tasks: the paper model's option")
+
+
+# A Combined-track executor: it drops what it had staged and stages the new plan's first
+# action only, which is no prefix of the old queue followed by the plan.
+RESTAGES = """
+import MAPF
+
+
+class pyExecutor:
+    def initialize(self, preprocess_time_limit):
+        pass
+
+    def process_new_plan(self, sync_time_limit, plan, staged_actions):
+        for i, row in enumerate(plan.actions):
+            staged_actions[i][:] = [a for a in row if a not in (MAPF.Action.W, MAPF.Action.NA)][:1]
+        return list(self.env.system_states)
+
+    def next_command(self, exec_time_limit):
+        return [MAPF.ExecutionCommand.GO] * self.env.num_of_agents
+"""
+
+
+@needs_examples
+def test_staged_action_validation_is_the_start_kits_and_can_be_turned_off(tmp_path: Path) -> None:
+    entry = tmp_path / "pyExecutor.py"
+    entry.write_text(RESTAGES)
+    with pytest.raises(multibots.exceptions.AllocatorError, match=r"^executor pyExecutor\.py: robot \d+'s staged "
+                       r"actions \w* are not a prefix of \w* then \w*"):
+        lorr.run(MAZE, steps=100, executor_py=entry)
+    out = tmp_path / "r.json"
+    r = lorr.run(MAZE, steps=100, executor_py=entry, out=out, staged_validation=False)
+    p = subprocess.run([sys.executable, str(CHECKER), str(MAZE), str(out)], capture_output=True, text=True,
+                       timeout=600)
+    verdict = json.loads(p.stdout.strip().splitlines()[-1])
+    assert verdict["valid"] and verdict["finished"] == r.finished and r.steps == 100
+    cli = subprocess.run([sys.executable, "-m", "multibots", "lorr", str(MAZE), "--steps", "100", "--executor-py",
+                          str(entry), "--disable-staged-action-validation"], capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    problem = SHARED / "reference" / "lorr" / "2024" / "random.domain" / "random_32_32_20_100.json"
+    if problem.is_file():
+        with pytest.raises(ScenarioError, match=r"^staged_validation = False: only the 2026 rules stage actions"):
+            lorr.run(problem, steps=5, staged_validation=False)

@@ -78,6 +78,7 @@ def run(
     scheduler_py: Optional[Union[str, os.PathLike[str]]] = None,
     executor_py: Optional[Union[str, os.PathLike[str]]] = None,
     delay_seed: Optional[int] = None,
+    staged_validation: bool = True,
 ) -> LorrResult:
     """Runs a LoRR problem for ``steps`` steps.
 
@@ -110,6 +111,10 @@ def run(
         delay_seed: (2026 rules) the seed of the delays in place of the problem's
             ``delayConfig.seed``: another draw of the same delay model, the one the Start-Kit
             gives with that seed in the problem file. None: the problem's.
+        staged_validation: (2026 rules) whether an executor's staged actions must stay a
+            prefix of those it had followed by the new plan (waits left out), as the
+            Start-Kit checks them; False is its ``--disableStagedActionValidation``, which the
+            Combined track allows an executor that stages its own actions.
 
     Raises:
         ScenarioError: a problem file that cannot be read (the message names the file and
@@ -131,6 +136,8 @@ def run(
     scheduler_py = _args.path("scheduler_py", scheduler_py, optional=True)
     executor_py = _args.path("executor_py", executor_py, optional=True)
     progress = _args.function("progress", progress)
+    if not isinstance(staged_validation, bool):
+        raise ArgumentError(f"staged_validation = {staged_validation!r}: expected True or False")
     check_files(problem, out, record, entries=[p for p in (planner_py, scheduler_py, executor_py) if p is not None])
     entries = None
     if planner_py is not None or scheduler_py is not None or executor_py is not None:
@@ -142,7 +149,7 @@ def run(
     with OutputSet({"out": out, "figures": None if out is None else figures_path(out), "record": record}) as tmp:
         recorded = os.fspath(tmp["record"]) if "record" in tmp else None
         engine = _core.LorrRun(os.fspath(problem), planner, scheduler, seed, plan_time_limit_ms, robots, recorded,
-                               entries, delay_seed)
+                               entries, delay_seed, staged_validation)
         while engine.t < steps:
             engine.run_to(min(steps, engine.t + PROGRESS_EVERY))
             if progress is not None:

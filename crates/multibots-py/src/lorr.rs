@@ -58,7 +58,7 @@ pub(crate) struct PyLorrRun {
 #[pymethods]
 impl PyLorrRun {
     #[new]
-    #[pyo3(signature = (problem, planner="auto", scheduler="auto", seed=0, plan_time_limit_ms=None, team_size=None, record=None, entries=None, delay_seed=None))]
+    #[pyo3(signature = (problem, planner="auto", scheduler="auto", seed=0, plan_time_limit_ms=None, team_size=None, record=None, entries=None, delay_seed=None, staged_validation=true))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -71,8 +71,9 @@ impl PyLorrRun {
         record: Option<PathBuf>,
         entries: Option<PyObject>,
         delay_seed: Option<u32>,
+        staged_validation: bool,
     ) -> PyResult<Self> {
-        let options = LorrOptions { planner: planner.into(), scheduler: scheduler.into(), seed, plan_time_limit_ms };
+        let options = LorrOptions { planner: planner.into(), scheduler: scheduler.into(), seed, plan_time_limit_ms, staged_validation };
         let mut problem = engine(py, move || Problem::load_team(&problem, team_size))?;
         if let Some(s) = delay_seed {
             // Another draw of the same delay model: what the problem file with this
@@ -84,6 +85,11 @@ impl PyLorrRun {
                 )));
             };
             rules.delays.seed = s;
+        }
+        if !staged_validation && problem.version != Version::Y2026 {
+            return Err(crate::errors::ScenarioError::new_err(
+                "staged_validation = False: only the 2026 rules stage actions (the 2023 and 2024 rules have no executor)",
+            ));
         }
         let problem = Arc::new(problem);
         let made = match entries {

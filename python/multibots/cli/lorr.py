@@ -64,6 +64,11 @@ def lorr(
         None, "--executor-py", show_default=False,
         help="A Start-Kit Python executor file (pyExecutor.py) in place of the built-in tpg (2026).",
     ),
+    disable_staged_action_validation: bool = typer.Option(
+        False, "--disable-staged-action-validation",
+        help="(2026) Accept staged actions that are not a prefix of the old ones then the plan (the Start-Kit's "
+        "--disableStagedActionValidation, for the Combined track).",
+    ),
 ) -> None:
     """Run a League of Robot Runners problem, scored as the competition scores it."""
     from multibots import lorr as engine
@@ -96,11 +101,12 @@ def lorr(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
                 progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
                 planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py, delay_seed=n_delay_seed,
+                staged_validation=not disable_staged_action_validation,
             )
     else:
         result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record,
                             planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
-                            delay_seed=n_delay_seed)
+                            delay_seed=n_delay_seed, staged_validation=not disable_staged_action_validation)
     fig = result.figures
     wall = time.monotonic() - began
     if result.version == "2026":

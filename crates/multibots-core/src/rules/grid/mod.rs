@@ -58,11 +58,15 @@ pub struct LorrOptions {
     /// The competition's plan time limit per step, in milliseconds; `None` (the default)
     /// lets the planner take what it needs, and the run is then the same on every machine.
     pub plan_time_limit_ms: Option<u64>,
+    /// (2026 rules) whether an executor's staged actions must stay a prefix of those it had
+    /// followed by the new plan (the Start-Kit checks it unless `--disableStagedActionValidation`,
+    /// which the Combined track allows). Default: checked.
+    pub staged_validation: bool,
 }
 
 impl Default for LorrOptions {
     fn default() -> Self {
-        LorrOptions { planner: "auto".into(), scheduler: "auto".into(), seed: 0, plan_time_limit_ms: None }
+        LorrOptions { planner: "auto".into(), scheduler: "auto".into(), seed: 0, plan_time_limit_ms: None, staged_validation: true }
     }
 }
 

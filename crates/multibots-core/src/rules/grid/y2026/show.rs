@@ -134,11 +134,14 @@ impl Run for Lorr26 {
         let mut v = crate::rules::grid::show::describe_grid(&self.problem, self.states.len());
         let (planner, scheduler, executor) = self.names();
         let o = &self.options;
-        let inputs = json!({
+        let mut inputs = json!({
             "problem": v["layout"]["name"], "rules": "2026", "teamSize": self.states.len(), "planner": planner,
             "scheduler": scheduler, "executor": executor, "seed": o.seed, "planTimeLimitMs": o.plan_time_limit_ms,
             "agentSize": self.floor.size, "agentCounter": self.floor.m,
         });
+        if !o.staged_validation {
+            inputs["stagedActionValidation"] = json!(false);
+        }
         // The robot's radius: half its square, at most the cell's 0.4.
         v["radius"] = json!(vec![f64::from(self.floor.size).min(1.0) * 0.4 * CELL_PX; self.states.len()]);
         v["scenario"] = json!(serde_json::to_string_pretty(&inputs).expect("JSON serialises"));
