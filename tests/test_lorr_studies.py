@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -152,10 +153,142 @@ def test_a_lorr_sweep_compares_a_python_scheduler_with_a_built_in_seed_by_seed(t
     again: list[tuple[int, int]] = []
     multibots.sweep(spec, tmp_path / "o", reused=lambda k, n: again.append((k, n)))
     assert again == [(8, 8)]
+    # The same spec read from elsewhere (a copy beside a copy of the entry... here, the same
+    # files named by absolute paths) keys its runs the same: nothing runs again.
+    moved = tmp_path / "elsewhere"
+    moved.mkdir()
+    (moved / "study.toml").write_text(spec.read_text().replace('"pyTaskScheduler.py"', f'"{entry}"'))
+    multibots.sweep(moved / "study.toml", tmp_path / "o", reused=lambda k, n: again.append((k, n)))
+    assert again[-1] == (8, 8)
     entry.write_text(TEMPLATE.read_text() + "\n# edited\n")  # an edited entry runs again
     multibots.sweep(spec, tmp_path / "o", reused=lambda k, n: again.append((k, n)))
     assert again[-1] == (4, 8)
-    assert pl is not None
+    from multibots.sweeps import load_spec, write_outputs
+
+    again_df = multibots.sweep(spec, tmp_path / "o")
+    write_outputs(again_df, load_spec(spec), tmp_path / "o", baseline="scheduler=soonest")
+    summary = pl.read_csv(tmp_path / "o" / "summary.csv")
+    assert set(summary["metric"].to_list()) == {"delivered", "throughput", "plan_ms_mean", "schedule_ms_mean",
+                                                "schedule_errors", "action_errors", "delays"}
+
+
+@needs_examples
+def test_a_lorr_sweep_checks_its_entry_files_before_any_run(tmp_path: Path) -> None:
+    (tmp_path / "broken.py").write_text("import MAPF\nclass pyTaskScheduler(:\n")
+    (tmp_path / "wrong.py").write_text("class Other:\n    pass\n")
+    for name, frag in [("broken.py", "spec: axes.scheduler = 'broken.py': SyntaxError"),
+                       ("wrong.py", "spec: axes.scheduler = 'wrong.py': defines no class pyTaskScheduler")]:
+        spec = {"base": {"lorr": str(MAZE), "steps": 20}, "axes": {"scheduler": ["soonest", name]}}
+        with pytest.raises(multibots.exceptions.InputError, match=re.escape(frag)):
+            _plan(spec, tmp_path)
+    problem = SHARED / "reference" / "lorr" / "2024" / "random.domain" / "random_32_32_20_100.json"
+    with pytest.raises(multibots.exceptions.InputError, match=r"^spec: axes\.delay_seed = \[3\]: .* has no delays"):
+        _plan({"base": {"lorr": str(problem), "steps": 20}, "axes": {"delay_seed": [3]}}, tmp_path)
+
+
+def _plan(spec: dict, folder: Path) -> list:
+    from multibots.sweeps import parse_spec
+
+    return parse_spec(spec, source="spec", folder=folder).points()
+
+
+# The planner's view when the scheduler is Python too (2024 rules): the tasks and robots that
+# were new at the scheduler's call, and the schedule it proposed.
+SYNCED_SCHEDULER = """
+import json
+
+
+class pyTaskScheduler:
+    def initialize(self, t):
+        pass
+
+    def plan(self, time_limit):
+        env = self.env
+        schedule = list(env.curr_task_schedule)
+        free = [a for a in env.new_freeagents]
+        open_tasks = sorted(k for k, t in env.task_pool.items() if t.agent_assigned == -1)
+        for a, t in zip(free, open_tasks):
+            schedule[a] = t
+        with open(OUT, "a") as f:
+            f.write(json.dumps({"who": "scheduler", "tick": env.system_timestep, "new": sorted(env.new_tasks),
+                                "free": sorted(env.new_freeagents), "schedule": schedule}) + "\\n")
+        return schedule
+"""
+SYNCED_PLANNER = """
+import json
+import pickle
+import MAPF
+
+
+class pyMAPFPlanner:
+    def initialize(self, t):
+        pass
+
+    def plan(self, time_limit):
+        env = self.env
+        copy = pickle.loads(pickle.dumps(env))  # a plain copy of every field
+        with open(OUT, "a") as f:
+            f.write(json.dumps({"who": "planner", "tick": env.system_timestep, "new": sorted(env.new_tasks),
+                                "free": sorted(env.new_freeagents), "schedule": list(env.curr_task_schedule),
+                                "copied": [copy.curr_task_schedule == env.curr_task_schedule,
+                                           [s.location for s in copy.curr_states] ==
+                                           [s.location for s in env.curr_states],
+                                           sorted(copy.task_pool) == sorted(env.task_pool)]}) + "\\n")
+        return [MAPF.Action.W] * env.num_of_agents
+"""
+
+
+def test_a_python_planner_after_a_python_scheduler_sees_its_news_and_its_proposal(tmp_path: Path) -> None:
+    problem = SHARED / "reference" / "lorr" / "2024" / "random.domain" / "random_32_32_20_100.json"
+    if not problem.is_file():
+        pytest.skip("no 2024 example")
+    out = tmp_path / "calls.jsonl"
+    (tmp_path / "s.py").write_text(f"OUT = {str(out)!r}\n" + SYNCED_SCHEDULER)
+    (tmp_path / "p.py").write_text(f"OUT = {str(out)!r}\n" + SYNCED_PLANNER)
+    lorr.run(problem, steps=4, scheduler_py=tmp_path / "s.py", planner_py=tmp_path / "p.py")
+    calls = [json.loads(line) for line in out.read_text().splitlines()]
+    assert [c["who"] for c in calls] == ["scheduler", "planner"] * 4
+    for sched, plan in zip(calls[::2], calls[1::2]):
+        assert plan["tick"] == sched["tick"]
+        assert (plan["new"], plan["free"]) == (sched["new"], sched["free"])
+        assert plan["schedule"] == sched["schedule"]
+        assert plan["copied"] == [True, True, True]
+    assert calls[0]["free"] == list(range(len(calls[0]["schedule"]))) and calls[0]["new"]
+
+
+# An executor whose environment keeps what it was first given and what it assigns.
+KEEPS = """
+import json
+import MAPF
+
+
+class pyExecutor:
+    def initialize(self, t):
+        self.first_free = list(self.env.new_freeagents)
+        self.env.mine = "kept"
+
+    def process_new_plan(self, sync_time_limit, plan, staged_actions):
+        for i, row in enumerate(plan.actions):
+            staged_actions[i].extend(a for a in row if a not in (MAPF.Action.W, MAPF.Action.NA))
+        with open(OUT, "a") as f:
+            f.write(json.dumps({"free": list(self.env.new_freeagents) == self.first_free,
+                                "mine": getattr(self.env, "mine", None),
+                                "start_is_curr": self.env.start_states is self.env.curr_states,
+                                "system": len(self.env.system_states)}) + "\\n")
+        return list(self.env.system_states)
+
+    def next_command(self, exec_time_limit):
+        return [MAPF.ExecutionCommand.GO if q else MAPF.ExecutionCommand.STOP for q in self.env.staged_actions]
+"""
+
+
+def test_a_python_executor_keeps_its_fields_between_calls(tmp_path: Path) -> None:
+    out = tmp_path / "calls.jsonl"
+    (tmp_path / "pyExecutor.py").write_text(f"OUT = {str(out)!r}\n" + KEEPS)
+    r = lorr.run(TINY, steps=60, executor_py=tmp_path / "pyExecutor.py")
+    calls = [json.loads(line) for line in out.read_text().splitlines()]
+    assert len(calls) >= 5
+    assert all(c == {"free": True, "mine": "kept", "start_is_curr": True, "system": r.team_size} for c in calls)
 
 
 @needs_examples

@@ -216,6 +216,18 @@ class SharedEnvironment:
         self.action_time = 100
         self.max_counter = 10
 
+    def __getstate__(self) -> dict[str, Any]:
+        # Every field made, and the source (the engine's snapshot) left out: a pickled or
+        # copied environment holds plain values, as the eager one did.
+        state = dict(self.__dict__)
+        for name in _LAZY:
+            state["_" + name] = getattr(self, name)
+        state["_source"] = None
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+
     def _load(self, source: Any, names: tuple[str, ...] = _LAZY) -> None:
         """A new call: the lazy fields ``names`` are made again from ``source`` (a function of
         the field's name) when read; the others keep their values."""

@@ -12,7 +12,7 @@ from typing import Optional
 import typer
 
 from multibots._io import check_folder, check_outputs, load_toml, read_input
-from multibots.cli._common import ALLOW_CODE, MAX_WORKERS, named_allocator, parse_number, whole_flag
+from multibots.cli._common import MAX_WORKERS, named_allocator, parse_number, whole_flag
 from multibots.exceptions import InputError
 
 __all__ = ["DEFAULT_STRATEGIES", "compare", "compare_lorr"]
@@ -81,7 +81,10 @@ def compare(
         None, "--steps", metavar="STEPS", show_default=False,
         help="With --lorr: steps per run (ticks under the 2026 rules; default 5000).",
     ),
-    allow_code: bool = ALLOW_CODE,
+    allow_code: bool = typer.Option(
+        False, "--allow-code",
+        help="With --lorr: let the Start-Kit Python files that --strategies names run (only files you trust).",
+    ),
 ) -> None:
     """Compare task-allocation strategies on paired runs: CSV, summary with 95% CIs and tests, plots.
 
@@ -174,9 +177,14 @@ def compare_lorr(problem: Path, strategies: Optional[str], robots: Optional[str]
     if seeds is not None and seeds < 1:
         raise InputError(f"--seeds = {seeds}: must be 1 or more")
     every = ",".join(n for n in engine.SCHEDULERS if n != "auto")
-    names = [n.strip() for n in (strategies or every).split(",") if n.strip()]
+    names = [n.strip() for n in (every if strategies is None else strategies).split(",") if n.strip()]
     if not names or len(set(names)) != len(names):
         raise InputError(f"--strategies = {strategies!r}: expected distinct schedulers, comma-separated")
+    from multibots.sweeps.lorr import _rules
+
+    if _rules(os.path.abspath(problem)) == "2023":
+        raise InputError(f"--lorr = {str(problem)!r}: a 2023 problem has no scheduler to compare (errands go round "
+                         "robin)")
     code = [n for n in names if is_entry(n)]
     if code and not allow_code and os.environ.get("MULTIBOTS_ALLOW_CODE") != "1":
         raise InputError(f"--strategies names Python code ({', '.join(code)}), which would run; add --allow-code")
@@ -214,6 +222,10 @@ def _lorr_table(rows: list[dict[str, object]], names: list[str], baseline: str) 
     from multibots.stats import mean_ci, paired_t_test
 
     teams = sorted({r["team_size"] for r in rows}, key=lambda t: int(str(t)))
+    # A file by its name; by its path where two share a name (the Start-Kit names every
+    # scheduler pyTaskScheduler.py).
+    bases = [Path(n).name for n in names]
+    shown_as = {n: b if bases.count(b) == 1 else n for n, b in zip(names, bases)}
 
     def tasks(name: str, team: object) -> dict[object, float]:
         return {r["seed"]: float(str(r["delivered"])) for r in rows if (r["scheduler"], r["team_size"]) == (name, team)}
@@ -232,5 +244,5 @@ def _lorr_table(rows: list[dict[str, object]], names: list[str], baseline: str) 
                 diff = f"{sum(d) / len(d):+,.1f}"
                 if len(d) >= 2 and any(x != d[0] for x in d):
                     p = f"{paired_t_test([base[s] for s in seeds], [mine[s] for s in seeds]):.3f}"
-            lines.append(f"{Path(name).name:<28} {team:>7} {ci:>24} {diff:>22} {p:>7}")
+            lines.append(f"{shown_as[name]:<28} {team:>7} {ci:>24} {diff:>22} {p:>7}")
     return "\n".join(lines)

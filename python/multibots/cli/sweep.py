@@ -63,10 +63,13 @@ def sweep(
         raise InputError(f"{spec}: names Python code ({', '.join(code)}), which would run; add --allow-code if you "
                          "trust the spec")
     sp = load_spec(spec)
-    from multibots.sweeps.analysis import parse_plot
+    from multibots.sweeps import lorr as lorr_sweep
+    from multibots.sweeps.analysis import METRICS, parse_plot
+
+    metrics = lorr_sweep.METRICS if isinstance(sp.base, lorr_sweep.LorrBase) else METRICS
 
     for p in plot:  # before any run: a bad --plot must not cost the study
-        parse_plot(p, sp.axis_names, sp.axes)
+        parse_plot(p, sp.axis_names, sp.axes, metrics)
     points = sp.points(workers)
     check_outputs([], inputs_of(points, sp), folders=[("--out", out, OUTPUTS)])
     reuse: list[int] = []

@@ -127,7 +127,7 @@ def write_outputs(df: Any, spec: Spec, out: Union[str, os.PathLike[str]], baseli
             written.append(atomic_write_text(stage / "tests.csv",
                                              _csv(paired_tests(rows, axes, axis, value, metrics))))
         for p in plots:
-            written.append(plot(rows, axes, p, stage))
+            written.append(plot(rows, axes, p, stage, metrics))
         written += throughput_over_time(rows, axes, stage)
     return [out / Path(w).relative_to(stage) for w in written]
 

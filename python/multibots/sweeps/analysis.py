@@ -112,14 +112,14 @@ def paired_tests(rows: Sequence[dict[str, Any]], axes: Sequence[str], axis: str,
     return out
 
 
-def parse_plot(spec: str, axes: Sequence[str],
-               values: Optional[dict[str, Sequence[Any]]] = None) -> tuple[str, str, Optional[str]]:
+def parse_plot(spec: str, axes: Sequence[str], values: Optional[dict[str, Sequence[Any]]] = None,
+               metrics: Sequence[str] = METRICS) -> tuple[str, str, Optional[str]]:
     """Checks ``METRIC:AXIS[:BY]`` against the sweep's axes before any run: ``(metric, axis,
     by)``, ``by`` None when not given. Any axis will do: a numeric one is a scale, any other
     (a strategy, a traffic policy) a category per value."""
     parts = spec.split(":")
-    if len(parts) not in (2, 3) or parts[0] not in METRICS or parts[1] not in axes:
-        raise InputError(f"--plot = {spec!r}: expected METRIC:AXIS[:BY], METRIC one of {', '.join(METRICS)}, "
+    if len(parts) not in (2, 3) or parts[0] not in metrics or parts[1] not in axes:
+        raise InputError(f"--plot = {spec!r}: expected METRIC:AXIS[:BY], METRIC one of {', '.join(metrics)}, "
                          f"AXIS one of {', '.join(axes)}")
     metric, axis = parts[0], parts[1]
     by = parts[2] if len(parts) == 3 else None
@@ -129,7 +129,8 @@ def parse_plot(spec: str, axes: Sequence[str],
     return metric, axis, by
 
 
-def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Path) -> Path:
+def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Path,
+         metrics: Sequence[str] = METRICS) -> Path:
     """``METRIC:AXIS[:BY]``: the metric's mean (with its 95% interval) against an axis (its
     values as categories when they are not numbers), one line per value of BY (default: the
     first other axis with several values). The title names the axes the means are taken over."""
@@ -137,7 +138,7 @@ def plot(rows: Sequence[dict[str, Any]], axes: Sequence[str], spec: str, out: Pa
 
     from multibots.plots._common import new_figure, save_atomic
 
-    metric, axis, by = parse_plot(spec, axes)
+    metric, axis, by = parse_plot(spec, axes, metrics=metrics)
     numeric = all(_number(r.get(axis)) is not None for r in rows)
     # A category axis keeps its values in the order of the rows (the spec's order).
     ticks = list(dict.fromkeys(str(r.get(axis)) for r in rows))

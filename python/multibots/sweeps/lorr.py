@@ -16,9 +16,10 @@ Axes: ``planner``, ``scheduler``, ``robots``, ``seed``, ``steps``, ``plan_time_l
 file (``pyMAPFPlanner.py``, ``pyTaskScheduler.py``; relative to the spec), compared with the
 built-ins run for run (``multibots sweep`` asks for ``--allow-code``: the file runs); an edited
 file runs again. Under the 2026 rules a run's ``seed`` also draws its delays: seed ``s`` plays
-the delays of ``delayConfig.seed + s`` (seed 0, the problem's own, as the Start-Kit plays it),
-so that the seeds of a study are draws of the delays and every strategy meets the same draws
-(paired); a ``delay_seed`` axis or option sets the seed of the delays itself.
+the delays of ``delayConfig.seed + s`` (seed 0, the problem's own, as the Start-Kit plays it;
+``repeats = N`` runs seeds 1..N, N other draws), so that the seeds of a study are draws of the
+delays and every strategy meets the same draws (paired); a ``delay_seed`` axis or option sets
+the seed of the delays itself.
 
 Each run stores the competition's score and MultiBots' figures (:data:`FIGURES`);
 ``delivered`` and ``throughput`` repeat the score and its rate under the names the sweep's
@@ -79,11 +80,12 @@ def is_entry(value: Any) -> bool:
 
 
 def entry_path(value: str, folder: Optional[str]) -> Path:
-    """A Python entry file named in a spec: relative to the spec's folder."""
+    """A Python entry file named in a spec: relative to the spec's folder (to the working
+    folder for ``compare --lorr``, whose command line names it)."""
     path = Path(value)
-    if not path.is_absolute() and folder is not None and not path.exists():
+    if not path.is_absolute() and folder is not None:
         path = Path(folder) / path
-    return path
+    return path.resolve()
 
 
 @dataclass(frozen=True)
@@ -130,8 +132,18 @@ def _check(name: str, value: Any, where: str, folder: Optional[str]) -> None:
     from multibots import lorr
 
     if name in ENTRY_AXES and is_entry(value):
-        if not entry_path(value, folder).is_file():
+        from multibots import lorr_python
+
+        path = entry_path(value, folder)
+        if not path.is_file():
             raise InputError(f"{where} = {shown(value)!r}: no such Python entry file")
+        # Loaded (its class made) before any run: a file that cannot serve is one line now,
+        # not an error in the middle of the study. The caller has allowed its code to run.
+        try:
+            lorr_python.load_entry(ENTRY_AXES[name], path)
+        except InputError as e:
+            reason = str(e).split(": ", 1)[-1]
+            raise InputError(f"{where} = {shown(value)!r}: {reason}") from None
         return
     lorr.check_option(name, value, where)
 
@@ -149,9 +161,17 @@ def plan(base: LorrBase, axes: Mapping[str, list[Any]], combos: Sequence[tuple[A
             _check(name, v, f"{source}: axes.{name}", base.folder)
     names = list(axes)
     delays = _delay_seed(base.problem)
+    rules = _rules(base.problem)
     if delays is None and ("delay_seed" in axes or base.delay_seed is not None):
-        raise InputError(f"{source}: delay_seed: {Path(base.problem).name} has no delays (only the 2026 rules draw "
+        where = f"axes.delay_seed = {shown(axes['delay_seed'])}" if "delay_seed" in axes else \
+            f"base.delay_seed = {base.delay_seed}"
+        raise InputError(f"{source}: {where}: {Path(base.problem).name} has no delays (only the 2026 rules draw "
                          "them)")
+    for option, role in ENTRY_AXES.items():
+        given = [v for v in [getattr(base, option), *axes.get(option, [])] if is_entry(v)]
+        if given and role == "scheduler" and rules == "2023":
+            raise InputError(f"{source}: scheduler = {shown(given[0])!r}: the 2023 rules have no scheduler (errands "
+                             "go round robin)")
     out: list[LorrPoint] = []
     for combo in combos:
         for rep in reps:
@@ -172,18 +192,35 @@ def plan(base: LorrBase, axes: Mapping[str, list[Any]], combos: Sequence[tuple[A
     return out
 
 
-def _delay_seed(problem: str) -> Optional[int]:
-    """The ``delayConfig.seed`` of a 2026 problem (as the Start-Kit reads it: unsigned 32-bit),
-    or None: the 2023/2024 rules draw no delays."""
+def _problem(problem: str) -> dict[str, Any]:
     try:
         with open(problem, encoding="utf-8") as f:
             data = json.load(f)
     except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def _rules(problem: str) -> str:
+    """The rules a problem is played under, as the engine tells them (a ``delayConfig`` or a
+    2026 version: 2026; a 2024 version: 2024; else 2023)."""
+    data = _problem(problem)
+    version = str(data.get("version", ""))
+    if "2026" in version or "delayConfig" in data:
+        return "2026"
+    return "2024" if "2024" in version else "2023"
+
+
+def _delay_seed(problem: str) -> Optional[int]:
+    """The ``delayConfig.seed`` of a 2026 problem as the engine reads it (a number, truncated,
+    unsigned 32-bit; absent: 0), or None: the 2023/2024 rules draw no delays."""
+    if _rules(problem) != "2026":
         return None
-    cfg = data.get("delayConfig") if isinstance(data, dict) else None
-    if not isinstance(cfg, dict) or isinstance(cfg.get("seed"), bool) or not isinstance(cfg.get("seed"), int):
-        return None
-    return cfg["seed"] % 2**32
+    cfg = _problem(problem).get("delayConfig")
+    seed = cfg.get("seed", 0) if isinstance(cfg, dict) else 0
+    if isinstance(seed, bool) or not isinstance(seed, (int, float)) or seed != seed:
+        return 0
+    return int(seed) % 2**32
 
 
 def _files_digest(problem: str) -> str:
@@ -211,10 +248,17 @@ def keys_of(points: Sequence[LorrPoint], engine: str) -> list[str]:
     for p in points:
         if p.run.problem not in digests:
             digests[p.run.problem] = _files_digest(p.run.problem)
-        text = json.dumps(asdict(p.run), sort_keys=True)
-        # An entry file's bytes: an edited scheduler runs again though its name is the same.
-        code = "".join(hashlib.sha256(entry_path(v, p.run.folder).read_bytes()).hexdigest()
-                       for v in (p.run.planner, p.run.scheduler) if is_entry(v))
+        # The run's inputs, an entry file by its resolved path and its bytes (an edited
+        # scheduler runs again though its name is the same), not by where the spec was read.
+        inputs = asdict(p.run)
+        del inputs["folder"]
+        code = ""
+        for option in ENTRY_AXES:
+            if is_entry(inputs[option]):
+                path = entry_path(inputs[option], p.run.folder)
+                inputs[option] = str(path)
+                code += hashlib.sha256(path.read_bytes()).hexdigest()
+        text = json.dumps(inputs, sort_keys=True)
         keys.append(hashlib.sha256(f"lorr\n{engine}\n{text}\n{digests[p.run.problem]}\n{code}".encode()).hexdigest())
     return keys
 

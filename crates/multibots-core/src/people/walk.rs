@@ -189,7 +189,7 @@ impl People {
                         return;
                     }
                     let dd = ox.hypot(oy);
-                    if dd > 1e-9 {
+                    if dd < reach_p && dd > 1e-9 {
                         let f = forces.people_a * ((2.0 * rh - dd) / forces.people_b).exp();
                         let (nx, ny) = (ox / dd, oy / dd);
                         let side = if nx * ex + ny * ey < 0.0 { EVADE * f } else { 0.0 };
@@ -231,7 +231,7 @@ impl People {
                     return;
                 }
                 let dd = ox.hypot(oy);
-                if dd > 1e-9 {
+                if dd < reach_r && dd > 1e-9 {
                     let f = forces.robot_a * ((robots.radius[i] + rh - dd) / forces.robot_b).exp().min(1e3);
                     let (nx, ny) = (ox / dd, oy / dd);
                     let side = if nx * ex + ny * ey < 0.0 { EVADE * f } else { 0.0 };

@@ -229,8 +229,12 @@ impl People {
             let (gap, touched) = (&mut z.gap, &mut z.touched);
             self.robot_grid.near(qx, qy, reach, |i| {
                 let (dx, dy) = (qx - robots.x[i], qy - robots.y[i]);
-                if !at_least(dx, dy, z.warning) {
-                    let d = dx.hypot(dy);
+                if at_least(dx, dy, z.warning) {
+                    return;
+                }
+                let d = dx.hypot(dy);
+                // `d < warning`, not `!(d >= warning)`: a NaN is left out, as it always was.
+                if d < z.warning {
                     let g = d - robots.radius[i] - rh;
                     if gap[i].is_infinite() {
                         #[allow(clippy::cast_possible_truncation)]
