@@ -31,40 +31,79 @@ use super::footprint::Pose;
 use crate::error::Result;
 use crate::rules::grid::action::{ahead, Action};
 use std::collections::VecDeque;
-use std::hash::{BuildHasherDefault, Hasher};
 
-/// A cell's hash: its number times a large odd constant (cells are small whole numbers; the
-/// standard hasher, built against hostile keys, costs several times more here).
+/// A queue per cell, found by the cell's number in a table as large as the map (4 bytes a
+/// cell), not hashed: on a map of millions of cells a robot's look-up is one read. Emptied,
+/// the queues keep their memory for the next cells.
 #[derive(Default)]
-pub struct CellHasher(u64);
+struct CellQueues {
+    /// Per cell, its queue's index plus one (0: no queue).
+    slot: Vec<u32>,
+    queues: Vec<VecDeque<u32>>,
+    /// The cell of each queue in use.
+    cells: Vec<u32>,
+}
 
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+impl CellQueues {
+    fn get(&self, cell: u32) -> Option<&VecDeque<u32>> {
+        match self.slot.get(cell as usize) {
+            Some(&s) if s > 0 => Some(&self.queues[s as usize - 1]),
+            _ => None,
         }
     }
 
-    fn write_u32(&mut self, n: u32) {
-        self.0 = u64::from(n).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    fn get_mut(&mut self, cell: u32) -> Option<&mut VecDeque<u32>> {
+        match self.slot.get(cell as usize) {
+            Some(&s) if s > 0 => Some(&mut self.queues[s as usize - 1]),
+            _ => None,
+        }
+    }
+
+    /// The cell's queue, made if it has none.
+    fn entry(&mut self, cell: u32) -> &mut VecDeque<u32> {
+        if self.slot.len() <= cell as usize {
+            self.slot.resize(cell as usize + 1, 0);
+        }
+        if self.slot[cell as usize] == 0 {
+            let used = self.cells.len();
+            if used == self.queues.len() {
+                self.queues.push(VecDeque::new());
+            }
+            self.cells.push(cell);
+            // A queue's index fits: there are fewer queues than cells.
+            #[allow(clippy::cast_possible_truncation)]
+            {
+                self.slot[cell as usize] = used as u32 + 1;
+            }
+        }
+        &mut self.queues[self.slot[cell as usize] as usize - 1]
+    }
+
+    /// No queue for any cell (their memory kept).
+    fn clear(&mut self) {
+        for (k, &c) in self.cells.iter().enumerate() {
+            self.slot[c as usize] = 0;
+            self.queues[k].clear();
+        }
+        self.cells.clear();
+    }
+
+    /// Every queue emptied, each cell keeping its queue.
+    fn empty_all(&mut self) {
+        for q in &mut self.queues[..self.cells.len()] {
+            q.clear();
+        }
     }
 }
-
-/// A map keyed by cell.
-type HashMap<K, V> = std::collections::HashMap<K, V, BuildHasherDefault<CellHasher>>;
 
 /// The `tpg` executor's state.
 #[derive(Default)]
 pub struct Tpg {
     /// Per cell, the robots that will enter it, in order; the front is in it or entering it.
     /// Emptied queues are kept, so that their memory serves again.
-    order: HashMap<u32, VecDeque<u32>>,
+    order: CellQueues,
     /// The queues of the last play, emptied, for the next.
-    spare: HashMap<u32, VecDeque<u32>>,
+    spare: CellQueues,
     /// Each robot's cell when last seen.
     seen: Vec<u32>,
     /// Where each robot's staged actions end.
@@ -93,7 +132,7 @@ impl Tpg {
     }
 
     fn pop_front(&mut self, cell: u32, robot: u32) {
-        if let Some(q) = self.order.get_mut(&cell) {
+        if let Some(q) = self.order.get_mut(cell) {
             if q.front() == Some(&robot) {
                 q.pop_front();
             }
@@ -123,7 +162,7 @@ impl Executor for Tpg {
             self.tail = env.system.to_vec();
             self.order.clear();
             for (i, p) in env.system.iter().enumerate() {
-                self.order.entry(p.loc).or_default().push_back(i as u32);
+                self.order.entry(p.loc).push_back(i as u32);
             }
         }
         // Stage the plan's first actions after each queue, step by step in robot order (the
@@ -141,7 +180,7 @@ impl Executor for Tpg {
                     match ahead(env.map, t.loc, t.heading).filter(|&c| env.map.free[c as usize]) {
                         Some(c) => {
                             t.loc = c;
-                            self.order.entry(c).or_default().push_back(i as u32);
+                            self.order.entry(c).push_back(i as u32);
                         }
                         None => {
                             // Into a wall: nothing after it is staged.
@@ -205,8 +244,8 @@ enum Gate {
 
 /// The gate of robot `i` moving into `c` under the cell queues: first in the queue, or second
 /// behind a robot that is in the cell and free to move (`can_leave`).
-fn gate(order: &HashMap<u32, VecDeque<u32>>, i: u32, c: u32, can_leave: impl Fn(u32) -> bool) -> Gate {
-    match order.get(&c) {
+fn gate(order: &CellQueues, i: u32, c: u32, can_leave: impl Fn(u32) -> bool) -> Gate {
+    match order.get(c) {
         None => Gate::Go,
         Some(q) if q.is_empty() || q.front() == Some(&i) => Gate::Go,
         Some(q) if q.get(1) == Some(&i) && can_leave(q[0]) => Gate::After(q[0]),
@@ -269,13 +308,11 @@ impl Tpg {
         let n = env.system.len();
         let mut order = std::mem::take(&mut self.order);
         let mut rebuilt = std::mem::take(&mut self.spare);
-        if rebuilt.len() > 8 * n {
-            // Cells visited long ago: let their queues go.
-            rebuilt.retain(|_, q| !q.is_empty());
-        }
+        // Queues of cells visited long ago go (an empty queue and none gate alike).
+        rebuilt.clear();
         let mut now: Vec<Pose> = env.system.iter().map(|p| Pose { count: 0, doing: Action::T, ..*p }).collect();
         for (i, p) in now.iter().enumerate() {
-            rebuilt.entry(p.loc).or_default().push_back(i as u32);
+            rebuilt.entry(p.loc).push_back(i as u32);
         }
         self.done.clear();
         self.done.resize(n, 0);
@@ -318,17 +355,15 @@ impl Tpg {
                 self.done[i] += 1;
             }
             for &(i, from) in &moved {
-                if let Some(q) = order.get_mut(&from) {
+                if let Some(q) = order.get_mut(from) {
                     if q.front() == Some(&i) {
                         q.pop_front();
                     }
                 }
-                rebuilt.entry(now[i as usize].loc).or_default().push_back(i);
+                rebuilt.entry(now[i as usize].loc).push_back(i);
             }
         }
-        for q in order.values_mut() {
-            q.clear();
-        }
+        order.empty_all();
         self.spare = order;
         self.order = rebuilt;
         for (i, q) in staged.iter_mut().enumerate() {
