@@ -117,6 +117,7 @@ impl Pibt {
             slot: vec![NONE; robots],
             order: (0..robots as u32).collect(),
             occ_now: vec![NONE; map.cells()],
+            occ_bits: vec![0; map.cells().div_ceil(64)],
             occ_next: vec![NONE; map.cells()],
             next: vec![NONE; robots],
             stack: Vec::new(),

@@ -113,6 +113,9 @@ pub struct Pibt {
     slot: Vec<u32>,
     order: Vec<u32>,
     occ_now: Vec<u32>,
+    /// `occ_now[c] != NONE`, a bit per cell: the lane count reads eight cells a candidate, and
+    /// on a map of millions of cells these bits stay in cache where `occ_now` does not.
+    occ_bits: Vec<u64>,
     occ_next: Vec<u32>,
     next: Vec<u32>,
     stack: Vec<Frame>,
@@ -222,9 +225,10 @@ impl Pibt {
     fn crowd_ahead(&self, view: &PlanView<'_>, q: u32, h: u8) -> u8 {
         let mut cell = Some(q);
         let mut robots = 0;
+        let bit = |bits: &[u64], c: u32| (bits[(c >> 6) as usize] >> (c & 63)) & 1 == 1;
         for _ in 0..LANE_CELLS {
             let Some(c) = cell.filter(|&c| view.map.free[c as usize]) else { break };
-            robots += u8::from(self.occ_now[c as usize] != NONE);
+            robots += u8::from(bit(&self.occ_bits, c));
             cell = ahead(view.map, c, h);
         }
         robots
@@ -498,6 +502,7 @@ impl Planner for Pibt {
             // The nearer its errand, the sooner a robot goes; one without an errand goes last.
             self.urgency[a] = if g == NO_GOAL { 0 } else { u32::from(FAR) - u32::from(self.cost(a, view.loc[a], g)) };
             self.occ_now[view.loc[a] as usize] = a as u32;
+            self.occ_bits[(view.loc[a] >> 6) as usize] |= 1 << (view.loc[a] & 63);
             self.next[a] = NONE;
         }
         // A robot still turning towards the cell it chose keeps it (the Start-Kit's default
@@ -550,6 +555,7 @@ impl Planner for Pibt {
         self.settle(view, actions);
         for a in 0..n {
             self.occ_now[view.loc[a] as usize] = NONE;
+            self.occ_bits[(view.loc[a] >> 6) as usize] &= !(1 << (view.loc[a] & 63));
             self.occ_next[self.next[a] as usize] = NONE;
         }
     }
