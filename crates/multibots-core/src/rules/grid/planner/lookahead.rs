@@ -442,18 +442,20 @@ impl Lookahead {
     /// The same planner with moves costing as on the highways (`guidance.rs`), a move
     /// against a lane costing more the more crowded the map: [`WITH`] times 12ρ − 2 (at
     /// least 1, at most 20) for ρ robots per free cell, and at least [`BLOCK_LANES`] where the
-    /// obstacles stand in blocks ([`obstacles_in_blocks`]). Measured on the 32×32 random map
+    /// obstacles stand in blocks ([`obstacles_in_blocks`]) if `blocks`. Measured on the 32×32 random map
     /// (seed 0, spread): 100 robots (ρ 0.12) finished 596 tasks without highways, 616 with
     /// 15, 540 with 60; 400 robots (ρ 0.49) 724 without, 892 with 60, 799 with 100; 700
     /// robots (ρ 0.85) 397 without, 617 with 60, 636 with 100, 578 with 200 (`pibt`'s).
     /// Between shelves the lanes pay sooner: on `warehouse_small` (2023 example instances,
     /// 5,000 steps) 400 robots (ρ 0.31) finished 22,176 with 18, 37,148 with 60 and 37,392
-    /// with 200; 100 robots (ρ 0.08) 13,222 without, 12,948 with 60.
+    /// with 200; 100 robots (ρ 0.08) 13,222 without, 12,948 with 60. `blocks` false leaves
+    /// that floor out: the 2026 rules' rooms and mazes have walls, not shelves, and
+    /// `room-example_150` finished 79 tasks with it against 90 without.
     #[must_use]
-    pub fn on_highways_by_density(mut self, map: &GridMap, robots: usize) -> Lookahead {
+    pub fn on_highways_by_density(mut self, map: &GridMap, robots: usize, blocks: bool) -> Lookahead {
         let free = map.free.iter().filter(|&&f| f).count().max(1);
         let rho = robots as f64 / free as f64;
-        let least = if obstacles_in_blocks(map) { BLOCK_LANES } else { 1.0 };
+        let least = if blocks && obstacles_in_blocks(map) { BLOCK_LANES } else { 1.0 };
         let against = (f64::from(WITH) * (12.0 * rho - 2.0).clamp(least, 20.0)).round() as u8;
         if against > WITH {
             self.tables = std::mem::replace(&mut self.tables, Tables::new(&GridMap { rows: 0, cols: 0, free: Vec::new() })).on_highways(map, against);

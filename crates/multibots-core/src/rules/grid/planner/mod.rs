@@ -112,7 +112,7 @@ pub const BUILT_INS: &[BuiltIn] = &[
     BuiltIn {
         name: "rpibt-pp",
         about: "rpibt following paths planned a few steps ahead (small maps)",
-        make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0).guided(m.cells()).on_highways_by_density(m, r).prepared(m)),
+        make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0).guided(m.cells()).on_highways_by_density(m, r, true).prepared(m)),
     },
     BuiltIn {
         name: "lookahead",
@@ -222,8 +222,12 @@ pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<B
 
 /// A built-in planner by name as the 2026 rules' built-in plays it: the PIBT planners lean
 /// ([`Pibt::lean`]: tables within 1 GB, searched for the robots nearest their errands first),
+/// `rpibt-pp` without the lanes' floor between blocks ([`Lookahead::on_highways_by_density`]),
 /// the others as [`built_in`] makes them.
 pub fn built_in_lean(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
+    if name == "rpibt-pp" {
+        return Ok(Box::new(Lookahead::new(map, robots, seed, 0).guided(map.cells()).on_highways_by_density(map, robots, false).prepared(map)));
+    }
     let variant = match name {
         "pibt" => Variant::Highways,
         "pibt-no-lanes" => Variant::StraightTies,
