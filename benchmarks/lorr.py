@@ -528,7 +528,8 @@ def body_2024(rows: dict[str, dict[str, Any]], args: argparse.Namespace) -> list
         "```",
         "",
         f"On {machine()}, shared with other jobs (ms/step is noisy, memory is not).",
-        "MultiBots: the planner each row names (`multibots lorr`'s default, `auto`, is `pibt-one-way` up to 30 % of "
+        "MultiBots: the planner each row names (`multibots lorr`'s default, `auto`, is `rpibt-pp` on maps of at most "
+        "2,000 free cells, `pibt-no-lanes` there from 90 % of them taken; elsewhere `pibt-one-way` up to 30 % of "
         "the free cells taken, `pibt` above; this script's `--planner` stays `pibt`, so that rows keyed `ours` keep "
         f"meaning `pibt`), scheduler `{args.scheduler or 'spread'}` (2024), "
         f"seed {args.seed}, no time limit. "

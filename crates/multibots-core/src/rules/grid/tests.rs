@@ -248,9 +248,9 @@ fn turn_counting_planners_are_valid_and_the_same_for_a_seed() {
 }
 
 #[test]
-fn auto_plays_one_way_on_a_sparse_floor_and_pibt_on_a_crowded_one() {
-    // 40 free cells: 8 robots are 0.2 of them, 30 are 0.75.
-    for (robots, chosen) in [(8, "pibt-one-way"), (30, "pibt")] {
+fn auto_plans_ahead_on_a_small_floor_and_lets_a_jam_make_way() {
+    // 40 free cells: 8 robots are 0.2 of them, 37 are 0.925.
+    for (robots, chosen) in [(8, "rpibt-pp"), (37, "pibt-no-lanes")] {
         let auto = new_planner_run("auto", robots, 3);
         let named = new_planner_run(chosen, robots, 3);
         assert_eq!(auto.planner(), chosen, "{robots} robots");
@@ -258,8 +258,27 @@ fn auto_plays_one_way_on_a_sparse_floor_and_pibt_on_a_crowded_one() {
         assert!(auto.record().errors.is_empty());
         assert_eq!((auto.finished(), &auto.record().actual), (named.finished(), &named.record().actual), "{robots} robots: auto is {chosen}");
     }
-    // The boundary: 12 robots are 30 % of the 40 free cells, 13 are more.
+    // The boundaries: 35 robots are under 90 % of the 40 free cells, 36 are 90 %; on a map of
+    // over 2,000 free cells, 750 robots are 30 % of 2,500, 751 are more.
     let map = GridMap::parse("type octile\nheight 6\nwidth 8\nmap\n........\n.@@..@@.\n........\n.@@..@@.\n........\n........\n").unwrap();
-    assert_eq!(super::planner::auto_choice(&map, 12), "pibt-one-way");
-    assert_eq!(super::planner::auto_choice(&map, 13), "pibt");
+    assert_eq!(super::planner::auto_choice(&map, 35), "rpibt-pp");
+    assert_eq!(super::planner::auto_choice(&map, 36), "pibt-no-lanes");
+    let large = GridMap { rows: 50, cols: 50, free: vec![true; 2500] };
+    assert_eq!(super::planner::auto_choice(&large, 750), "pibt-one-way");
+    assert_eq!(super::planner::auto_choice(&large, 751), "pibt");
+}
+
+#[test]
+fn obstacles_in_blocks_are_told_from_scattered_ones_in_any_orientation() {
+    // Shelves of 2×3 cells against single cells on a diagonal; each map and its transpose.
+    let shelves = "type octile\nheight 5\nwidth 7\nmap\n.......\n.@@.@@.\n.@@.@@.\n.@@.@@.\n.......\n";
+    let scattered = "type octile\nheight 5\nwidth 7\nmap\n@......\n..@....\n....@..\n......@\n.@.....\n";
+    for (text, blocks) in [(shelves, true), (scattered, false)] {
+        let map = GridMap::parse(text).unwrap();
+        let (rows, cols) = (map.rows as usize, map.cols as usize);
+        let free = (0..rows * cols).map(|i| map.free[(i % rows) * cols + i / rows]).collect();
+        let transposed = GridMap { rows: map.cols, cols: map.rows, free };
+        assert_eq!(super::planner::obstacles_in_blocks(&map), blocks);
+        assert_eq!(super::planner::obstacles_in_blocks(&transposed), blocks);
+    }
 }

@@ -72,6 +72,33 @@ pub fn highway_costs(map: &GridMap) -> Vec<[u8; 4]> {
 /// The cost of a move along an open band: a tenth more than [`WITH`].
 pub const ALONG_BAND: u8 = WITH + 1;
 
+/// Whether the map's obstacles stand in blocks (shelves, buildings, walls) rather than
+/// scattered: at least half of the obstacle cells have two obstacle cells or more among their
+/// four neighbours. About a fifth do on the archive's 32×32 random maps (a fifth of the cells
+/// blocked at random), every one on `warehouse_small`, `warehouse_large`, `Paris_1_256` and
+/// `brc202d`, none on the sortation maps (single-cell obstacles). Counted on neighbours alone,
+/// so a map transposed, mirrored or turned gives the same answer.
+#[must_use]
+pub fn obstacles_in_blocks(map: &GridMap) -> bool {
+    let (rows, cols) = (map.rows as usize, map.cols as usize);
+    let blocked = |r: usize, c: usize| !map.free[r * cols + c];
+    let (mut obstacles, mut in_blocks) = (0usize, 0usize);
+    for r in 0..rows {
+        for c in 0..cols {
+            if !blocked(r, c) {
+                continue;
+            }
+            obstacles += 1;
+            let around = usize::from(r > 0 && blocked(r - 1, c))
+                + usize::from(r + 1 < rows && blocked(r + 1, c))
+                + usize::from(c > 0 && blocked(r, c - 1))
+                + usize::from(c + 1 < cols && blocked(r, c + 1));
+            in_blocks += usize::from(around >= 2);
+        }
+    }
+    obstacles > 0 && in_blocks * 2 >= obstacles
+}
+
 /// Raises to [`ALONG_BAND`] the cost of each move along the lane that runs the long way of
 /// an open band: from a cell whose eight neighbours are free, in the direction (row or
 /// column) in which the open cells around it run further.

@@ -6,7 +6,7 @@
 //!
 //! | name | what it does |
 //! | --- | --- |
-//! | `auto` (the default) | `pibt-one-way`, or `pibt` when robots take more than [`CROWDED`] of the free cells ([`auto_choice`]) |
+//! | `auto` (the default) | on maps of at most [`SMALL_2024`] free cells `rpibt-pp`, or `pibt-no-lanes` from [`JAMMED`] robots per free cell; on larger ones `pibt-one-way`, or `pibt` when robots take more than [`CROWDED`] of the free cells ([`auto_choice`]) |
 //! | `pibt` | PIBT with rotations (Okumura et al. 2022), `pibt.rs`, on highways (`guidance.rs`) |
 //! | `pibt-no-lanes` | the same PIBT on highways, ties going straight ahead, not to the emptier lane |
 //! | `pibt-one-way` | `pibt-no-lanes`, never against a lane where the lanes go round (`guidance::lanes_core`; a swap may back out), elsewhere only if that brings the robot nearer; open bands crossed, not travelled along (`guidance::open_band_costs`) |
@@ -23,7 +23,7 @@ mod pibt;
 mod window;
 
 pub use dist::{Distances, BARRED, FAR};
-pub use guidance::{highway_costs, lanes_core, open_band_costs, AGAINST, WITH};
+pub use guidance::{highway_costs, lanes_core, obstacles_in_blocks, open_band_costs, AGAINST, WITH};
 pub use lookahead::Lookahead;
 pub use pibt::{Pibt, Variant};
 
@@ -88,7 +88,7 @@ pub struct BuiltIn {
 pub const BUILT_INS: &[BuiltIn] = &[
     BuiltIn {
         name: "auto",
-        about: "pibt-one-way, or pibt when robots fill more than 30 % of the free cells",
+        about: "small maps: rpibt-pp (pibt-no-lanes from 90 % of the free cells taken); else pibt-one-way (pibt above 30 %)",
         make: |map, robots, seed| make(auto_choice(map, robots), map, robots, seed),
     },
     BuiltIn {
@@ -112,7 +112,7 @@ pub const BUILT_INS: &[BuiltIn] = &[
     BuiltIn {
         name: "rpibt-pp",
         about: "rpibt following paths planned a few steps ahead (small maps)",
-        make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0).guided(m.cells()).on_highways_by_density(m, r)),
+        make: |m, r, s| Box::new(Lookahead::new(m, r, s, 0).guided(m.cells()).on_highways_by_density(m, r, true).prepared(m)),
     },
     BuiltIn {
         name: "lookahead",
@@ -126,27 +126,56 @@ pub fn names() -> impl Iterator<Item = &'static str> {
     BUILT_INS.iter().map(|b| b.name)
 }
 
-/// The share of free cells above which `auto` takes `pibt`: a fleet that fills a third of
-/// the floor needs robots to make way against the lanes, which `pibt-one-way` forbids where
-/// the lanes go round.
+/// The share of free cells above which `auto` takes `pibt` on a map of more than
+/// [`SMALL_2024`] free cells: a fleet that fills a third of the floor needs robots to make way
+/// against the lanes, which `pibt-one-way` forbids where the lanes go round.
 pub const CROWDED: f64 = 0.3;
 
-/// The planner `auto` runs on `map` with `robots` robots.
+/// Free cells up to which the 2023 and 2024 rules' `auto` plans on actions (`rpibt-pp`): the
+/// archive's small maps have 820 (`random-32-32-20`) to 1,564 (`sortation_small`) free cells,
+/// its next map 21,920 (`sortation_medium`). On small maps every errand's table is made before
+/// the first step ([`Lookahead::prepared`]) and a step takes at most a few tens of ms with
+/// 800 robots; on large ones a step with a few hundred robots took 40 ms on average
+/// (`brc202d_500`) for a gain of 1-3 % over `pibt-one-way`.
+pub const SMALL_2024: usize = 2_000;
+
+/// Robots per free cell from which `auto` on a small map plays `pibt-no-lanes` rather than
+/// `rpibt-pp`: nearly every cell is taken, and PIBT's chains of robots making way beat paths
+/// planned ahead, which have nowhere to go (measured on the 32×32 random map: at 0.85 robots
+/// per free cell `rpibt-pp` finishes 637 against `pibt`'s 565, at 0.98 734 against
+/// `pibt-no-lanes`' 896).
+pub const JAMMED: f64 = 0.9;
+
+/// The planner `auto` runs on `map` with `robots` robots under the 2023 and 2024 rules, from
+/// the map's free cells and robots per free cell alone (never its name or orientation).
 ///
-/// Measured on the League's archive (docs/lorr.md, docs/benchmarks.md): `pibt-one-way` is
-/// ahead of `pibt` or level on every warehouse, sortation, city and game instance, a lot on
-/// some (MR23-I-10 153,375 against 104,167 at 0.26 robots per free cell), but for MR24-WAREHOUSE
-/// (133,138 against 134,150), MR24-CITY-01 (7,227 against 7,255) and TR23-warehouse_large
-/// (19,900 against 19,946); on the 32×32 random maps it is behind on four of six below 0.3
-/// (RANDOM-02, 0.24: 451 against 476) and far behind as they fill (0.49: 516 against 599;
-/// 0.98: 177 against 848). Density alone cannot separate these (MR23-I-10 at 0.26 needs
-/// `pibt-one-way`, RANDOM-02 at 0.24 `pibt`); the line is drawn where the losses grow. On
-/// `warehouse_small` (2023 example instances, 0.31 and 0.63) `auto` takes `pibt`, level and
-/// 3.6 % behind `pibt-one-way`.
+/// On a map of at most [`SMALL_2024`] free cells, `rpibt-pp`, or `pibt-no-lanes` from
+/// [`JAMMED`] robots per free cell. Measured on the archive's small maps (docs/benchmarks.md):
+/// `rpibt-pp` is the best of the planners that keep to 60 ms a step on every 32×32 random
+/// instance below 0.9 robots per free cell (MR24-RANDOM-01 632 against `pibt-one-way`'s 397,
+/// MR24-RANDOM-03 948 against `pibt`'s 599) and on `warehouse_small` (400 robots: 37,148
+/// against `pibt-no-lanes`' 28,737); at 0.98 `pibt-no-lanes` finishes 896 (MR24-RANDOM-05)
+/// and 2,908 (MR23-I-08), within 5 % of the best of the others (`lookahead` does better,
+/// 966 and 3,317, but takes 90 ms a step).
+///
+/// On larger maps, `pibt-one-way`, or `pibt` when robots take more than [`CROWDED`] of the
+/// free cells. `pibt-one-way` is ahead of `pibt` or level on every warehouse, sortation, city
+/// and game instance, a lot on some (MR23-I-10 153,375 against 104,167 at 0.26 robots per
+/// free cell), but for MR24-WAREHOUSE (133,138 against 134,150), MR24-CITY-01 (7,227 against
+/// 7,255) and TR23-warehouse_large (19,900 against 19,946).
+///
+/// [`Lookahead::prepared`]: lookahead::Lookahead::prepared
 #[must_use]
 pub fn auto_choice(map: &GridMap, robots: usize) -> &'static str {
     let free = map.free.iter().filter(|&&f| f).count().max(1);
-    if robots as f64 > CROWDED * free as f64 {
+    let rho = robots as f64 / free as f64;
+    if free <= SMALL_2024 {
+        if rho >= JAMMED {
+            "pibt-no-lanes"
+        } else {
+            "rpibt-pp"
+        }
+    } else if rho > CROWDED {
         "pibt"
     } else {
         "pibt-one-way"
@@ -193,8 +222,12 @@ pub fn built_in(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<B
 
 /// A built-in planner by name as the 2026 rules' built-in plays it: the PIBT planners lean
 /// ([`Pibt::lean`]: tables within 1 GB, searched for the robots nearest their errands first),
+/// `rpibt-pp` without the lanes' floor between blocks ([`Lookahead::on_highways_by_density`]),
 /// the others as [`built_in`] makes them.
 pub fn built_in_lean(name: &str, map: &GridMap, robots: usize, seed: u64) -> Result<Box<dyn Planner>> {
+    if name == "rpibt-pp" {
+        return Ok(Box::new(Lookahead::new(map, robots, seed, 0).guided(map.cells()).on_highways_by_density(map, robots, false).prepared(map)));
+    }
     let variant = match name {
         "pibt" => Variant::Highways,
         "pibt-no-lanes" => Variant::StraightTies,
