@@ -77,3 +77,15 @@ def small_run(tmp_path_factory):
     path = tmp_path_factory.mktemp("replays") / "small.mbr"
     result = multibots.simulate(multibots.Scenario.paper(robots=2, goods=[11, 8, 39]), record=str(path))
     return path, result
+
+
+@pytest.fixture(scope="session", autouse=True)
+def nothing_left_in_the_repository():
+    """No test leaves a file in the repository's top folder (a hostile argument that is a valid
+    relative path once wrote its result there, and the file was committed): what tests write
+    goes to their temporary folders. `out/` and `results/` are the commands' own defaults."""
+    root = Path(__file__).resolve().parent.parent
+    before = {p.name for p in root.iterdir()}
+    yield
+    left = sorted({p.name for p in root.iterdir()} - before - {"out", "results", ".pytest_cache", ".hypothesis"})
+    assert not left, f"tests left files in {root}: {left}"

@@ -528,12 +528,18 @@ def test_api_arguments_are_used_or_refused_in_one_line(tmp_path_factory: pytest.
         assume(value < 1000)  # a valid long run is not a refusal, only slow
     if name == "step" and isinstance(value, int) and not isinstance(value, bool):
         value = min(value, 10**6) if value > 0 else value
+    # A drawn value may be a valid relative path (an `out` of "x"): what it writes lands in the
+    # test's folder, never in the working folder (the repository).
+    cwd = os.getcwd()
+    os.chdir(tmp)
     try:
         fn(**{**good, param: value})
     except Exception as e:  # the property: only a clean refusal, naming the parameter when it is the argument
         assert_clean(e)
         if isinstance(e, multibots.ArgumentError):
             assert param in str(e) or name == "step", (name, param, str(e))
+    finally:
+        os.chdir(cwd)
 
 
 # ---------------------------------------------------------------- outputs that name inputs (issue 43)
