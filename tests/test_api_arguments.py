@@ -63,8 +63,8 @@ def table(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[Callable[
 @pytest.mark.parametrize("name", ["simulate", "simulate_many", "Simulation", "Simulation.step", "Simulation.route",
                                   "Scenario.paper", "Scenario.from_toml", "Scenario.from_toml_str",
                                   "Scenario.from_dict", "lorr.run", "Replay", "layout_json"])
-def test_every_hostile_argument_is_a_multibots_error_naming_it(table: dict[str, Any], name: str,
-                                                                tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_every_hostile_argument_is_a_multibots_error_naming_it(
+        table: dict[str, Any], name: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     # A hostile value may be a valid relative path ("x"): what it writes lands here, not in
     # the working folder.
     monkeypatch.chdir(tmp_path)
