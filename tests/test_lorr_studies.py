@@ -119,6 +119,14 @@ def test_delay_seed_is_refused_where_there_are_no_delays(tmp_path: Path) -> None
         lorr.run(problem, steps=5, delay_seed=3)
     with pytest.raises(multibots.exceptions.ArgumentError, match=r"^delay_seed = -1: expected an integer"):
         lorr.run(TINY, steps=5, delay_seed=-1)
+    # The command names the flags the user typed.
+    for flags, said in [(["--delay-seed", "3"], "--delay-seed = 3: a 2024 problem has no delays"),
+                        (["--disable-staged-action-validation"],
+                         "--disable-staged-action-validation: only the 2026 rules stage actions")]:
+        p = subprocess.run([sys.executable, "-m", "multibots", "lorr", str(problem), "--steps", "5", *flags],
+                           capture_output=True, text=True)
+        lines = p.stderr.strip().splitlines()
+        assert p.returncode == 2 and len(lines) == 1 and lines[0].startswith(f"multibots: error: {said}"), p.stderr
 
 
 def test_a_pibt_planner_runs_a_fleet_of_three_under_the_2026_rules() -> None:

@@ -3,15 +3,18 @@ result file written, its score printed (``docs/lorr.md``)."""
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import typer
 
 from multibots import _core
 from multibots.cli._common import parse_number
+from multibots.exceptions import ScenarioError
 
 __all__ = ["lorr"]
 
@@ -86,6 +89,33 @@ def lorr(
                               ("planner", planner, "--planner"), ("scheduler", scheduler, "--scheduler")):
         engine.check_option(name, value, flag)
     began = time.monotonic()
+    with _flags_named():
+        result = _run(engine, problem, n_steps, out, planner, scheduler, n_seed, limit, record, planner_py,
+                      scheduler_py, executor_py, n_delay_seed, not disable_staged_action_validation)
+    _report(problem, result, time.monotonic() - began, scheduler_py, out, record, engine)
+
+
+#: The engine's words for the options a flag sets, and the flags (the refusals of the 2026
+#: options by a 2023/2024 problem name the option; the command names what the user typed).
+_FLAGS = {"delay_seed = ": "--delay-seed = ", "staged_validation = False": "--disable-staged-action-validation"}
+
+
+@contextlib.contextmanager
+def _flags_named() -> Iterator[None]:
+    try:
+        yield
+    except ScenarioError as e:
+        text = str(e)
+        for word, flag in _FLAGS.items():
+            if text.startswith(word):
+                raise ScenarioError(flag + text[len(word):]) from None
+        raise
+
+
+def _run(engine: Any, problem: Path, n_steps: int, out: Optional[Path], planner: str, scheduler: str, n_seed: int,
+         limit: Optional[int], record: Optional[Path], planner_py: Optional[Path], scheduler_py: Optional[Path],
+         executor_py: Optional[Path], n_delay_seed: Optional[int], staged_validation: bool) -> Any:
+    """The run, with a progress bar when a person watches."""
     # The bar only when a person watches: stdout on a terminal (not piped or redirected).
     if sys.stdout.isatty() and sys.stderr.isatty():
         from rich.console import Console
@@ -97,18 +127,21 @@ def lorr(
             console=Console(stderr=True),
         ) as bar:
             task = bar.add_task(problem.name, total=n_steps, finished=0)
-            result = engine.run(
+            return engine.run(
                 problem, n_steps, out, planner, scheduler, n_seed, limit,
                 progress=lambda t, f: bar.update(task, completed=t, finished=f), record=record,
                 planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py, delay_seed=n_delay_seed,
-                staged_validation=not disable_staged_action_validation,
+                staged_validation=staged_validation,
             )
-    else:
-        result = engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record,
-                            planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
-                            delay_seed=n_delay_seed, staged_validation=not disable_staged_action_validation)
+    return engine.run(problem, n_steps, out, planner, scheduler, n_seed, limit, record=record,
+                      planner_py=planner_py, scheduler_py=scheduler_py, executor_py=executor_py,
+                      delay_seed=n_delay_seed, staged_validation=staged_validation)
+
+
+def _report(problem: Path, result: Any, wall: float, scheduler_py: Optional[Path], out: Optional[Path],
+            record: Optional[Path], engine: Any) -> None:
+    """The run's line, and where its files went."""
     fig = result.figures
-    wall = time.monotonic() - began
     if result.version == "2026":
         # A Python scheduler's share of a planner call: what the user's code costs.
         mine = f" (its scheduler {fig['schedule_ms_mean']:.2f})" if scheduler_py is not None else ""
