@@ -94,7 +94,8 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path):
 
 TEMPLATES = {
     "planner_py": PY / "user_planner" / "pyMAPFPlanner.py",
-    "scheduler_py": PY / "user_scheduler" / "pyTaskScheduler.py",
+    # The template scheduler is the repository's example (examples/lorr26), the same file.
+    "scheduler_py": ROOT / "examples" / "lorr26" / "pyTaskScheduler.py",
     "executor_py": PY / "user_executor" / "pyExecutor.py",
 }
 FIXTURES = {

@@ -180,9 +180,9 @@ def compare_lorr(problem: Path, strategies: Optional[str], robots: Optional[str]
     names = [n.strip() for n in (every if strategies is None else strategies).split(",") if n.strip()]
     if not names or len(set(names)) != len(names):
         raise InputError(f"--strategies = {strategies!r}: expected distinct schedulers, comma-separated")
-    from multibots.sweeps.lorr import _rules
+    from multibots.sweeps.lorr import read_problem, rules_of
 
-    if _rules(os.path.abspath(problem)) == "2023":
+    if rules_of(read_problem(os.path.abspath(problem))) == "2023":
         raise InputError(f"--lorr = {str(problem)!r}: a 2023 problem has no scheduler to compare (errands go round "
                          "robin)")
     code = [n for n in names if is_entry(n)]

@@ -39,8 +39,9 @@ from typing import Any, Optional
 from multibots._text import shown
 from multibots.exceptions import InputError, MultibotsError, ScenarioError
 
-__all__ = ["AXES", "ENTRY_AXES", "FIGURES", "METRICS", "LorrBase", "LorrPoint", "entry_path", "figures_of", "is_entry",
-           "is_lorr_base", "keys_of", "parse_base", "plan", "run_one"]
+__all__ = ["AXES", "ENTRY_AXES", "FIGURES", "METRICS", "LorrBase", "LorrPoint", "delay_seed_of", "entry_path",
+           "figures_of", "is_entry", "is_lorr_base", "keys_of", "parse_base", "plan", "read_problem", "rules_of",
+           "run_one"]
 
 #: The options a LoRR sweep may vary.
 AXES = ("planner", "scheduler", "robots", "seed", "steps", "plan_time_limit_ms", "delay_seed")
@@ -160,8 +161,8 @@ def plan(base: LorrBase, axes: Mapping[str, list[Any]], combos: Sequence[tuple[A
         for v in values:
             _check(name, v, f"{source}: axes.{name}", base.folder)
     names = list(axes)
-    delays = _delay_seed(base.problem)
-    rules = _rules(base.problem)
+    data = read_problem(base.problem)
+    delays, rules = delay_seed_of(data), rules_of(data)
     if delays is None and ("delay_seed" in axes or base.delay_seed is not None):
         where = f"axes.delay_seed = {shown(axes['delay_seed'])}" if "delay_seed" in axes else \
             f"base.delay_seed = {base.delay_seed}"
@@ -192,7 +193,8 @@ def plan(base: LorrBase, axes: Mapping[str, list[Any]], combos: Sequence[tuple[A
     return out
 
 
-def _problem(problem: str) -> dict[str, Any]:
+def read_problem(problem: str) -> dict[str, Any]:
+    """A problem file's JSON object (empty when it cannot be read: the engine says why)."""
     try:
         with open(problem, encoding="utf-8") as f:
             data = json.load(f)
@@ -201,22 +203,21 @@ def _problem(problem: str) -> dict[str, Any]:
     return data if isinstance(data, dict) else {}
 
 
-def _rules(problem: str) -> str:
+def rules_of(data: Mapping[str, Any]) -> str:
     """The rules a problem is played under, as the engine tells them (a ``delayConfig`` or a
     2026 version: 2026; a 2024 version: 2024; else 2023)."""
-    data = _problem(problem)
     version = str(data.get("version", ""))
     if "2026" in version or "delayConfig" in data:
         return "2026"
     return "2024" if "2024" in version else "2023"
 
 
-def _delay_seed(problem: str) -> Optional[int]:
+def delay_seed_of(data: Mapping[str, Any]) -> Optional[int]:
     """The ``delayConfig.seed`` of a 2026 problem as the engine reads it (a number, truncated,
     unsigned 32-bit; absent: 0), or None: the 2023/2024 rules draw no delays."""
-    if _rules(problem) != "2026":
+    if rules_of(data) != "2026":
         return None
-    cfg = _problem(problem).get("delayConfig")
+    cfg = data.get("delayConfig")
     seed = cfg.get("seed", 0) if isinstance(cfg, dict) else 0
     if isinstance(seed, bool) or not isinstance(seed, (int, float)) or seed != seed:
         return 0
