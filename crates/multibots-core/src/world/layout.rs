@@ -470,10 +470,12 @@ mod tests {
                 (n.x, n.y) = (-40.0 + next(w + 60.0), next(h + 20.0));
             }
             let cells = &l.cells;
-            let overlap = (0..cells.len()).any(|a| (a + 1..cells.len()).any(|b| {
-                let (a, b) = (&cells[a], &cells[b]);
-                a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h
-            }));
+            let overlap = (0..cells.len()).any(|a| {
+                (a + 1..cells.len()).any(|b| {
+                    let (a, b) = (&cells[a], &cells[b]);
+                    a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h
+                })
+            });
             let covered = l.nodes.iter().any(|n| cells.iter().any(|c| n.x > c.x && n.x < c.x + c.w && n.y > c.y && n.y < c.y + c.h));
             let found = l.check_geometry();
             assert_eq!(found.is_err(), overlap || covered, "trial {trial}: {found:?}");
