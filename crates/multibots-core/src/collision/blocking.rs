@@ -134,6 +134,9 @@ impl Blocking {
         let n = ask.x.len();
         let inputs = Inputs { margin: ask.margin.to_bits(), angle: ask.angle.to_bits(), radius: ask.uniform.then(|| ask.radius[0].to_bits()) };
         let mut all = index.rebuilt || self.start.len() != n + 1 || self.inputs != Some(inputs);
+        // Too many moved to be listed: every row is found again (what a long list would get),
+        // from last step's graph (nothing of it is stale).
+        let unlisted = index.take_moved(&mut self.moved);
         if !ask.uniform {
             let radius = &ask.radius[..n];
             all |= self.radii.len() != n || self.radii.iter().zip(radius).any(|(a, b)| a.to_bits() != b.to_bits());
@@ -143,9 +146,9 @@ impl Blocking {
         if all {
             self.reset(n);
         }
+        let all = all || unlisted;
         self.same = false;
         self.inputs = Some(inputs);
-        index.take_moved(&mut self.moved);
         let changed = self.moved.len() + index.turned.len();
         let widest = 2.0 * ask.r_max + ask.margin;
         // The pass over pairs finds pairs within a cell's width.
@@ -153,6 +156,7 @@ impl Blocking {
         if fits && (all || changed * FULL_PASS_BELOW > n) {
             self.all_rows(index, grid, ask);
         } else {
+            index.ready_rows(grid);
             let dirty = &mut self.dirty[..n];
             if all {
                 dirty.fill(true);

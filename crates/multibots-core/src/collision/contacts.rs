@@ -45,6 +45,7 @@ impl Collisions {
         if self.space.tiny {
             return self.contacts_tiny(x, y, radius, moved, r_max, slack);
         }
+        self.index.ready_rows(&self.space.grid);
         self.contacts_by_index(x, y, radius, moved, r_max, slack)
     }
 
@@ -330,6 +331,7 @@ impl Touching {
             self.shifted.clear();
             self.shifted.extend(0..n as u32);
         }
+        index.ready_rows(grid);
         let mark = &mut self.mark[..];
         for &i in &self.shifted {
             mark[i as usize] = true;

@@ -63,7 +63,9 @@ impl Grid {
     /// value (out of bounds; NaN goes to 0) ends in a border cell.
     #[inline]
     pub(super) fn cell(&self, tx: f64, ty: f64) -> (u32, u32) {
-        ((tx as i32).clamp(0, self.last_col) as u32, (ty as i32).clamp(0, self.last_row) as u32)
+        // `max` then `min`, not `clamp`: the same for `last_* >= 0`, without `clamp`'s check of
+        // its bounds on every call.
+        ((tx as i32).max(0).min(self.last_col) as u32, (ty as i32).max(0).min(self.last_row) as u32)
     }
 }
 

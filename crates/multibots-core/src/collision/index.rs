@@ -96,6 +96,11 @@ pub(super) struct Wishes<'a> {
 /// Which lists a robot is noted in: moved since the collision test, or the count, looked.
 const FOR_TEST: u8 = 1;
 const FOR_COUNT: u8 = 2;
+/// The lists of robots moved since the test, or the count, looked hold at most one robot in
+/// this many (and one more). Both readers look at every robot again well before that (from
+/// one in eight: `blocking.rs`, `contacts.rs`), so past it a list is only an overflow flag:
+/// in the first steps of a run, where every robot moves, nobody is listed, nor unlisted.
+const LISTED_UP_TO: usize = 4;
 
 /// The slots, kept sorted; each robot's place among them and what the slots last saw of it,
 /// by robot id (so that finding what changed reads memory in order); and what changed since
@@ -103,8 +108,11 @@ const FOR_COUNT: u8 = 2;
 #[derive(Clone, Debug, Default)]
 pub(super) struct Index {
     pub(super) slots: Vec<Slot>,
-    /// The first slot of each grid row, and one past the last (rows + 1 entries).
+    /// The first slot of each grid row, and one past the last (rows + 1 entries), for
+    /// [`Index::visit`]; found again only when a search needs it after the slots moved
+    /// (`rows_stale`): where most robots changed, nothing searches.
     row_start: Vec<u32>,
+    rows_stale: bool,
     /// By robot id: its slot, its position, whether it stands in a bay, whether it wants to
     /// move (out of a bay) and its heading, as the slots have them.
     place: Vec<u32>,
@@ -118,6 +126,9 @@ pub(super) struct Index {
     pub(super) moved: Vec<Moved>,
     shifted: Vec<u32>,
     noted: Vec<u8>,
+    /// Bits of the lists that more robots moved for than they hold (`LISTED_UP_TO`), as in
+    /// `noted`.
+    unlisted: u8,
     /// Robots whose wish to move or heading changed (at the last refresh with wishes).
     pub(super) turned: Vec<u32>,
     /// Set when the slots were built anew (the first refresh, or a fleet of another size):
@@ -150,7 +161,7 @@ impl Index {
         }
         if !sorted {
             self.repair();
-            self.rows(grid);
+            self.rows_stale = true;
         }
     }
 
@@ -160,6 +171,7 @@ impl Index {
         let n = x.len();
         let (y, px, py, aside, noted, place) = (&y[..n], &mut self.px[..n], &mut self.py[..n], &mut self.aside[..n], &mut self.noted[..n], &self.place[..n]);
         let mut sorted = true;
+        let cap = n / LISTED_UP_TO + 1;
         for i in 0..n {
             let (xi, yi) = (x[i], y[i]);
             let b = bay(i, aside[i]);
@@ -167,13 +179,25 @@ impl Index {
             if (xi.to_bits() ^ px[i].to_bits()) | (yi.to_bits() ^ py[i].to_bits()) == 0 && b == aside[i] {
                 continue;
             }
-            if noted[i] & FOR_TEST == 0 {
-                self.moved.push(Moved { robot: i as u32, x: px[i], y: py[i], blocking: !aside[i] });
+            // Past `cap` robots a list is only a count: its reader looks at everyone anyway.
+            let mut note = noted[i];
+            if note & FOR_TEST == 0 && self.unlisted & FOR_TEST == 0 {
+                if self.moved.len() < cap {
+                    self.moved.push(Moved { robot: i as u32, x: px[i], y: py[i], blocking: !aside[i] });
+                    note |= FOR_TEST;
+                } else {
+                    self.unlisted |= FOR_TEST;
+                }
             }
-            if noted[i] & FOR_COUNT == 0 {
-                self.shifted.push(i as u32);
+            if note & FOR_COUNT == 0 && self.unlisted & FOR_COUNT == 0 {
+                if self.shifted.len() < cap {
+                    self.shifted.push(i as u32);
+                    note |= FOR_COUNT;
+                } else {
+                    self.unlisted |= FOR_COUNT;
+                }
             }
-            noted[i] = FOR_TEST | FOR_COUNT;
+            noted[i] = note;
             (px[i], py[i], aside[i]) = (xi, yi, b);
             let s = &mut self.slots[place[i] as usize];
             (s.x, s.y) = (xi, yi);
@@ -227,6 +251,7 @@ impl Index {
         self.alpha.resize(n, 0.0);
         self.moved.clear();
         self.shifted.clear();
+        self.unlisted = 0;
         self.noted.clear();
         self.noted.resize(n, 0);
         self.rebuilt = true;
@@ -264,8 +289,17 @@ impl Index {
         }
     }
 
+    /// Makes [`Index::visit`] ready: `row_start` up to date with the slots.
+    #[inline]
+    pub(super) fn ready_rows(&mut self, grid: &Grid) {
+        if self.rows_stale {
+            self.rows(grid);
+        }
+    }
+
     /// `row_start` from the sorted slots.
     fn rows(&mut self, grid: &Grid) {
+        self.rows_stale = false;
         let rows = grid.rows();
         self.row_start.clear();
         for (k, s) in self.slots.iter().enumerate() {
@@ -278,33 +312,41 @@ impl Index {
     }
 
     /// The robots noted as moved since the last call (the contact count's list), into
-    /// `into`; whether the slots were built anew since (every robot is new to the count).
+    /// `into`; whether every robot is to be counted again: the slots were built anew since,
+    /// or too many moved to be listed.
     pub(super) fn take_shifted(&mut self, into: &mut Vec<u32>) -> bool {
         into.clear();
         for &i in &self.shifted {
             self.noted[i as usize] &= !FOR_COUNT;
         }
         std::mem::swap(into, &mut self.shifted);
-        std::mem::take(&mut self.recount)
+        let unlisted = self.unlisted & FOR_COUNT != 0;
+        self.unlisted &= !FOR_COUNT;
+        std::mem::take(&mut self.recount) | unlisted
     }
 
     /// The robots noted as moved since the last call, with their places then, into `into`;
-    /// the marks are cleared.
-    pub(super) fn take_moved(&mut self, into: &mut Vec<Moved>) {
+    /// the marks are cleared. Whether too many moved to be listed (every row is to be found
+    /// again).
+    pub(super) fn take_moved(&mut self, into: &mut Vec<Moved>) -> bool {
         into.clear();
         for m in &self.moved {
             self.noted[m.robot as usize] &= !FOR_TEST;
         }
         std::mem::swap(into, &mut self.moved);
         self.rebuilt = false;
+        let unlisted = self.unlisted & FOR_TEST != 0;
+        self.unlisted &= !FOR_TEST;
+        unlisted
     }
 
     /// The slots of the cells within `h` of `(x, y)` along both axes, a row at a time: `f(k)`
-    /// for each slot `k` (the point's own robot included). Every robot whose position lies
+    /// for each slot `k` (the point's own robot included), after [`Index::ready_rows`]. Every robot whose position lies
     /// within `h` of the point along each axis is among them: cells are monotonic in the
     /// position, so the box's corner cells bound every cell inside it.
     #[inline]
     pub(super) fn visit(&self, grid: &Grid, x: f64, y: f64, h: f64, mut f: impl FnMut(usize)) {
+        debug_assert!(!self.rows_stale, "ready_rows before visit");
         let (c0, r0) = grid.cell_of(x - h, y - h);
         let (c1, r1) = grid.cell_of(x + h, y + h);
         for row in r0..=r1 {
