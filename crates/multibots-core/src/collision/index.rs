@@ -341,9 +341,9 @@ impl Index {
     }
 
     /// The slots of the cells within `h` of `(x, y)` along both axes, a row at a time: `f(k)`
-    /// for each slot `k` (the point's own robot included), after [`Index::ready_rows`]. Every robot whose position lies
-    /// within `h` of the point along each axis is among them: cells are monotonic in the
-    /// position, so the box's corner cells bound every cell inside it.
+    /// for each slot `k` (the point's own robot included), after [`Index::ready_rows`]. Every
+    /// robot whose position lies within `h` of the point along each axis is among them: cells
+    /// are monotonic in the position, so the box's corner cells bound every cell inside it.
     #[inline]
     pub(super) fn visit(&self, grid: &Grid, x: f64, y: f64, h: f64, mut f: impl FnMut(usize)) {
         debug_assert!(!self.rows_stale, "ready_rows before visit");
