@@ -69,8 +69,9 @@ impl Buckets {
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss, clippy::cast_possible_wrap)]
     fn col_row(&self, x: f64, y: f64) -> (usize, usize) {
         // Points outside the bounds fall in the border cells: found all the same.
-        let c = (((x - self.x0) * self.inv) as i64).clamp(0, self.cols as i64 - 1) as usize;
-        let r = (((y - self.y0) * self.inv) as i64).clamp(0, self.rows as i64 - 1) as usize;
+        // `max` then `min`: `clamp` would check its bounds on every call (`cols`, `rows` >= 1).
+        let c = (((x - self.x0) * self.inv) as i64).max(0).min(self.cols as i64 - 1) as usize;
+        let r = (((y - self.y0) * self.inv) as i64).max(0).min(self.rows as i64 - 1) as usize;
         (c, r)
     }
 

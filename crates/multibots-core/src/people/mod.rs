@@ -70,6 +70,11 @@ pub struct People {
     /// People near each point, and robots near each point, at the start of the step.
     crowd: Buckets,
     robot_grid: Buckets,
+    /// How far a robot can land beside its route in a step beyond its speed: stepping into
+    /// or out of a bay (one contact distance, `fleet/bay.rs`). `robot_grid` holds the robots'
+    /// places from before their moves, so the queries after the moves that must find every
+    /// robot near a point reach this much and a step further.
+    aside: f64,
     /// Robots that stop for a person this step, and robots that slow down.
     pub(crate) stop: Vec<bool>,
     pub(crate) slow: Vec<bool>,
@@ -84,7 +89,8 @@ pub struct People {
 
 impl People {
     /// The people of a scenario's `[humans]` table; `None` when there are none.
-    pub(crate) fn new(h: &Humans, world: &World, tables: &Tables, robots: &Robots) -> Result<Option<People>> {
+    /// `margin`: the collision margin (a bay is one contact distance deep).
+    pub(crate) fn new(h: &Humans, world: &World, tables: &Tables, robots: &Robots, margin: f64) -> Result<Option<People>> {
         if h.count == 0 {
             return Ok(None);
         }
@@ -121,6 +127,7 @@ impl People {
             zones,
             crowd: Buckets::new(bounds, reach),
             robot_grid: Buckets::new(bounds, reach),
+            aside: 2.0 * rr + margin,
             stop: vec![false; robots.len()],
             slow: vec![false; robots.len()],
             slow_factor: h.slow,

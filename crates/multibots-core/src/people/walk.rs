@@ -162,10 +162,10 @@ impl People {
                         // Back along the way it came, to the latest point outside every robot's
                         // warning zone (or the start of the leg).
                         let w = self.zones.warning;
-                        let grid = &self.robot_grid;
+                        let (grid, aside) = (&self.robot_grid, self.aside);
                         let free = |(x, y): (f64, f64)| {
                             let mut ok = true;
-                            grid.near(x, y, w + speed_max, |i| ok = ok && at_least(robots.x[i] - x, robots.y[i] - y, w));
+                            grid.near(x, y, w + speed_max + aside, |i| ok = ok && at_least(robots.x[i] - x, robots.y[i] - y, w));
                             ok
                         };
                         let back = self.tours.passed(k).find(|&q| free(q)).or_else(|| self.tours.passed(k).last()).unwrap_or((self.seg_x[k], self.seg_y[k]));
@@ -294,7 +294,7 @@ impl People {
         let rh = self.radius;
         let mut clear = true;
         // The grid holds positions from before the robots' moves: reach one step further.
-        self.robot_grid.near(x, y, rr_max + rh + CLEAR + speed_max, |i| {
+        self.robot_grid.near(x, y, rr_max + rh + CLEAR + speed_max + self.aside, |i| {
             clear = clear && at_least(robots.x[i] - x, robots.y[i] - y, robots.radius[i] + rh + CLEAR);
         });
         clear

@@ -126,7 +126,7 @@ impl Paper {
         let n = robots.len();
         let goods = GoodsQueue::new(layout.cells.len(), &cells, scenario.orders.as_ref(), csv);
         let people = match &scenario.humans {
-            Some(h) => People::new(h, &world, tables, &robots)?.map(Box::new),
+            Some(h) => People::new(h, &world, tables, &robots, scenario.collision.margin)?.map(Box::new),
             None => None,
         };
         let alone = people.as_ref().map(|p| Box::new(p.alone()));
