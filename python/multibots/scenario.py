@@ -168,7 +168,8 @@ class Scenario:
         }
         if starts is not None:
             data["starts"] = list(starts)
-        return cls.from_dict(_merge(data, fields))
+        # `data` is this call's own: merged into a copy only when there is something to merge.
+        return cls.from_dict(_merge(data, fields) if fields else data)
 
     def replace(self, **changes: Any) -> Scenario:
         """A copy with some fields changed; nested tables are merged."""
