@@ -134,8 +134,8 @@ impl Blocking {
         let n = ask.x.len();
         let inputs = Inputs { margin: ask.margin.to_bits(), angle: ask.angle.to_bits(), radius: ask.uniform.then(|| ask.radius[0].to_bits()) };
         let mut all = index.rebuilt || self.start.len() != n + 1 || self.inputs != Some(inputs);
-        // Too many moved to be listed: every row is found again (what a long list would get),
-        // from last step's graph (nothing of it is stale).
+        // Too many moved to be listed: every row is found again (the same rows a long list
+        // would give), last step's graph kept for the comparison (nothing of it is stale).
         let unlisted = index.take_moved(&mut self.moved);
         if !ask.uniform {
             let radius = &ask.radius[..n];

@@ -97,9 +97,10 @@ pub(super) struct Wishes<'a> {
 const FOR_TEST: u8 = 1;
 const FOR_COUNT: u8 = 2;
 /// The lists of robots moved since the test, or the count, looked hold at most one robot in
-/// this many (and one more). Both readers look at every robot again well before that (from
-/// one in eight: `blocking.rs`, `contacts.rs`), so past it a list is only an overflow flag:
-/// in the first steps of a run, where every robot moves, nobody is listed, nor unlisted.
+/// this many (and one more); past that a list is only an overflow flag, and its reader finds
+/// everything again (with the same result). Where the pass over pairs fits the cells, both
+/// readers do so from one in eight anyway (`blocking.rs`, `contacts.rs`): in the first steps
+/// of a run, where every robot moves, the rest of the fleet is not listed.
 const LISTED_UP_TO: usize = 4;
 
 /// The slots, kept sorted; each robot's place among them and what the slots last saw of it,

@@ -72,8 +72,8 @@ pub struct People {
     robot_grid: Buckets,
     /// How far a robot can land beside its route in a step beyond its speed: stepping into
     /// or out of a bay (one contact distance, `fleet/bay.rs`). `robot_grid` holds the robots'
-    /// places from before their moves, so the queries after the moves that must find every
-    /// robot near a point reach this much and a step further.
+    /// places from before their moves, so every query after the moves reaches this much and
+    /// a step further (without it, only the grid's wide cells found such a robot).
     aside: f64,
     /// Robots that stop for a person this step, and robots that slow down.
     pub(crate) stop: Vec<bool>,

@@ -201,7 +201,7 @@ impl People {
             // Stepping aside: a person in the path of a robot coming within its warning zone
             // moves to the side of the aisle, where the robot can pass it.
             let (w, corridor) = (self.zones.warning, self.zones.corridor);
-            self.robot_grid.near(px, py, w + speed_max, |i| {
+            self.robot_grid.near(px, py, w + speed_max + self.aside, |i| {
                 if !(robots.routing[i] && robots.state[i].travels()) {
                     return;
                 }
@@ -225,7 +225,7 @@ impl People {
                 }
             });
             let reach_r = rr_max + rh + forces.robot_range;
-            self.robot_grid.near(px, py, reach_r + speed_max, |i| {
+            self.robot_grid.near(px, py, reach_r + speed_max + self.aside, |i| {
                 let (ox, oy) = (px - robots.x[i], py - robots.y[i]);
                 if at_least(ox, oy, reach_r) {
                     return;

@@ -222,7 +222,7 @@ impl People {
     pub(crate) fn measure(&mut self, robots: &Robots) {
         let rh = self.radius;
         let speed_max = robots.speed.iter().copied().fold(0.0, f64::max);
-        let reach = self.zones.warning + speed_max;
+        let reach = self.zones.warning + speed_max + self.aside;
         let z = &mut self.zones;
         for k in 0..self.x.len() {
             let (qx, qy) = (self.x[k], self.y[k]);
