@@ -229,3 +229,38 @@ fn trace() {
     }
     println!("{:?}", sim.result().people);
 }
+
+#[test]
+fn the_safety_figures_count_every_robot_near_a_person_as_positions_give_it() {
+    // Robots with a person inside their warning zone, step by step, recomputed from the
+    // positions after each step, and the smallest gap. Under spread placement robots step
+    // into and out of bays, landing beside their route beyond a step of travel: they count
+    // too (the people's queries once missed such a robot when the grid's cells did not
+    // happen to hold its place from before the move).
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../benchmarks/sizes/people.toml")).unwrap();
+    let s = Scenario::from_toml(&text, "people.toml").unwrap();
+    let h = s.humans.clone().unwrap();
+    let rh = h.radius * h.px_per_m;
+    let mut sim = Simulation::new(&s).unwrap();
+    let warning = sim.people().unwrap().zone_radii()[1];
+    let (mut samples, mut min_gap) = (0u64, f64::INFINITY);
+    for _ in 0..2000 {
+        sim.step().unwrap();
+        let (r, p) = (sim.robots(), sim.people().unwrap());
+        for i in 0..r.len() {
+            let mut near = false;
+            for k in 0..p.len() {
+                let d = (p.x[k] - r.x[i]).hypot(p.y[k] - r.y[i]);
+                if d < warning {
+                    near = true;
+                    min_gap = min_gap.min(d - r.radius[i] - rh);
+                }
+            }
+            samples += u64::from(near);
+        }
+    }
+    let f = sim.people().unwrap().figures(sim.t());
+    assert!(samples > 100, "people meet robots: {samples}");
+    assert_eq!(f.warning_steps, samples, "{f:?}");
+    assert_eq!(f.min_gap, Some(min_gap), "{f:?}");
+}
