@@ -43,7 +43,8 @@ def main() -> None:
     for k, v in speeds.items():
         lines.append(f"| {k} | {med[k] / 1e6:.2f} M | {min(v) / 1e6:.2f}–{max(v) / 1e6:.2f} M |")
     ratio = med[names[1]] / med[names[0]]
-    lines.append(f"\nWith people / without: {ratio:.2f} (target: at least 3 M robot-steps/s with people).")
+    lines.append(f"\nWith people / without: {ratio:.2f} (issue 44 asks for at least 0.6; an earlier issue asked "
+                 "for 3 M robot-steps/s with people).")
     print("\n".join(lines))
     if a.write:
         sys.path.insert(0, str(ROOT / "benchmarks"))
