@@ -16,7 +16,6 @@
 //! when every person within its reach is behind it and further than one step, and a person
 //! moves only to a point clear of every robot.
 
-pub(crate) mod buckets;
 mod tours;
 mod walk;
 mod zones;
@@ -27,8 +26,8 @@ use crate::error::Result;
 use crate::fleet::robot::Robots;
 use crate::input::csv::Tables;
 use crate::input::scenario::Humans;
+use crate::world::buckets::{self, Buckets};
 use crate::world::World;
-use buckets::Buckets;
 use tours::Tours;
 
 /// What a person is doing.

@@ -13,9 +13,9 @@
 //! Everything is in pixels and steps; the constants are the published ones converted with
 //! `px_per_m` and `step_seconds`.
 
-use super::buckets::at_least;
 use super::{People, Phase};
 use crate::fleet::robot::Robots;
+use crate::world::buckets::at_least;
 
 /// Relaxation time, seconds (Helbing and Molnár: 0.5 s).
 const TAU: f64 = 0.5;

@@ -13,11 +13,11 @@
 //! never, by construction), protective stops and the steps robots spend stopped, robot-steps
 //! in warning zones, and person-steps spent blocked by robots.
 
-use super::buckets::at_least;
 use super::walk::CLEAR;
 use super::People;
 use crate::fleet::robot::Robots;
 use crate::input::scenario::Humans;
+use crate::world::buckets::at_least;
 
 /// Width of the histogram's bins, px: the 1st percentile is known to this.
 const BIN: f64 = 0.25;

@@ -7,6 +7,7 @@
 use crate::error::{Error, Result};
 use crate::ids::{CellId, NodeId};
 use crate::input::layout_params::{Aisles, ChargerWalls, LayoutParams};
+use crate::world::buckets::Buckets;
 use serde_json::{json, Value};
 
 /// What a node of the graph is.
@@ -138,51 +139,36 @@ impl Layout {
                 return Err(Error::layout(format!("cells[{}]", c.id), format!("lies outside the bounds {:?}", self.bounds)));
             }
         }
-        // A grid of buckets at least as large as the largest cell: a cell can only meet cells
-        // and nodes in its own and the neighbouring buckets. The buckets are an array of
-        // at most about twelve per cell (larger buckets only add candidates), the cells sorted
-        // into them by counting: no hashing, which took a sixth of a paper run's call.
+        // The cells' corners in a grid (`buckets.rs`) of cells at least as large as the largest
+        // storage cell: a cell can only meet cells, and cover nodes, whose corner lies within
+        // that size of its own. At most about twelve grid cells per storage cell (larger ones
+        // only add candidates): no hashing, which took a sixth of a paper run's call.
         let widest = self.cells.iter().map(|c| c.w.max(c.h)).fold(0.0, f64::max);
         let (w, h) = (x1 - x0, y1 - y0);
         let n = self.cells.len() as f64;
         let size = widest.max((w * h / (4.0 * n)).sqrt()).max((w + h) / (8.0 * n + 64.0));
         let size = if size.is_finite() && size > 0.0 { size } else { f64::INFINITY };
-        let span = |v: f64| if v.is_finite() && v > 0.0 { (v / size).floor().min(1e6) as i64 + 1 } else { 1 };
-        let (cols, rows) = (span(w), span(h));
-        let key = |x: f64, y: f64| (((x - x0) / size).floor() as i64, ((y - y0) / size).floor() as i64);
-        // Clamped: the buckets at the edges hold everything beyond them (only candidates).
-        let slot = |(gx, gy): (i64, i64)| (gy.clamp(0, rows - 1) * cols + gx.clamp(0, cols - 1)) as usize;
-        let of_cell: Vec<usize> = self.cells.iter().map(|c| slot(key(c.x, c.y))).collect();
-        let mut start = vec![0u32; (cols * rows) as usize + 1];
-        for &b in &of_cell {
-            start[b + 1] += 1;
-        }
-        for b in 1..start.len() {
-            start[b] += start[b - 1];
-        }
-        let mut fill = start.clone();
-        let mut in_bucket = vec![0usize; self.cells.len()];
-        for (k, &b) in of_cell.iter().enumerate() {
-            in_bucket[fill[b] as usize] = k;
-            fill[b] += 1;
-        }
-        let bucket = |g: (i64, i64)| {
-            let b = slot(g);
-            in_bucket[start[b] as usize..start[b + 1] as usize].iter().copied()
+        let mut grid = Buckets::new(self.bounds, size);
+        let (xs, ys): (Vec<f64>, Vec<f64>) = self.cells.iter().map(|c| (c.x, c.y)).unzip();
+        grid.build(&xs, &ys, |_| true);
+        // The cells near a point, by index (the first overlap found does not depend on the grid).
+        let candidates = |x: f64, y: f64, into: &mut Vec<usize>| {
+            into.clear();
+            grid.near(x, y, size, |k| into.push(k));
+            into.sort_unstable();
         };
-        let near = |x: f64, y: f64| {
-            let (gx, gy) = key(x, y);
-            (-1..=1).flat_map(move |dx| (-1..=1).map(move |dy| (gx + dx, gy + dy)))
-        };
+        let mut near = Vec::new();
         for (k, a) in self.cells.iter().enumerate() {
-            for b in near(a.x, a.y).flat_map(bucket).filter(|&j| j > k).map(|j| &self.cells[j]) {
+            candidates(a.x, a.y, &mut near);
+            for b in near.iter().filter(|&&j| j > k).map(|&j| &self.cells[j]) {
                 if a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h {
                     return Err(Error::layout(format!("cells[{}]", b.id), format!("overlaps cells[{}]", a.id)));
                 }
             }
         }
         for n in &self.nodes {
-            for c in near(n.x, n.y).flat_map(bucket).map(|j| &self.cells[j]) {
+            candidates(n.x, n.y, &mut near);
+            for c in near.iter().map(|&j| &self.cells[j]) {
                 if n.x > c.x && n.x < c.x + c.w && n.y > c.y && n.y < c.y + c.h {
                     return Err(Error::layout(format!("cells[{}]", c.id), format!("covers the node \"{}\" at ({}, {})", n.name, n.x, n.y)));
                 }

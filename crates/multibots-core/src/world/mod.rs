@@ -3,6 +3,7 @@
 //! (`graph`), and [`World`], built from the layout a scenario names ([`resolve_layout`]),
 //! checked once and shared by every run on it.
 
+pub(crate) mod buckets;
 pub(crate) mod graph;
 pub mod layout;
 pub mod layout_file;

@@ -1,6 +1,7 @@
 //! A uniform grid of points for neighbour queries: points sorted by cell (a counting sort),
-//! so the points of one cell are one contiguous run. Rebuilt every step; nothing allocated
-//! after the first build of a given size.
+//! so the points of one cell are one contiguous run: the people's neighbours, rebuilt every
+//! step (nothing allocated after the first build of a given size), and the layout's cells,
+//! for its geometry check.
 
 /// Whether `dx.hypot(dy) >= r`, the answer `hypot` gives, bit for bit: the squares decide it
 /// where they leave no doubt (beyond a margin a million times their rounding error), `hypot`
