@@ -27,7 +27,7 @@ __all__ = ["ABOUT", "PLANNERS", "SCHEDULERS", "LorrResult", "check_files", "chec
 
 #: The built-in planners, as the engine names them; the first is the default.
 PLANNERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_PLANNERS)
-#: The built-in schedulers (2024 and 2026 rules); the first (``auto``: ``spread`` under the
+#: The built-in schedulers (2024 and 2026 rules); the first (``auto``: ``reassign`` under the
 #: 2024 rules, ``soonest`` under the 2026 rules) is the default.
 SCHEDULERS: tuple[str, ...] = tuple(name for name, _ in _core.LORR_SCHEDULERS)
 #: One line on what each built-in planner and scheduler does, by name.

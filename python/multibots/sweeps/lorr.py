@@ -65,7 +65,7 @@ class LorrBase:
     problem: str
     steps: int = 5000
     planner: str = "auto"
-    scheduler: str = "spread"
+    scheduler: str = "auto"
     seed: int = 0
     robots: Optional[int] = None
     plan_time_limit_ms: Optional[int] = None

@@ -50,7 +50,7 @@ use std::time::{Duration, Instant};
 pub struct LorrOptions {
     /// The planner's name (`auto`, the default: [`planner::auto_choice`]).
     pub planner: String,
-    /// The scheduler's name (`auto`, the default: `spread` under the 2024 rules, `soonest`
+    /// The scheduler's name (`auto`, the default: `reassign` under the 2024 rules, `soonest`
     /// under the 2026 rules).
     pub scheduler: String,
     /// The seed of the planner's tie-breaks (default 0).

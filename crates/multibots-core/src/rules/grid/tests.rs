@@ -282,3 +282,45 @@ fn obstacles_in_blocks_are_told_from_scattered_ones_in_any_orientation() {
         assert_eq!(super::planner::obstacles_in_blocks(&transposed), blocks);
     }
 }
+
+#[test]
+fn reassign_takes_back_only_unopened_tasks_and_is_never_refused() {
+    let map = "type octile\nheight 6\nwidth 8\nmap\n........\n.@@..@@.\n........\n.@@..@@.\n........\n........\n";
+    let free: Vec<u32> = GridMap::parse(map).unwrap().free.iter().enumerate().filter(|x| *x.1).map(|x| x.0 as u32).collect();
+    for (robots, seed) in [(6usize, 1u64), (20, 2), (30, 3)] {
+        let starts: Vec<u32> = free.iter().copied().step_by(free.len() / robots).take(robots).collect();
+        let tasks: Vec<Vec<u32>> = (0..100usize).map(|k| vec![free[(k * 7 + seed as usize) % free.len()], free[(k * 13 + 5) % free.len()]]).collect();
+        let tasks: Vec<&[u32]> = tasks.iter().map(Vec::as_slice).collect();
+        let run = |scheduler: &str| {
+            let p = problem(map, &starts, &tasks, Version::Y2024, 1.5);
+            let options = LorrOptions { planner: "pibt".into(), scheduler: scheduler.into(), seed, ..LorrOptions::default() };
+            let mut run = LorrRun::new(p, options).unwrap();
+            run.run_to(300);
+            run
+        };
+        let a = run("reassign");
+        let Tasks::Pool(pool) = a.tasks() else { panic!("2024 rules") };
+        assert!(pool.errors.is_empty(), "{robots} robots: {:?}", pool.errors.first());
+        assert!(a.record().errors.is_empty());
+        assert!(a.finished() > 20, "{robots} robots: finished {}", a.finished());
+        // Some task changed hands before it was opened: it is in two robots' schedules.
+        let mut holders: std::collections::HashMap<i64, std::collections::BTreeSet<usize>> = std::collections::HashMap::new();
+        for (k, s) in pool.actual_schedule.iter().enumerate() {
+            for &(_, id) in s.iter().filter(|x| x.1 >= 0) {
+                holders.entry(id).or_default().insert(k);
+            }
+        }
+        assert!(holders.values().any(|h| h.len() > 1), "{robots} robots: no task changed hands");
+        // Every opening is by the robot then holding the task, and a task is finished by the
+        // robot that opened it.
+        let mut opener = std::collections::HashMap::new();
+        for &(_, k, id, done) in &pool.events {
+            if done == 1 {
+                opener.insert(id, k);
+            } else {
+                assert_eq!(opener.get(&id), Some(&k), "task {id} finished by robot {k}, not its opener");
+            }
+        }
+        assert_eq!(letters(&a, true), letters(&run("reassign"), true), "the same for a seed");
+    }
+}

@@ -3,22 +3,26 @@
 //! [`built_in`] maps the names the command line and Python use. The rules check the
 //! proposal (`pool.rs`); a refused one is recorded and the last valid one kept.
 //!
-//! The built-in ones only give tasks to free robots and never take one back, so every
-//! proposal they make is valid. Costs are grid (Manhattan) distances between cells: exact
+//! The built-in ones but `reassign` only give tasks to free robots and never take one back;
+//! `reassign` takes back only tasks whose robot has not reached their first errand, which the
+//! rules allow. So every proposal they make is valid. Costs are grid (Manhattan) distances between cells: exact
 //! distances would need a search per task revealed, which at 10,000 robots costs more than
 //! the difference is worth in the warehouse maps, whose aisles make the two close.
 //!
 //! | name | what it does |
 //! | --- | --- |
-//! | `auto` (default) | `spread` under the 2024 rules, `soonest` under the 2026 rules ([`resolve`]) |
+//! | `auto` (default) | `reassign` under the 2024 rules, `soonest` under the 2026 rules ([`resolve`]) |
 //! | `spread` | as `nearest`, counting every robot already bound for a first errand as 10 cells more to it (`spread.rs`) |
 //! | `nearest` | each free robot, in id order, takes the free task whose first errand is nearest (MultiBots' `nearest`) |
 //! | `greedy` | each free robot, in id order, takes the free task it would finish soonest (to its first errand, then errand to errand): the rule of the Start-Kit's 2024 default scheduler, without its time cut-off (`greedy.rs`) |
 //! | `hungarian` | the free robots and free tasks matched at least total cost (MultiBots' `hungarian`), in batches of 256 robots (`hungarian.rs`) |
 //! | `auction` | the lowest bid (estimated completion time) over all free pairs wins, round after round (MultiBots' `auction`, `auction.rs`) |
 //! | `soonest` | `auction` on exact distances (a search per errand cell, within a budget): the default under the 2026 rules (`soonest.rs`) |
+//! | `reassign` | every step, every task not opened yet put up again among the robots without an opened task, each bid 5 × the exact distance to its first errand + its length (`soonest.rs`) |
 //!
-//! `spread` is the 2024 default because it finishes the most: scoring whole tasks (`greedy`,
+//! `reassign` is the 2024 default: on every 2024 instance of the archive but one it finishes
+//! more than `spread` (docs/benchmarks.md, "Issue 41: the 2024 scheduler"). Of those that
+//! never take a task back, `spread` finishes the most: scoring whole tasks (`greedy`,
 //! `hungarian`) takes the short ones first, the pool fills with long ones and throughput
 //! falls over the run (5,000 robots on `warehouse_large`, 5,000 steps: `nearest` 38,889
 //! tasks, `greedy` 32,013; `docs/lorr.md`), and `nearest` crowds the stations nearest the
@@ -113,13 +117,14 @@ pub struct BuiltIn {
 
 /// The built-in schedulers; the first is the default.
 pub const BUILT_INS: &[BuiltIn] = &[
-    BuiltIn { name: "auto", about: "spread under the 2024 rules, soonest under the 2026 rules", make: || Box::new(Spread::new()) },
+    BuiltIn { name: "auto", about: "reassign under the 2024 rules, soonest under the 2026 rules", make: || Box::new(Soonest::reassign()) },
     BuiltIn { name: "spread", about: "nearest, counting robots already bound for an errand", make: || Box::new(Spread::new()) },
     BuiltIn { name: "nearest", about: "each free robot takes the free task whose first errand is nearest", make: || Box::new(Nearest) },
     BuiltIn { name: "greedy", about: "each free robot takes the task it would finish soonest (the Start-Kit's rule)", make: || Box::new(Greedy) },
     BuiltIn { name: "hungarian", about: "free robots and tasks matched at least total cost", make: || Box::new(Hungarian) },
     BuiltIn { name: "auction", about: "the lowest bid over all free pairs wins, round after round", make: || Box::new(Auction) },
     BuiltIn { name: "soonest", about: "auction on exact distances (the 2026 default)", make: || Box::new(Soonest::new()) },
+    BuiltIn { name: "reassign", about: "every step, tasks not yet opened put up again: 5 x approach + task length", make: || Box::new(Soonest::reassign()) },
 ];
 
 /// The built-in schedulers' names.
@@ -128,12 +133,12 @@ pub fn names() -> impl Iterator<Item = &'static str> {
 }
 
 /// The scheduler `auto` names under the task rules of `y2026`: `soonest` under the 2026
-/// rules, `spread` under the 2024 ones.
+/// rules, `reassign` under the 2024 ones.
 #[must_use]
 pub fn resolve(name: &str, y2026: bool) -> &str {
     match (name, y2026) {
         ("auto", true) => "soonest",
-        ("auto", false) => "spread",
+        ("auto", false) => "reassign",
         _ => name,
     }
 }
