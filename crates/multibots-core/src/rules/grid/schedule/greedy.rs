@@ -7,7 +7,7 @@
 //! one always finishes. `nearest` scores a task by its first errand only.
 //!
 //! ## When to use it
-//! `spread` (the default) is `nearest` counting the robots already bound for an errand.
+//! `spread` (the 2024 default before `reassign`) is `nearest` counting the robots already bound for an errand.
 //! `greedy` to play the Start-Kit's default scheduler's rule; it prefers short tasks, so long
 //! ones pile up in the pool.
 //!

@@ -18,7 +18,7 @@
 //! | `hungarian` | the free robots and free tasks matched at least total cost (MultiBots' `hungarian`), in batches of 256 robots (`hungarian.rs`) |
 //! | `auction` | the lowest bid (estimated completion time) over all free pairs wins, round after round (MultiBots' `auction`, `auction.rs`) |
 //! | `soonest` | `auction` on exact distances (a search per errand cell, within a budget): the default under the 2026 rules (`soonest.rs`) |
-//! | `reassign` | every step, every task not opened yet put up again among the robots without an opened task, each bid 5 × the exact distance to its first errand + its length (`soonest.rs`) |
+//! | `reassign` | every step, every task not opened yet put up again among the robots without an opened task, each bid 20 × the exact distance to its first errand + its length + 30 cells a robot already sent there (`soonest.rs`) |
 //!
 //! `reassign` is the 2024 default: on every 2024 instance of the archive but one it finishes
 //! more than `spread` (docs/benchmarks.md, "Issue 41: the 2024 scheduler"). Of those that
@@ -124,7 +124,11 @@ pub const BUILT_INS: &[BuiltIn] = &[
     BuiltIn { name: "hungarian", about: "free robots and tasks matched at least total cost", make: || Box::new(Hungarian) },
     BuiltIn { name: "auction", about: "the lowest bid over all free pairs wins, round after round", make: || Box::new(Auction) },
     BuiltIn { name: "soonest", about: "auction on exact distances (the 2026 default)", make: || Box::new(Soonest::new()) },
-    BuiltIn { name: "reassign", about: "every step, tasks not yet opened put up again: 5 x approach + task length", make: || Box::new(Soonest::reassign()) },
+    BuiltIn {
+        name: "reassign",
+        about: "every step, tasks not yet opened put up again: 20 x approach + task length + robots sent there",
+        make: || Box::new(Soonest::reassign()),
+    },
 ];
 
 /// The built-in schedulers' names.

@@ -32,8 +32,7 @@
 //! (the 2024 winner's scheduler, No Man's Sky, scores pairs by approach and length, greedily
 //! and then by swaps in the time left; this one is the greedy part, to the end).
 //!
-//! A robot bound for a first errand keeps it unless another saves it more than [`STAY`]
-//! cells: without that (approach counted 5 times), about 450 robots a step turned from one
+//! A robot bound for a first errand counts as [`STAY`] cells nearer to it: without that (approach counted 5 times), about 450 robots a step turned from one
 //! station to another on `MR24-SORTATION` (236,939 changes of first errand in its first 500
 //! steps, 39,371 with it, about 13,900 of either after a finished task; 13,854 and 13,933
 //! tasks finished). The tasks
@@ -58,8 +57,8 @@ pub const SEARCH_CELLS_PER_CALL: u64 = 20_000_000;
 pub const TABLE_BUDGET: usize = 512 << 20;
 /// Exact bids per robot at a time (its nearest tasks by grid distance).
 const CANDIDATES: usize = 8;
-/// Cells of approach a robot of `reassign` saves before it leaves the first errand it is
-/// bound for for another.
+/// Cells by which `reassign` counts a robot nearer the first errand it is bound for than it is,
+/// so that it leaves it only for a clearly better one.
 pub const STAY: u32 = 8;
 /// Cells of approach `reassign` counts for every robot bound for the same first errand: a
 /// station's tasks go to the robots nearest it up to a point, then to the next station.
@@ -69,7 +68,6 @@ pub const STAY: u32 = 8;
 pub const QUEUE: u32 = 30;
 
 /// Sequential single-item auction on exact distances.
-#[derive(Default)]
 pub struct Soonest {
     /// How many times the approach to the first errand counts against the task's own length
     /// (1 for `soonest`).
@@ -87,14 +85,20 @@ impl Soonest {
     /// A `soonest` scheduler.
     #[must_use]
     pub fn new() -> Soonest {
-        Soonest { approach: 1, ..Soonest::default() }
+        Soonest { approach: 1, reopen: false, dist: None, legs: Vec::new(), free: None }
     }
 
     /// `reassign`: every step, every task not yet opened is put up again among the robots
     /// without an opened task, each bid [`APPROACH`] times the approach plus the task's length.
     #[must_use]
     pub fn reassign() -> Soonest {
-        Soonest { approach: APPROACH, reopen: true, ..Soonest::default() }
+        Soonest { approach: APPROACH, reopen: true, ..Soonest::new() }
+    }
+}
+
+impl Default for Soonest {
+    fn default() -> Self {
+        Soonest::new()
     }
 }
 
@@ -136,7 +140,8 @@ impl Scheduler for Soonest {
                 }
             }
         }
-        // Free robots: those without a task in force and none proposed yet.
+        // Free robots: those without a task in force (`reassign`: or with one not opened yet),
+        // and none proposed yet.
         let robots: Vec<usize> = (0..proposal.len()).filter(|&k| proposal[k] == -1 && (self.reopen || view.pool.current[k] == -1)).collect();
         let proposed: std::collections::HashSet<i64> = proposal.iter().copied().filter(|&id| id >= 0).collect();
         let mut tasks: Vec<u32> = view
@@ -242,8 +247,6 @@ const RINGS_FROM: usize = 1_000_000;
 /// A bucket's side, in cells.
 const BUCKET: u32 = 16;
 
-/// The auction from the tasks' side; the same rule (the least bid over all pairs wins, round
-/// after round), each task's bids coming from the robots nearest its first errand.
 /// Points of the map (robots, or cells holding tasks) in buckets of [`BUCKET`] × [`BUCKET`]
 /// cells, to find those nearest a cell. A point taken (a robot sold, a cell emptied) leaves its
 /// bucket, so that searches late in an auction, when most points near a cell are taken, do
@@ -336,6 +339,8 @@ impl Near {
     }
 }
 
+/// The auction from the tasks' side; the same rule (the least bid over all pairs wins, round
+/// after round), each task's bids coming from the robots nearest its first errand.
 #[allow(clippy::too_many_arguments)]
 fn by_tasks(
     view: &ScheduleView<'_>,
@@ -383,14 +388,15 @@ fn by_tasks(
     }
 }
 
-/// `reassign`'s auction: the same rule as [`by_tasks`] (the least bid over all pairs wins,
-/// round after round), with the tasks of a first errand's cell put up as one queue, least
-/// length first (then lowest id): every robot bids less for the shorter of two tasks there,
-/// so the cell sells them in that order anyway. Tasks outnumber robots, so each robot bids
-/// on the [`CANDIDATES`] cells whose next task it could take cheapest by grid distance (a
-/// lower bound of its bid), and the cell it is bound for; it looks again only once those are
-/// all empty. A bid made for a task since sold is raised to the cell's next one when it comes
-/// up. (From the cells' side, with 620 cells competing for the same robots in
+/// `reassign`'s auction: the least bid over all pairs wins, round after round, with the
+/// tasks of a first errand's cell put up as one queue, least length first (then lowest id):
+/// every robot bids less for the shorter of two tasks there, so the cell sells them in that
+/// order anyway. A cell's bids rise as it sells (its next task is longer, and [`QUEUE`] more
+/// for the robot just sent there): a bid made before is raised when it comes up. Tasks
+/// outnumber robots, so each robot bids on the [`CANDIDATES`] cells it could take cheapest by
+/// grid distance when it looks (a lower bound of its bid), and on the cell it is bound for; it
+/// looks again only once those are all empty, so the queue moves a robot among those cells,
+/// not beyond. (From the cells' side, 620 cells competing for the same robots on
 /// `MR24-SORTATION`, the searches took as long as the planner.)
 #[allow(clippy::too_many_arguments)]
 fn by_cells(
@@ -495,7 +501,8 @@ mod tests {
     fn reassign_hands_an_unopened_task_to_a_nearer_robot_and_leaves_opened_ones() {
         let map = GridMap::parse("type octile\nheight 1\nwidth 20\nmap\n....................\n").unwrap();
         // Task 0 = [10, 15], task 1 = [2, 3], task 2 = [12, 19]. Robot 0 (at 0) holds task 0,
-        // not opened; robot 1 (at 9) is free; robot 2 (at 14) holds task 2 and has opened it.
+        // not opened; robot 1 (at 12, task 2's first errand) is free; robot 2 (at 18) holds
+        // task 2 and has opened it.
         let lines = vec![vec![10, 15], vec![2, 3], vec![12, 19]];
         let mut pool = TaskPool::new(3, 3, lines.len());
         for (k, id) in [(0usize, 0usize), (2, 2)] {
@@ -503,10 +510,11 @@ mod tests {
             pool.tasks[id].agent = k as i64;
         }
         pool.tasks[2].done = 1;
-        let loc = [0, 9, 14];
+        let loc = [0, 12, 18];
         let view = ScheduleView { map: &map, loc: &loc, heading: &[0; 3], pool: &pool, lines: &lines, t: 1 };
-        // Bids, 20 × approach + length: robot 1 for task 0 20 + 5, robot 0 for task 1 40 + 1,
-        // robot 0 for task 0 200 - 160 (it is bound there: `STAY`) + 5, robot 1 for task 1 140 + 1.
+        // Bids, 20 × approach + length: robot 0 for task 1 40 + 1, for task 0 200 - 160 (it is
+        // bound there: `STAY`) + 5; robot 1 for task 0 40 + 5, for task 1 200 + 1. Task 2 is
+        // not put up, though robot 1 stands on its first errand.
         let mut proposal = vec![0, -1, 2];
         Soonest::reassign().schedule(&view, &mut proposal);
         assert_eq!(proposal, vec![1, 0, 2]);
@@ -536,11 +544,12 @@ mod tests {
     }
 
     #[test]
-    fn a_robot_bound_for_a_cell_keeps_it_unless_another_is_more_than_stay_cells_nearer() {
+    fn a_robot_bound_for_a_cell_counts_stay_cells_nearer_to_it() {
         let map = GridMap::parse("type octile\nheight 1\nwidth 40\nmap\n........................................\n").unwrap();
         // Task 0 = [20, 21]. Robot 0 holds it, `gap` cells from cell 20; robot 1 is free, 1 cell
-        // from it; task 1 = [39] is far from both.
-        for (gap, keeps) in [(STAY, true), (STAY + 2, false)] {
+        // from it; task 1 = [39] is far from both. At `STAY` + 1 the two bid the same, and the
+        // lower id (robot 0) keeps it.
+        for (gap, keeps) in [(STAY, true), (STAY + 1, true), (STAY + 2, false)] {
             let lines = vec![vec![20, 21], vec![39]];
             let mut pool = TaskPool::new(2, 2, lines.len());
             pool.current[0] = 0;
@@ -566,5 +575,33 @@ mod tests {
         // Robot 0 takes station 20 (1 cell); robot 1 too (2 cells and `QUEUE` for robot 0: 32,
         // against 37 to station 55); robot 2 goes on to station 55 (38 against 3 + 60).
         assert_eq!(proposal, vec![0, 1, 3]);
+    }
+
+    #[test]
+    fn near_finds_what_a_pass_over_the_points_left_finds() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for round in 0..30 {
+            let (rows, cols) = (rng.random_range(1..80u32), rng.random_range(1..80u32));
+            let text = format!("type octile\nheight {rows}\nwidth {cols}\nmap\n{}", format!("{}\n", ".".repeat(cols as usize)).repeat(rows as usize));
+            let map = GridMap::parse(&text).unwrap();
+            let lines: Vec<Vec<u32>> = Vec::new();
+            let pool = TaskPool::new(0, 0, 1);
+            let view = ScheduleView { map: &map, loc: &[], heading: &[], pool: &pool, lines: &lines, t: 0 };
+            let points: Vec<u32> = (0..rng.random_range(1..300)).map(|_| rng.random_range(0..rows * cols)).collect();
+            let mut near = Near::new(&view, points.iter().copied());
+            for _ in 0..points.len() {
+                let at = rng.random_range(0..rows * cols);
+                let want = rng.random_range(1..12);
+                let mut all: Vec<(u32, u32)> = (0..points.len()).filter(|&i| !near.taken(i)).map(|i| (view.manhattan(points[i], at), i as u32)).collect();
+                all.sort_unstable();
+                all.truncate(want);
+                assert_eq!(near.nearest(&view, at, want), all, "round {round}");
+                let i = rng.random_range(0..points.len());
+                if !near.taken(i) {
+                    near.take(i);
+                }
+            }
+        }
     }
 }
