@@ -420,18 +420,21 @@ fn by_cells(
             _ => cells.push((shape[i as usize].0, at, at + 1)),
         }
     }
-    let cell_of: std::collections::HashMap<u32, u32> = cells.iter().enumerate().map(|(g, c)| (c.0, g as u32)).collect();
     // Per robot, the cell of the task it holds (not opened yet): keeping it is worth `stay`.
+    // `cells` is in cell order, so a search finds it.
     let held: Vec<u32> = robots
         .iter()
         .map(|&k| match view.pool.current[k] {
-            id if id >= 0 => cell_of.get(&view.lines[view.pool.tasks[id as usize].line as usize][0]).copied().unwrap_or(u32::MAX),
+            id if id >= 0 => {
+                let first = view.lines[view.pool.tasks[id as usize].line as usize][0];
+                cells.binary_search_by_key(&first, |c| c.0).map_or(u32::MAX, |g| g as u32)
+            }
             _ => u32::MAX,
         })
         .collect();
     let mut next: Vec<usize> = cells.iter().map(|c| c.1).collect();
     let mut open = Near::new(view, cells.iter().map(|c| c.0));
-    // Lengths only grow as cells sell, so today's least is a bound for the whole auction.
+    // No bid is below the least length: the bound of the rings' search.
     let least = shape.iter().map(|s| s.1).min().unwrap_or(0);
     let queue = approach.saturating_mul(QUEUE);
     // A cell's next task: its length, and `queue` for every robot the cell has sold one to.
@@ -528,53 +531,49 @@ mod tests {
         assert_eq!(pool.current, vec![1, 0, 2]);
     }
 
+    /// `reassign`'s proposal on a row of `width` free cells, the robots at `loc`, robot `k`
+    /// holding task `id` (not opened) for each (k, id) of `holds`, the pool every task of `lines`.
+    fn reassigned(width: usize, lines: &[Vec<u32>], holds: &[(usize, usize)], loc: &[u32]) -> Vec<i64> {
+        let map = GridMap::parse(&format!("type octile\nheight 1\nwidth {width}\nmap\n{}\n", ".".repeat(width))).unwrap();
+        let mut pool = TaskPool::new(loc.len(), lines.len(), lines.len());
+        for &(k, id) in holds {
+            pool.current[k] = id as i64;
+            pool.tasks[id].agent = k as i64;
+        }
+        let heading = vec![0; loc.len()];
+        let view = ScheduleView { map: &map, loc, heading: &heading, pool: &pool, lines, t: 1 };
+        let mut proposal = pool.current.clone();
+        Soonest::reassign().schedule(&view, &mut proposal);
+        proposal
+    }
+
     #[test]
     fn a_cell_sells_its_shortest_task_first_and_a_later_bid_pays_for_the_next() {
-        let map = GridMap::parse("type octile\nheight 1\nwidth 30\nmap\n..............................\n").unwrap();
         // Tasks 0-2 start at cell 10 (lengths 15, 2, 8); task 3 starts at 20 (length 0).
         let lines = vec![vec![10, 25], vec![10, 12], vec![10, 18], vec![20]];
-        let pool = TaskPool::new(3, 4, lines.len());
-        let loc = [9, 11, 21];
-        let view = ScheduleView { map: &map, loc: &loc, heading: &[0; 3], pool: &pool, lines: &lines, t: 1 };
-        let mut proposal = vec![-1; 3];
-        Soonest::reassign().schedule(&view, &mut proposal);
         // Robot 2 takes task 3 (20 + 0); robots 0 and 1 (both 1 from cell 10) bid 20 + 2 for
         // task 1: the lower id wins it, and the other takes task 2, not task 0.
-        assert_eq!(proposal, vec![1, 2, 3]);
+        assert_eq!(reassigned(30, &lines, &[], &[9, 11, 21]), vec![1, 2, 3]);
     }
 
     #[test]
     fn a_robot_bound_for_a_cell_counts_stay_cells_nearer_to_it() {
-        let map = GridMap::parse("type octile\nheight 1\nwidth 40\nmap\n........................................\n").unwrap();
         // Task 0 = [20, 21]. Robot 0 holds it, `gap` cells from cell 20; robot 1 is free, 1 cell
         // from it; task 1 = [39] is far from both. At `STAY` + 1 the two bid the same, and the
         // lower id (robot 0) keeps it.
         for (gap, keeps) in [(STAY, true), (STAY + 1, true), (STAY + 2, false)] {
-            let lines = vec![vec![20, 21], vec![39]];
-            let mut pool = TaskPool::new(2, 2, lines.len());
-            pool.current[0] = 0;
-            pool.tasks[0].agent = 0;
-            let loc = [20 - gap, 19];
-            let view = ScheduleView { map: &map, loc: &loc, heading: &[0; 2], pool: &pool, lines: &lines, t: 1 };
-            let mut proposal = vec![0, -1];
-            Soonest::reassign().schedule(&view, &mut proposal);
+            let proposal = reassigned(40, &[vec![20, 21], vec![39]], &[(0, 0)], &[20 - gap, 19]);
             assert_eq!(proposal, if keeps { vec![0, 1] } else { vec![1, 0] }, "{gap} cells away");
         }
     }
 
     #[test]
     fn a_station_s_tasks_go_to_the_robots_nearest_it_up_to_a_point_then_to_the_next() {
-        let map = GridMap::parse("type octile\nheight 1\nwidth 60\nmap\n............................................................\n").unwrap();
         // Three tasks at station 20, three at station 55; robots at 19, 18 and 17.
         let lines = vec![vec![20, 21], vec![20, 21], vec![20, 21], vec![55, 56], vec![55, 56], vec![55, 56]];
-        let pool = TaskPool::new(3, 6, lines.len());
-        let loc = [19, 18, 17];
-        let view = ScheduleView { map: &map, loc: &loc, heading: &[0; 3], pool: &pool, lines: &lines, t: 1 };
-        let mut proposal = vec![-1; 3];
-        Soonest::reassign().schedule(&view, &mut proposal);
         // Robot 0 takes station 20 (1 cell); robot 1 too (2 cells and `QUEUE` for robot 0: 32,
         // against 37 to station 55); robot 2 goes on to station 55 (38 against 3 + 60).
-        assert_eq!(proposal, vec![0, 1, 3]);
+        assert_eq!(reassigned(60, &lines, &[], &[19, 18, 17]), vec![0, 1, 3]);
     }
 
     #[test]
