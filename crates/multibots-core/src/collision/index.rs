@@ -173,6 +173,7 @@ impl Index {
         let (y, px, py, aside, noted, place) = (&y[..n], &mut self.px[..n], &mut self.py[..n], &mut self.aside[..n], &mut self.noted[..n], &self.place[..n]);
         let mut sorted = true;
         let cap = n / LISTED_UP_TO + 1;
+        let mut unlisted = self.unlisted;
         for i in 0..n {
             let (xi, yi) = (x[i], y[i]);
             let b = bay(i, aside[i]);
@@ -180,25 +181,28 @@ impl Index {
             if (xi.to_bits() ^ px[i].to_bits()) | (yi.to_bits() ^ py[i].to_bits()) == 0 && b == aside[i] {
                 continue;
             }
-            // Past `cap` robots a list is only a count: its reader looks at everyone anyway.
-            let mut note = noted[i];
-            if note & FOR_TEST == 0 && self.unlisted & FOR_TEST == 0 {
-                if self.moved.len() < cap {
-                    self.moved.push(Moved { robot: i as u32, x: px[i], y: py[i], blocking: !aside[i] });
-                    note |= FOR_TEST;
-                } else {
-                    self.unlisted |= FOR_TEST;
+            // Past `cap` robots a list is only a count: its reader looks at everyone anyway
+            // (and once both lists are, nothing more is noted).
+            if unlisted != FOR_TEST | FOR_COUNT {
+                let mut note = noted[i];
+                if note & FOR_TEST == 0 && unlisted & FOR_TEST == 0 {
+                    if self.moved.len() < cap {
+                        self.moved.push(Moved { robot: i as u32, x: px[i], y: py[i], blocking: !aside[i] });
+                        note |= FOR_TEST;
+                    } else {
+                        unlisted |= FOR_TEST;
+                    }
                 }
-            }
-            if note & FOR_COUNT == 0 && self.unlisted & FOR_COUNT == 0 {
-                if self.shifted.len() < cap {
-                    self.shifted.push(i as u32);
-                    note |= FOR_COUNT;
-                } else {
-                    self.unlisted |= FOR_COUNT;
+                if note & FOR_COUNT == 0 && unlisted & FOR_COUNT == 0 {
+                    if self.shifted.len() < cap {
+                        self.shifted.push(i as u32);
+                        note |= FOR_COUNT;
+                    } else {
+                        unlisted |= FOR_COUNT;
+                    }
                 }
+                noted[i] = note;
             }
-            noted[i] = note;
             (px[i], py[i], aside[i]) = (xi, yi, b);
             let s = &mut self.slots[place[i] as usize];
             (s.x, s.y) = (xi, yi);
@@ -207,6 +211,7 @@ impl Index {
             sorted &= cell == s.cell;
             s.cell = cell;
         }
+        self.unlisted = unlisted;
         sorted
     }
 
@@ -267,10 +272,11 @@ impl Index {
         let (slots, place) = (&mut self.slots[..], &mut self.place[..]);
         let mut moves = 0;
         for k in 1..n {
-            let v = slots[k];
-            if slots[k - 1].cell <= v.cell {
+            // The cells alone first: most slots are in order, and are not copied.
+            if slots[k - 1].cell <= slots[k].cell {
                 continue;
             }
+            let v = slots[k];
             let mut j = k;
             while j > 0 && slots[j - 1].cell > v.cell {
                 slots[j] = slots[j - 1];

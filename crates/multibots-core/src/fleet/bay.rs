@@ -41,6 +41,10 @@ impl Robots {
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Bays {
     flags: Vec<bool>,
+    /// Robots whose flag may differ from where they stand, for [`Bays::settle`]: set by
+    /// [`Bays::choose`] and [`Bays::keep`] (each robot's settling reads only itself, so
+    /// their order does not matter, and a robot listed twice is settled once).
+    differ: Vec<u32>,
     /// How far beside its lane a robot in a bay stands: one contact distance of the largest
     /// robots, so that robots driving the lane pass it without touching.
     depth: f64,
@@ -50,7 +54,7 @@ impl Bays {
     /// The bays of a fleet of `robots` (`spread`: under spread placement; else none), for
     /// robots of at most `r_max` px with the collision `margin`.
     pub fn new(spread: bool, robots: usize, r_max: f64, margin: f64) -> Bays {
-        Bays { flags: if spread { vec![false; robots] } else { Vec::new() }, depth: 2.0 * r_max + margin }
+        Bays { flags: if spread { vec![false; robots] } else { Vec::new() }, differ: Vec::new(), depth: 2.0 * r_max + margin }
     }
 
     /// The flags, robot by robot; empty without bays.
@@ -78,13 +82,20 @@ impl Bays {
     pub fn choose(&mut self, r: &Robots) {
         let n = self.flags.len();
         let (state, routing) = (&r.state[..n], &r.routing[..n]);
+        self.differ.clear();
+        // Nobody has stood in a bay yet: the robots flagged are the ones to step aside.
+        let lane_x: &[f64] = if r.lane_x.len() >= n { &r.lane_x[..n] } else { &[] };
         for (i, ((b, s), &routing)) in self.flags.iter_mut().zip(state).zip(routing).enumerate() {
+            let aside = !lane_x.is_empty() && !lane_x[i].is_nan();
             *b = match s {
                 State::Parked => true,
                 State::WaitCharger => !routing,
-                State::Stranded => r.in_bay(i),
+                State::Stranded => aside,
                 _ => false,
             };
+            if *b != aside {
+                self.differ.push(i as u32);
+            }
         }
     }
 
@@ -97,14 +108,16 @@ impl Bays {
     pub fn settle(&mut self, r: &mut Robots, g: &HighwayGraph, clear: impl Fn(f64, f64, f64) -> bool) {
         let (bay, depth) = (&mut self.flags, self.depth);
         let n = r.len();
-        if bay.is_empty() || (r.lane_x.is_empty() && !bay[..n].contains(&true)) {
+        if self.differ.is_empty() {
             return;
         }
         if r.lane_x.len() < n {
             r.lane_x.resize(n, f64::NAN);
             r.lane_y.resize(n, f64::NAN);
         }
-        for (i, aside) in bay[..n].iter_mut().enumerate() {
+        for &i in &self.differ {
+            let i = i as usize;
+            let aside = &mut bay[i];
             if *aside == r.in_bay(i) {
                 continue;
             }
@@ -139,5 +152,6 @@ impl Bays {
     #[inline]
     pub fn keep(&mut self, i: usize, stay: bool) {
         self.flags[i] = stay;
+        self.differ.push(i as u32);
     }
 }

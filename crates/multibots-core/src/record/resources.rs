@@ -232,11 +232,12 @@ impl Usage {
                     self.served[k] += times;
                 }
             }
-            let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
-            if node == NONE {
-                continue;
-            }
+            // Only held robots queue at a node: most robots are not, and read nothing more.
             if held {
+                let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
+                if node == NONE {
+                    continue;
+                }
                 let lane = if r.at_node[i] == NONE { self.lane(r.edge_u[i], r.edge_v[i]) } else { None };
                 for slot in std::iter::once(node).chain(lane) {
                     let k = slot as usize;
