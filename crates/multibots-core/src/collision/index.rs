@@ -139,6 +139,9 @@ pub(super) struct Index {
     /// Refreshes so far: what was collected from the slots at one refresh is good until the
     /// next.
     pub(super) generation: u64,
+    /// More than one robot in [`LISTED_UP_TO`] moved at the last refresh: the next refresh
+    /// with wishes rewrites every slot without noting who changed ([`Index::rewrite`]).
+    sweeping: bool,
 }
 
 impl Index {
@@ -152,14 +155,21 @@ impl Index {
             self.build(grid, x, &y[..n], bay.unwrap_or(&[]));
         }
         self.turned.clear();
-        let sorted = match bay {
-            Some(bay) if !bay.is_empty() => self.follow(grid, x, y, |i, _| bay[i]),
-            Some(_) => self.follow(grid, x, y, |_, _| false),
-            None => self.follow(grid, x, y, |_, aside| aside),
+        let sorted = match (bay, wishes) {
+            (Some(bay), Some(w)) if self.sweeping && !bay.is_empty() => self.rewrite(grid, x, y, |i, _| bay[i], w),
+            (Some(_), Some(w)) if self.sweeping => self.rewrite(grid, x, y, |_, _| false, w),
+            _ => {
+                let sorted = match bay {
+                    Some(bay) if !bay.is_empty() => self.follow(grid, x, y, |i, _| bay[i]),
+                    Some(_) => self.follow(grid, x, y, |_, _| false),
+                    None => self.follow(grid, x, y, |_, aside| aside),
+                };
+                if let Some(w) = wishes {
+                    self.follow_wishes(w);
+                }
+                sorted
+            }
         };
-        if let Some(w) = wishes {
-            self.follow_wishes(w);
-        }
         if !sorted {
             self.repair();
             self.rows_stale = true;
@@ -174,6 +184,7 @@ impl Index {
         let mut sorted = true;
         let cap = n / LISTED_UP_TO + 1;
         let mut unlisted = self.unlisted;
+        let mut changed = 0;
         for i in 0..n {
             let (xi, yi) = (x[i], y[i]);
             let b = bay(i, aside[i]);
@@ -181,6 +192,7 @@ impl Index {
             if (xi.to_bits() ^ px[i].to_bits()) | (yi.to_bits() ^ py[i].to_bits()) == 0 && b == aside[i] {
                 continue;
             }
+            changed += 1;
             // Past `cap` robots a list is only a count: its reader looks at everyone anyway
             // (and once both lists are, nothing more is noted).
             if unlisted != FOR_TEST | FOR_COUNT {
@@ -212,6 +224,39 @@ impl Index {
             s.cell = cell;
         }
         self.unlisted = unlisted;
+        self.sweeping = changed >= cap;
+        sorted
+    }
+
+    /// [`Index::refresh`] where most robots move: every slot written again from the robots'
+    /// positions, bays, wishes and headings, without comparing or noting who changed; both
+    /// lists then count as overflowed, so their readers look at everyone (which they would
+    /// from so many changes anyway, with the same results). Whether the slots are still
+    /// sorted. It counts who moved all the same, to go back to following robot by robot
+    /// when few do.
+    #[inline]
+    fn rewrite(&mut self, grid: &Grid, x: &[f64], y: &[f64], bay: impl Fn(usize, bool) -> bool, Wishes { wants, alpha }: Wishes<'_>) -> bool {
+        let n = x.len();
+        let (y, px, py, aside, place) = (&y[..n], &mut self.px[..n], &mut self.py[..n], &mut self.aside[..n], &self.place[..n]);
+        let (wants, alpha, pw, pa) = (&wants[..n], &alpha[..n], &mut self.wants[..n], &mut self.alpha[..n]);
+        let slots = &mut self.slots[..];
+        let mut sorted = true;
+        let mut changed = 0;
+        for i in 0..n {
+            let (xi, yi) = (x[i], y[i]);
+            let b = bay(i, aside[i]);
+            changed += usize::from((xi.to_bits() ^ px[i].to_bits()) | (yi.to_bits() ^ py[i].to_bits()) != 0 || b != aside[i]);
+            // A robot in a bay neither blocks nor waits: it wants nothing of the test.
+            let w = wants[i] && !b;
+            let cell = grid.key(xi, yi);
+            let s = &mut slots[place[i] as usize];
+            sorted &= cell == s.cell;
+            let tag = i as u32 | if w { WANTS } else { 0 } | if b { BAY } else { 0 };
+            *s = Slot { cell, tag, x: xi, y: yi, alpha: alpha[i] };
+            (px[i], py[i], aside[i], pw[i], pa[i]) = (xi, yi, b, w, alpha[i]);
+        }
+        self.unlisted = FOR_TEST | FOR_COUNT;
+        self.sweeping = changed > n / LISTED_UP_TO;
         sorted
     }
 
