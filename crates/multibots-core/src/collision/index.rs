@@ -141,7 +141,7 @@ pub(super) struct Index {
     pub(super) generation: u64,
     /// More than one robot in [`LISTED_UP_TO`] moved at the last refresh: the next refresh
     /// with wishes rewrites every slot without noting who changed ([`Index::rewrite`]).
-    sweeping: bool,
+    pub(super) sweeping: bool,
 }
 
 impl Index {
