@@ -280,7 +280,47 @@ impl Blocking {
         });
         self.near_generation = (span2 > 0.0).then_some(index.generation);
         self.near_span = self.contact_span;
-        // Counted into rows by robot id.
+        self.rows_from_edges(n);
+    }
+
+    /// Every row from the neighbour lists' pairs (`lists.rs`), judged at the robots'
+    /// positions now. Nothing of the rows is kept for the index's way: it finds every row
+    /// again when next it runs.
+    pub(super) fn rows_of_pairs(&mut self, pairs: &[(u32, u32)], ask: &Ask<'_>) {
+        let n = ask.x.len();
+        let (x, y, radius, wants, alpha) = (&ask.x[..n], &ask.y[..n], &ask.radius[..n], &ask.wants[..n], &ask.alpha[..n]);
+        let bay: &[bool] = if ask.bay.is_empty() { &[] } else { &ask.bay[..n] };
+        let (margin, angle) = (ask.margin, ask.angle);
+        let edges = &mut self.edges;
+        edges.clear();
+        for &(i, j) in pairs {
+            let (i, j) = (i as usize, j as usize);
+            let (wi, wj) = (wants[i], wants[j]);
+            // Robots in bays neither block nor wait.
+            if !(wi || wj) || (!bay.is_empty() && (bay[i] || bay[j])) {
+                continue;
+            }
+            let r = radius[i] + radius[j] + margin;
+            let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
+            if far(dx, dy, r) {
+                continue;
+            }
+            if wi && blocks(x[i], y[i], alpha[i], x[j], y[j], r, angle) {
+                edges.push((i as u32, j as u32));
+            }
+            if wj && blocks(x[j], y[j], alpha[j], x[i], y[i], r, angle) {
+                edges.push((j as u32, i as u32));
+            }
+        }
+        self.rows_from_edges(n);
+        self.inputs = None;
+        self.same = false;
+        self.near_generation = None;
+    }
+
+    /// The rows from `edges`, counted into rows by robot id; `blocked` with them.
+    fn rows_from_edges(&mut self, n: usize) {
+        let edges = &self.edges;
         let start = &mut self.start;
         start.clear();
         start.resize(n + 1, 0);

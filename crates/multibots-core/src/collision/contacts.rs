@@ -45,6 +45,7 @@ impl Collisions {
         if self.space.tiny {
             return self.contacts_tiny(x, y, radius, moved, r_max, slack);
         }
+        self.catch_up_index(x, y);
         self.index.ready_rows(&self.space.grid);
         self.contacts_by_index(x, y, radius, moved, r_max, slack)
     }
@@ -70,7 +71,14 @@ impl Collisions {
         if n < 2 {
             return (0, f64::INFINITY);
         }
+        if !self.space.tiny && self.listed(2.0 * r_max + margin) {
+            self.index_behind = true;
+            let lists = self.lists.as_deref_mut().expect("listed");
+            lists.ready(x, y, 2.0 * r_max + margin);
+            return self.touching.count_listed(&lists.pairs, x, y, &radius[..n], margin);
+        }
         if !self.space.tiny {
+            self.catch_up_index(x, y);
             let span = ((2.0 * r_max + margin) + slack) * (1.0 + 1e-6) + 1e-9;
             // The collision test's pairs, if it collected them this step, wide enough.
             let kept = self.graph.near_generation == Some(self.index.generation) && self.graph.near_span >= span;
@@ -364,6 +372,14 @@ impl Touching {
             mark[i as usize] = false;
         }
         (pairs.len() as u64, closest)
+    }
+
+    /// Every pair in contact, from pairs that hold all of them (each pair once). What is
+    /// kept of this count is not one the index's way may go on from: its next count is a
+    /// full one.
+    pub(super) fn count_listed(&mut self, near: &[(u32, u32)], x: &[f64], y: &[f64], radius: &[f64], margin: f64) -> (u64, f64) {
+        self.inputs = None;
+        self.count_pairs(near.iter().copied(), x, y, radius, margin)
     }
 
     /// Every pair in contact, from pairs that hold all of them (each pair once).

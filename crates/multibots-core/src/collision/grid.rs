@@ -21,6 +21,28 @@ pub(super) struct Grid {
 }
 
 impl Grid {
+    /// A grid over the rectangle `[x0, x1] × [y0, y1]` that robots never leave, with cells of
+    /// side at least `side` (wider where the cell count would pass the limit), and one free
+    /// cell on every side: a search box never reaches past it.
+    pub(super) fn over(bounds: [f64; 4], side: f64) -> Grid {
+        let (w, h) = ((bounds[2] - bounds[0]).max(0.0), (bounds[3] - bounds[1]).max(0.0));
+        // Tiny robots in a big warehouse would want billions of cells: past the limit the
+        // cells grow, which only adds candidates (every test is still exact).
+        let size = side.max((w * h / crate::input::limits::MAX_GRID_CELLS as f64).sqrt() * 1.01);
+        let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 3;
+        let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;
+        let last = |k: usize| i32::try_from(k - 2).unwrap_or(i32::MAX);
+        Grid {
+            x0: bounds[0] - size,
+            y0: bounds[1] - size,
+            inv_size: 1.0 / size,
+            cols,
+            shift: usize::BITS - (cols - 1).leading_zeros(),
+            last_col: last(cols),
+            last_row: last(rows),
+        }
+    }
+
     /// A point in grid units: its cell is the integer part.
     #[inline]
     pub(super) fn scaled(&self, x: f64, y: f64) -> (f64, f64) {

@@ -117,8 +117,8 @@ pub(super) struct Index {
     /// By robot id: its slot, its position, whether it stands in a bay, whether it wants to
     /// move (out of a bay) and its heading, as the slots have them.
     place: Vec<u32>,
-    px: Vec<f64>,
-    py: Vec<f64>,
+    pub(super) px: Vec<f64>,
+    pub(super) py: Vec<f64>,
     aside: Vec<bool>,
     wants: Vec<bool>,
     alpha: Vec<f64>,

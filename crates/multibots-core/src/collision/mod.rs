@@ -45,6 +45,11 @@ mod contacts;
 mod cycles;
 mod grid;
 mod index;
+mod lists;
+
+/// The lists give way to the index when fewer than one robot in this many moves (and take
+/// over again when more than one in four does, `index.rs`).
+const SWITCH: usize = 8;
 
 /// Fleets of at most this many robots use no cells (see [`Collisions`]): with 32 robots a
 /// pass over all of them is as cheap as reading a few cells.
@@ -54,6 +59,7 @@ use blocking::{Ask, Blocking};
 use contacts::Touching;
 use grid::{max_radius, Grid, Space};
 use index::Index;
+use lists::Lists;
 
 /// Reusable state of the collision phase: tiny fleets' pass over pairs ([`Space`],
 /// `grid.rs`) or larger fleets' sorted index ([`Index`], `index.rs`), the "blocked by" graph
@@ -76,6 +82,16 @@ pub struct Collisions {
     in_grid: Vec<bool>,
     in_bay: Vec<bool>,
     bays_by_cell: Vec<(u64, u32)>,
+    /// Neighbour lists with a skin, for larger fleets that asked for them
+    /// ([`Collisions::keep_lists`]); `None`: the index's way alone.
+    lists: Option<Box<Lists>>,
+    /// With lists: whether they serve now. They do while most robots move, and the index
+    /// (whose kept graph is cheaper where few move: queues, jams) while few do.
+    listing: bool,
+    /// With lists: the index has not followed the robots since the lists took over, and the
+    /// bays it is to follow them with ([`Collisions::contacts_within`] reads the index).
+    index_behind: bool,
+    bays_seen: Vec<bool>,
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
 }
@@ -88,26 +104,11 @@ impl Collisions {
         // Cells twice the contact distance wide: a box of half-width `reach` around a robot
         // then overlaps at most 2 × 2 cells, and a pair within reach stands in one cell or in
         // two neighbouring ones.
-        let (w, h) = ((bounds[2] - bounds[0]).max(0.0), (bounds[3] - bounds[1]).max(0.0));
-        // Tiny robots in a big warehouse would want billions of cells: past the limit the
-        // cells grow, which only adds candidates (every test is still `blocks`).
-        let size = (2.0 * reach.max(1e-6)).max((w * h / crate::input::limits::MAX_GRID_CELLS as f64).sqrt() * 1.01);
-        // One free cell on every side: a search box never reaches past the grid.
-        let cols = (((bounds[2] - bounds[0]) / size).ceil() as usize).max(1) + 3;
-        let rows = (((bounds[3] - bounds[1]) / size).ceil() as usize).max(1) + 3;
-        let last = |k: usize| i32::try_from(k - 2).unwrap_or(i32::MAX);
+        let grid = Grid::over(bounds, 2.0 * reach.max(1e-6));
         let tiny = robots <= TINY;
         Collisions {
             space: Space {
-                grid: Grid {
-                    x0: bounds[0] - size,
-                    y0: bounds[1] - size,
-                    inv_size: 1.0 / size,
-                    cols,
-                    shift: usize::BITS - (cols - 1).leading_zeros(),
-                    last_col: last(cols),
-                    last_row: last(rows),
-                },
+                grid,
                 reach: reach.max(1e-6) * (1.0 + 1e-9) + 1e-9,
                 far_coordinate: bounds.iter().fold(0.0, |m: f64, b| m.max(b.abs())),
                 cell_of: if tiny { vec![0; robots] } else { Vec::new() },
@@ -131,7 +132,46 @@ impl Collisions {
             in_grid: Vec::new(),
             in_bay: Vec::new(),
             bays_by_cell: Vec::new(),
+            lists: None,
+            listing: false,
+            index_behind: false,
+            bays_seen: Vec::new(),
             waits: vec![false; robots],
+        }
+    }
+
+    /// Finds pairs from neighbour lists with a skin (`lists.rs`) rather than the index, for a
+    /// fleet beyond a few dozen robots (tiny fleets keep their pass over pairs): cheaper where
+    /// most robots move every step, and the same results. `bounds` as for
+    /// [`Collisions::new`].
+    pub fn keep_lists(&mut self, bounds: [f64; 4]) {
+        if !self.space.tiny {
+            self.lists = Some(Box::new(Lists::new(bounds)));
+            self.listing = true;
+        }
+    }
+
+    /// Whether neighbour lists serve now, for a contact distance of `reach` (a finite one).
+    fn listed(&self, reach: f64) -> bool {
+        self.listing && reach.is_finite()
+    }
+
+    /// With lists, the index is left behind: the bays it is to follow the robots with when
+    /// [`Collisions::contacts_within`] reads it.
+    fn leave_index(&mut self, bay: &[bool]) {
+        self.index_behind = true;
+        self.bays_seen.clear();
+        self.bays_seen.extend_from_slice(bay);
+    }
+
+    /// Where the lists served and the index was left behind, it follows the robots to `x`,
+    /// `y` now (positions after the moves find the same pairs as the index's readers look
+    /// for: they test distances at the positions given them).
+    fn catch_up_index(&mut self, x: &[f64], y: &[f64]) {
+        if std::mem::take(&mut self.index_behind) {
+            let bay = std::mem::take(&mut self.bays_seen);
+            self.index.refresh(&self.space.grid, x, y, Some(&bay), None);
+            self.bays_seen = bay;
         }
     }
 
@@ -146,6 +186,8 @@ impl Collisions {
         let uniform = radius.iter().all(|&r| r == radius[0]);
         if self.space.tiny {
             self.tiny_places(x, y, radius, bay, uniform);
+        } else if self.lists.is_some() {
+            self.leave_index(bay);
         } else {
             self.index.refresh(&self.space.grid, x, y, Some(bay), None);
         }
@@ -240,7 +282,32 @@ impl Collisions {
         let (y, radius, wants, alpha) = (&y[..n], &radius[..n], &wants[..n], &alpha[..n]);
         // A robot alone is never blocked (the paper's N = 1 runs: 40% of its steps).
         let nobody = n < 2 || !wants.contains(&true);
+        let uniform = radius.iter().all(|&r| r == radius[0]);
+        let r_max = if uniform { radius.first().copied().unwrap_or(0.0) } else { max_radius(radius) };
+        if !self.space.tiny && self.listed(2.0 * r_max + margin) {
+            self.leave_index(bay);
+            if nobody {
+                self.waits[..n].fill(false);
+                return;
+            }
+            self.margin = margin;
+            if self.graph.start.len() != n + 1 {
+                self.graph.reset(n);
+            }
+            let lists = self.lists.as_deref_mut().expect("listed");
+            lists.ready(x, y, 2.0 * r_max + margin);
+            let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
+            self.graph.rows_of_pairs(&lists.pairs, &ask);
+            self.graph.release(&mut self.waits[..n]);
+            // Back to the index once fewer than one robot in eight moves (robots in bays
+            // that want to move count as moving: it only decides which way is cheaper).
+            let wanting = wants.iter().filter(|&&w| w).count();
+            let waiting = self.graph.blocked.len() - self.graph.released.len();
+            self.listing = (wanting - waiting) * SWITCH > n;
+            return;
+        }
         if !self.space.tiny {
+            self.index_behind = false;
             // The index follows every step, so that the next step sees what moved since; the
             // wishes only where the graph follows them too.
             let wishes = (!nobody).then_some(index::Wishes { wants, alpha });
@@ -254,8 +321,6 @@ impl Collisions {
         if self.graph.start.len() != n + 1 {
             self.graph.reset(n);
         }
-        let uniform = radius.iter().all(|&r| r == radius[0]);
-        let r_max = if uniform { radius[0] } else { max_radius(radius) };
         let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
         if self.space.tiny {
             self.tiny_places(x, y, radius, bay, uniform);
@@ -265,6 +330,8 @@ impl Collisions {
         } else {
             self.graph.update(&mut self.index, &self.space.grid, &ask);
             self.graph.release_kept(&mut self.waits[..n]);
+            // To the lists once more than a quarter of the fleet moved since the last step.
+            self.listing = self.lists.is_some() && self.index.sweeping;
             return;
         }
         self.graph.release(&mut self.waits[..n]);

@@ -117,10 +117,12 @@ impl Pipeline {
         let n = robots.len();
         let r_max = robots.radius.iter().copied().fold(0.0, f64::max);
         let reach = 2.0 * scenario.robot.radius + scenario.collision.margin;
+        let mut collisions = Collisions::new(world.reach_bounds(), reach, n);
+        collisions.keep_lists(world.reach_bounds());
         Pipeline {
             wants: vec![false; n],
             bays: Bays::new(spread, n, r_max, scenario.collision.margin),
-            collisions: Collisions::new(world.reach_bounds(), reach, n),
+            collisions,
             traffic: (scenario.traffic != Traffic::Wait)
                 .then(|| TrafficState::new(scenario.traffic, &world.graph, n, scenario.robot.radius, scenario.collision.margin)),
             contact_reach: (r_max, 2.0 * robots.speed.iter().copied().fold(0.0, f64::max)),
