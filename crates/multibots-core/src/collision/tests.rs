@@ -369,3 +369,82 @@ fn grid_finds_neighbours_across_cell_borders_and_agrees_with_brute_force() {
         assert_eq!(got, brute, "robot {i}");
     }
 }
+
+#[test]
+fn lists_decide_and_count_as_a_fresh_index_does() {
+    // Runs of steps in which most robots move (the lists serve, built again as robots drift
+    // half a contact distance) alternate with runs in which few do (the index takes over);
+    // now and then a robot steps into a bay or out, a jump sideways past the drift. Every
+    // step the kept `Collisions` with lists must decide as a fresh one without them, count
+    // the same contacts after the moves, and keep the same closest approach over the run
+    // (the index's way looks only at the pairs of robots that moved; the lists at every
+    // listed pair); its public count of the moved robots' contacts must agree too.
+    let mut rnd = uniform(57);
+    let (mut listed, mut indexed) = (0, 0);
+    for n in [40, 300, 900] {
+        let side = (n as f64 * 3.0).sqrt() * 50.0;
+        let bounds = [0.0, 0.0, side, side];
+        let mut kept = Collisions::new(bounds, 25.0, n);
+        kept.keep_lists(bounds);
+        let mut x: Vec<f64> = (0..n).map(|_| (rnd() * side).round()).collect();
+        let mut y: Vec<f64> = (0..n).map(|_| (rnd() * side / 50.0).floor() * 50.0).collect();
+        let radius = vec![12.5; n];
+        let headings = [0.0, PI, FRAC_PI_2, -FRAC_PI_2, 0.7];
+        let mut alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() * 5.0) as usize]).collect();
+        let mut wants: Vec<bool> = (0..n).map(|_| rnd() < 0.9).collect();
+        let mut bay = vec![false; n];
+        let (mut kept_closest, mut fresh_closest) = (f64::INFINITY, f64::INFINITY);
+        let builds = kept.lists.as_ref().map_or(0, |l| l.builds);
+        let mut listed_here = 0;
+        for step in 0..150 {
+            // Robots want to move, and those free to do so move, in runs of twenty steps;
+            // in the runs between, few even want to.
+            let under_way = (step / 20) % 2 == 0;
+            let share = if under_way { 0.95 } else { 0.05 };
+            for i in 0..n {
+                if !under_way && step % 20 == 0 {
+                    wants[i] = rnd() < 0.05;
+                } else if under_way && step % 20 == 0 {
+                    wants[i] = rnd() < 0.9;
+                }
+                // About one change in five steps of each kind, whatever the fleet's size.
+                if rnd() < 0.6 / n as f64 {
+                    match (rnd() * 3.0) as usize {
+                        0 => alpha[i] = headings[(rnd() * 5.0) as usize],
+                        1 => wants[i] = !wants[i],
+                        _ => {
+                            bay[i] = !bay[i];
+                            y[i] = (y[i] + if bay[i] { 25.0 } else { -25.0 }).clamp(0.0, side);
+                        }
+                    }
+                }
+            }
+            let listing = kept.listing;
+            listed_here += usize::from(listing);
+            kept.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
+            let mut fresh = Collisions::new(bounds, 25.0, n);
+            fresh.resolve(&x, &y, &radius, &wants, &alpha, &bay, 0.0, ANGLE);
+            assert_eq!(kept.waits, fresh.waits, "{n} robots, step {step}, lists {listing}");
+            let mut moved = vec![false; n];
+            for i in 0..n {
+                if wants[i] && !kept.waits[i] && !bay[i] && rnd() < share {
+                    x[i] = (x[i] + 4.0 * alpha[i].cos()).clamp(0.0, side);
+                    y[i] = (y[i] + 4.0 * alpha[i].sin()).clamp(0.0, side);
+                    moved[i] = true;
+                }
+            }
+            let (got, want) = (kept.contacts(&x, &y, &radius, &moved, 8.0).0, fresh.contacts(&x, &y, &radius, &moved, 8.0).0);
+            assert_eq!(got, want, "{n} robots, step {step}: contacts of the moved");
+            let got = kept.contacts_of_every_pair(&x, &y, &radius, 12.5, 8.0, 0.0);
+            let want = fresh.contacts_of_every_pair(&x, &y, &radius, 12.5, 8.0, 0.0);
+            (kept_closest, fresh_closest) = (kept_closest.min(got.1), fresh_closest.min(want.1));
+            assert_eq!((got.0, kept_closest.to_bits()), (want.0, fresh_closest.to_bits()), "{n} robots, step {step}, lists {listing}");
+        }
+        let built = kept.lists.as_ref().map_or(0, |l| l.builds) - builds;
+        // The lists were built again as robots drifted, and served several steps a build.
+        assert!(built > 3 && built * 2 < listed_here as u64, "{n} robots: {built} builds in {listed_here} steps");
+        listed += listed_here;
+        indexed += 150 - listed_here;
+    }
+    assert!(listed > 100 && indexed > 100, "lists served {listed} steps, the index {indexed}");
+}
