@@ -35,6 +35,9 @@ struct Inputs {
 pub(super) struct Blocking {
     pub(super) start: Vec<u32>,
     pub(super) to: Vec<u32>,
+    /// The lists' way's rows, by robot id: `to[span[i].0..span[i].1]` (empty for a robot
+    /// not blocked; cleared after the release).
+    pub(super) span: Vec<(u32, u32)>,
     /// Last step's rows, read while this step's are written.
     old_start: Vec<u32>,
     old_to: Vec<u32>,
@@ -312,7 +315,25 @@ impl Blocking {
                 edges.push((j as u32, i as u32));
             }
         }
-        self.rows_from_edges(n);
+        // Few robots are blocked: their rows by spans of the sorted edges, not a pass over
+        // the fleet. The rows kept for the index's way are left as they were: it finds
+        // every row again when next it runs.
+        edges.sort_unstable();
+        if self.span.len() != n {
+            self.span.clear();
+            self.span.resize(n, (0, 0));
+        }
+        self.to.clear();
+        self.blocked.clear();
+        for (k, &(i, j)) in edges.iter().enumerate() {
+            let s = &mut self.span[i as usize];
+            if s.0 == s.1 {
+                self.blocked.push(i);
+                *s = (k as u32, k as u32);
+            }
+            s.1 += 1;
+            self.to.push(j);
+        }
         self.inputs = None;
         self.same = false;
         self.near_generation = None;

@@ -389,8 +389,15 @@ impl Touching {
         let mut closest = f64::INFINITY;
         for (i, j) in near {
             let (i, j) = (i as usize, j as usize);
-            let d = axis_dist(x[j] - x[i], y[j] - y[i]);
+            let (dx, dy) = (x[j] - x[i], y[j] - y[i]);
             let touch = radius[i] + radius[j];
+            // Clearly beyond both distances that count (a slack far above rounding): most
+            // pairs given are, and need no distance.
+            let reach = touch + margin.max(0.0);
+            if dx * dx + dy * dy > reach * reach * 1.000_001 {
+                continue;
+            }
+            let d = axis_dist(dx, dy);
             if d <= touch + margin {
                 closest = closest.min(d);
             }

@@ -13,16 +13,39 @@ impl Blocking {
     /// blocked robots by id). A robot that is not blocked has no way out, so it is never on a
     /// cycle, and edges to it are skipped.
     pub(super) fn release(&mut self, waits: &mut [bool]) {
+        let start = std::mem::take(&mut self.start);
+        self.release_rows(waits, |v| (start[v], start[v + 1]));
+        self.start = start;
+    }
+
+    /// [`Blocking::release`] for the rows of the lists' way: robot `v`'s blockers are
+    /// `to[span[v].0..span[v].1]` (`rows_of_pairs`, `blocking.rs`); the spans are cleared
+    /// after.
+    pub(super) fn release_spans(&mut self, waits: &mut [bool]) {
+        let mut span = std::mem::take(&mut self.span);
+        self.release_rows(waits, |v| span[v]);
+        for &v in &self.blocked {
+            span[v as usize] = (0, 0);
+        }
+        self.span = span;
+    }
+
+    /// The release, robot `v`'s blockers being `to[row(v).0..row(v).1]` (an empty row: not
+    /// blocked).
+    fn release_rows(&mut self, waits: &mut [bool], row: impl Fn(usize) -> (u32, u32)) {
         waits.fill(false);
-        let Blocking { start, to, blocked, index, low, stack, call, released, .. } = self;
-        let (start, to) = (&start[..], &to[..]);
+        let Blocking { to, blocked, index, low, stack, call, released, .. } = self;
+        let to = &to[..];
         released.clear();
         if blocked.is_empty() {
             return;
         }
         stack.clear();
         call.clear();
-        let is_blocked = |w: usize| start[w] != start[w + 1];
+        let is_blocked = |w: usize| {
+            let (a, b) = row(w);
+            a != b
+        };
         let mut next = 0u32;
         for &root in blocked.iter() {
             waits[root as usize] = true;
@@ -33,10 +56,10 @@ impl Blocking {
             low[root as usize] = next;
             next += 1;
             stack.push(root);
-            call.push((root, start[root as usize]));
+            call.push((root, row(root as usize).0));
             while let Some(&mut (v, ref mut e)) = call.last_mut() {
                 let v = v as usize;
-                if *e < start[v + 1] {
+                if *e < row(v).1 {
                     let w = to[*e as usize] as usize;
                     *e += 1;
                     if !is_blocked(w) {
@@ -48,7 +71,7 @@ impl Blocking {
                             low[w] = next;
                             next += 1;
                             stack.push(w as u32);
-                            call.push((w as u32, start[w]));
+                            call.push((w as u32, row(w).0));
                         }
                         DONE => {}
                         seen => low[v] = low[v].min(seen),

@@ -16,8 +16,9 @@ use super::grid::Grid;
 use super::index::Index;
 
 /// The skin, as a share of the contact distance: each robot may drift half of it before the
-/// lists are built again. Wider, they last longer but list more pairs. Measured at the
-/// large size (1,000 robots, the first 1,000 steps): 1 is the best of 0.5, 1, 1.5 and 2.
+/// lists are built again. Wider, they last longer but list more pairs. Measured (callgrind,
+/// the large size's first 500 steps, instructions per robot-step): 384, 355, 358 and 359 for
+/// 0.5, 1, 1.5 and 2.
 const SKIN: f64 = 1.0;
 
 /// The lists and what they were built from.

@@ -298,7 +298,7 @@ impl Collisions {
             lists.ready(x, y, 2.0 * r_max + margin);
             let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
             self.graph.rows_of_pairs(&lists.pairs, &ask);
-            self.graph.release(&mut self.waits[..n]);
+            self.graph.release_spans(&mut self.waits[..n]);
             // Back to the index once fewer than one robot in eight moves (robots in bays
             // that want to move count as moving: it only decides which way is cheaper).
             let wanting = wants.iter().filter(|&&w| w).count();
