@@ -43,7 +43,7 @@ pub(super) struct Blocking {
     old_to: Vec<u32>,
     /// Robots whose row is found again this step (all clear between steps).
     dirty: Vec<bool>,
-    /// Robots with at least one blocker, ascending.
+    /// Robots with at least one blocker: ascending, or in the order first found on the lists' way.
     pub(super) blocked: Vec<u32>,
     /// Blockers from the pass over pairs, `(from, to)`, before they are sorted into rows.
     edges: Vec<(u32, u32)>,
@@ -315,24 +315,36 @@ impl Blocking {
                 edges.push((j as u32, i as u32));
             }
         }
-        // Few robots are blocked: their rows by spans of the sorted edges, not a pass over
-        // the fleet. The rows kept for the index's way are left as they were: it finds
-        // every row again when next it runs.
-        edges.sort_unstable();
+        // Few robots are blocked: their rows as spans of `to`, counted over the edges alone,
+        // not over the fleet (the release takes the blocked in any order). The rows kept for
+        // the index's way are left as they were: it finds every row again when next it runs.
         if self.span.len() != n {
             self.span.clear();
             self.span.resize(n, (0, 0));
         }
-        self.to.clear();
-        self.blocked.clear();
-        for (k, &(i, j)) in edges.iter().enumerate() {
-            let s = &mut self.span[i as usize];
-            if s.0 == s.1 {
-                self.blocked.push(i);
-                *s = (k as u32, k as u32);
+        let (span, blocked, to) = (&mut self.span[..], &mut self.blocked, &mut self.to);
+        blocked.clear();
+        for &(i, _) in edges.iter() {
+            let s = &mut span[i as usize];
+            if s.1 == 0 {
+                blocked.push(i);
             }
             s.1 += 1;
-            self.to.push(j);
+        }
+        let mut total = 0;
+        for &i in blocked.iter() {
+            let s = &mut span[i as usize];
+            let count = s.1;
+            // The start twice: the second walks to the row's end as the row is written.
+            *s = (total, total);
+            total += count;
+        }
+        to.clear();
+        to.resize(total as usize, 0);
+        for &(i, j) in edges.iter() {
+            let s = &mut span[i as usize];
+            to[s.1 as usize] = j;
+            s.1 += 1;
         }
         self.inputs = None;
         self.same = false;

@@ -10,7 +10,8 @@ const DONE: u32 = u32::MAX - 1;
 impl Blocking {
     /// Who waits: `waits[i]` for every blocked robot but the smallest of each strongly
     /// connected component of two or more (Tarjan's algorithm without recursion, over the
-    /// blocked robots by id). A robot that is not blocked has no way out, so it is never on a
+    /// blocked robots in the order listed: the components, and so the answer, do not depend
+    /// on it). A robot that is not blocked has no way out, so it is never on a
     /// cycle, and edges to it are skipped.
     pub(super) fn release(&mut self, waits: &mut [bool]) {
         let start = std::mem::take(&mut self.start);

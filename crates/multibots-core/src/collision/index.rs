@@ -176,6 +176,32 @@ impl Index {
         }
     }
 
+    /// The positions alone, every slot written again and sorted, nothing noted (for the
+    /// neighbour lists' builds, `lists.rs`, which read positions and pairs only).
+    pub(super) fn place_all(&mut self, grid: &Grid, x: &[f64], y: &[f64]) {
+        let n = x.len();
+        self.generation += 1;
+        if self.slots.len() != n {
+            self.build(grid, x, &y[..n], &[]);
+            return;
+        }
+        let (y, place) = (&y[..n], &self.place[..n]);
+        let slots = &mut self.slots[..];
+        let mut sorted = true;
+        for i in 0..n {
+            let s = &mut slots[place[i] as usize];
+            let cell = grid.key(x[i], y[i]);
+            sorted &= cell == s.cell;
+            (s.cell, s.x, s.y) = (cell, x[i], y[i]);
+        }
+        self.px.copy_from_slice(x);
+        self.py.copy_from_slice(y);
+        if !sorted {
+            self.repair();
+            self.rows_stale = true;
+        }
+    }
+
     /// The positions and bays of [`Index::refresh`]; whether the slots are still sorted.
     #[inline]
     fn follow(&mut self, grid: &Grid, x: &[f64], y: &[f64], bay: impl Fn(usize, bool) -> bool) -> bool {

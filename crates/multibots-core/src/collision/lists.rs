@@ -84,7 +84,7 @@ impl Lists {
             self.index = Index::default();
         }
         self.drift2 = drift * drift;
-        self.index.refresh(&self.grid, x, y, Some(&[]), None);
+        self.index.place_all(&self.grid, x, y);
         let (pairs, slots) = (&mut self.pairs, &self.index.slots);
         pairs.clear();
         self.index.pairs(&self.grid, list_reach * list_reach, |k, m| pairs.push((slots[k].robot() as u32, slots[m].robot() as u32)));
