@@ -219,14 +219,17 @@ impl Usage {
         let t = self.stamp;
         let mut pool = 0u32;
         let mut holding = 0u64;
-        for (i, &held) in waits[..r.len()].iter().enumerate() {
-            let state = r.state[i];
+        let n = r.len();
+        // Slices of exactly `n`: no bounds check per robot.
+        let (states, goal, at_node, edge_v) = (&r.state[..n], &r.goal[..n], &r.at_node[..n], &r.edge_v[..n]);
+        for (i, &held) in waits[..n].iter().enumerate() {
+            let state = states[i];
             pool += u32::from(state == State::WaitCharger);
             holding += u64::from(matches!(state, State::Charging | State::ToCharger));
             if matches!(state, State::Unloading | State::Charging) {
                 // It stands at the end of its route: the zone or the charger.
-                let k = r.goal[i] as usize;
-                if r.goal[i] != NONE && unloading_or_charger[k] && self.busy_at[k] != t {
+                let k = goal[i] as usize;
+                if goal[i] != NONE && unloading_or_charger[k] && self.busy_at[k] != t {
                     self.busy_at[k] = t;
                     self.busy[k] += times;
                     self.served[k] += times;
@@ -234,11 +237,11 @@ impl Usage {
             }
             // Only held robots queue at a node: most robots are not, and read nothing more.
             if held {
-                let node = if r.at_node[i] == NONE { r.edge_v[i] } else { r.at_node[i] };
+                let node = if at_node[i] == NONE { edge_v[i] } else { at_node[i] };
                 if node == NONE {
                     continue;
                 }
-                let lane = if r.at_node[i] == NONE { self.lane(r.edge_u[i], r.edge_v[i]) } else { None };
+                let lane = if at_node[i] == NONE { self.lane(r.edge_u[i], edge_v[i]) } else { None };
                 for slot in std::iter::once(node).chain(lane) {
                     let k = slot as usize;
                     if self.now[k] == 0 {
