@@ -1,8 +1,8 @@
 //! Collision waiting (spec phase 3, paper III-C), and the contact count after the moves.
 //! The folder holds the rule (`blocks`, here), the grid and tiny fleets' pass over pairs
-//! (`grid.rs`), the sorted index of larger fleets (`index.rs`), the "blocked by" graph and
-//! who of the blocked is released (`blocking.rs`, `cycles.rs`), and the contacts
-//! (`contacts.rs`).
+//! (`grid.rs`), the sorted index of larger fleets (`index.rs`), neighbour lists with a skin
+//! for larger fleets under way (`lists.rs`), the "blocked by" graph and who of the blocked is
+//! released (`blocking.rs`, `cycles.rs`), and the contacts (`contacts.rs`).
 //!
 //! Robot `i`, wanting to move with heading α, is blocked by robot `j` when
 //! `dist(i, j) <= r_i + r_j + margin` and the angle between α and the bearing to `j`, folded
@@ -16,7 +16,11 @@
 //! in an index sorted by cell and repaired from step to step (`index.rs`), and keep the
 //! "blocked by" graph too, finding again only the rows of robots that changed or stand near
 //! one that moved (`blocking.rs`); the contact count is kept the same way (`contacts.rs`).
-//! In a jam, where most robots stand, that is most of the work saved. The speed-ups are
+//! In a jam, where most robots stand, that is most of the work saved. Where most robots move
+//! (a fleet under way), a fleet that asked for them ([`Collisions::keep_lists`]: the paper
+//! rules do) reads its pairs from neighbour lists instead, built again from an index only
+//! every few steps (`lists.rs`), and goes back to the index once fewer than one robot in
+//! eight moves. The speed-ups are
 //! exact: shortcuts (distances along the axes, the "clearly far" filter) only skip work whose
 //! outcome is certain, `blocks` decides every case near a boundary, and a kept graph or count
 //! equals a fresh one, so results are bit-identical to the brute-force definition (tested in
