@@ -41,8 +41,10 @@ pub(super) struct Blocking {
     /// Last step's rows, read while this step's are written.
     old_start: Vec<u32>,
     old_to: Vec<u32>,
-    /// Robots whose row is found again this step (all clear between steps).
+    /// Robots whose row is found again this step (all clear between steps), and the same
+    /// robots listed.
     dirty: Vec<bool>,
+    marked: Vec<u32>,
     /// Robots with at least one blocker: ascending, or in the order first found on the lists' way.
     pub(super) blocked: Vec<u32>,
     /// Blockers from the pass over pairs, `(from, to)`, before they are sorted into rows.
@@ -80,6 +82,15 @@ fn far(dx: f64, dy: f64, r: f64) -> bool {
     dx * dx + dy * dy > r * r * 1.000_001
 }
 
+/// Marks robot `i`'s row to be found again (listed once).
+#[inline]
+fn mark(dirty: &mut [bool], marked: &mut Vec<u32>, i: usize) {
+    if !dirty[i] {
+        dirty[i] = true;
+        marked.push(i as u32);
+    }
+}
+
 /// Half the side of a box holding every robot within the near filter of a contact distance
 /// of `widest`.
 #[inline]
@@ -111,6 +122,7 @@ impl Blocking {
         self.blocked.clear();
         self.dirty.clear();
         self.dirty.resize(n, false);
+        self.marked.clear();
         self.index.clear();
         self.index.resize(n, u32::MAX);
         self.low.clear();
@@ -160,17 +172,14 @@ impl Blocking {
             self.all_rows(index, grid, ask);
         } else {
             index.ready_rows(grid);
-            let dirty = &mut self.dirty[..n];
-            if all {
-                dirty.fill(true);
-            } else {
+            if !all {
                 // Robots whose own wish or heading changed.
                 for &i in &index.turned {
-                    dirty[i as usize] = true;
+                    mark(&mut self.dirty, &mut self.marked, i as usize);
                 }
                 self.spread(index, grid, ask);
             }
-            self.same = self.some_rows(index, grid, ask) && !all;
+            self.same = self.some_rows(index, grid, ask, all) && !all;
         }
     }
 
@@ -178,10 +187,10 @@ impl Blocking {
     /// move, near where a moved robot stood (as the last rows saw it) or stands now.
     fn spread(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) {
         let (radius, margin) = (ask.radius, ask.margin);
-        let dirty = &mut self.dirty[..];
+        let (dirty, marked) = (&mut self.dirty, &mut self.marked);
         for m in &self.moved {
             let i = m.robot as usize;
-            dirty[i] = true;
+            mark(dirty, marked, i);
             let rm = radius[i];
             let h = reach_box(rm + ask.r_max + margin);
             let now = ask.bay.is_empty() || !ask.bay[i];
@@ -193,16 +202,18 @@ impl Blocking {
                     let s = &index.slots[k];
                     let j = s.robot();
                     if s.wants() && !far(s.x - x, s.y - y, radius[j] + rm + margin) {
-                        dirty[j] = true;
+                        mark(dirty, marked, j);
                     }
                 });
             }
         }
     }
 
-    /// The rows of the marked robots found again, the others copied from last step; whether
-    /// every row came out as it was.
-    fn some_rows(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>) -> bool {
+    /// The rows of the marked robots (`every`: of every robot) found again, the others
+    /// copied from last step; whether every row came out as it was. The rows between two
+    /// marked robots are copied as one block: in a jam, where a few robots move, that is
+    /// nearly every row.
+    fn some_rows(&mut self, index: &Index, grid: &Grid, ask: &Ask<'_>, every: bool) -> bool {
         let n = ask.x.len();
         std::mem::swap(&mut self.start, &mut self.old_start);
         std::mem::swap(&mut self.to, &mut self.old_to);
@@ -213,36 +224,58 @@ impl Blocking {
         blocked.clear();
         let (x, y, radius, wants, alpha, bay) = (&ask.x[..n], &ask.y[..n], &ask.radius[..n], &ask.wants[..n], &ask.alpha[..n], ask.bay);
         let (margin, angle) = (ask.margin, ask.angle);
+        let (dirty, marked) = (&mut self.dirty[..n], &mut self.marked);
+        if every {
+            marked.clear();
+            marked.extend(0..n as u32);
+        } else {
+            marked.sort_unstable();
+        }
         let mut same = true;
-        for (i, d) in self.dirty[..n].iter_mut().enumerate() {
+        let mut next = 0;
+        for k in 0..=marked.len() {
+            let i = marked.get(k).map_or(n, |&i| i as usize);
+            if i > next {
+                // Rows `next..i` are last step's: one block of `to`, their starts shifted.
+                let (a, b) = (old_start[next] as usize, old_start[i] as usize);
+                let shift = to.len().wrapping_sub(a);
+                for r in next..i {
+                    start.push((old_start[r] as usize).wrapping_add(shift) as u32);
+                    if old_start[r] != old_start[r + 1] {
+                        blocked.push(r as u32);
+                    }
+                }
+                to.extend_from_slice(&old_to[a..b]);
+            }
+            if i == n {
+                break;
+            }
+            dirty[i] = false;
+            next = i + 1;
             let before = to.len();
             start.push(before as u32);
             let old = &old_to[old_start[i] as usize..old_start[i + 1] as usize];
-            if *d {
-                *d = false;
-                if wants[i] && (bay.is_empty() || !bay[i]) {
-                    let (xi, yi, ri) = (x[i], y[i], radius[i]);
-                    index.visit(grid, xi, yi, reach_box(ri + ask.r_max + margin), |k| {
-                        let s = &index.slots[k];
-                        let j = s.robot();
-                        if j == i || !s.blocking() {
-                            return;
-                        }
-                        let r = ri + radius[j] + margin;
-                        if !far(s.x - xi, s.y - yi, r) && blocks(xi, yi, alpha[i], s.x, s.y, r, angle) {
-                            to.push(j as u32);
-                        }
-                    });
-                }
-                // Blockers in another order count as a change: it only costs a release.
-                same &= to[before..] == *old;
-            } else {
-                to.extend_from_slice(old);
+            if wants[i] && (bay.is_empty() || !bay[i]) {
+                let (xi, yi, ri) = (x[i], y[i], radius[i]);
+                index.visit(grid, xi, yi, reach_box(ri + ask.r_max + margin), |k| {
+                    let s = &index.slots[k];
+                    let j = s.robot();
+                    if j == i || !s.blocking() {
+                        return;
+                    }
+                    let r = ri + radius[j] + margin;
+                    if !far(s.x - xi, s.y - yi, r) && blocks(xi, yi, alpha[i], s.x, s.y, r, angle) {
+                        to.push(j as u32);
+                    }
+                });
             }
+            // Blockers in another order count as a change: it only costs a release.
+            same &= to[before..] == *old;
             if to.len() > before {
                 blocked.push(i as u32);
             }
         }
+        marked.clear();
         start.push(to.len() as u32);
         same
     }
