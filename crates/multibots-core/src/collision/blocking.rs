@@ -390,7 +390,7 @@ impl Blocking {
         let start = &mut self.start;
         start.clear();
         start.resize(n + 1, 0);
-        for &(i, _) in edges.iter() {
+        for &(i, _) in edges {
             start[i as usize + 1] += 1;
         }
         self.blocked.clear();
@@ -407,7 +407,7 @@ impl Blocking {
         self.to.resize(total as usize, 0);
         // `start[i + 1]` is now the start of row `i`: it walks to the row's end as the row is
         // written, and so becomes the start of row `i + 1`.
-        for &(i, j) in edges.iter() {
+        for &(i, j) in edges {
             let c = &mut start[i as usize + 1];
             self.to[*c as usize] = j;
             *c += 1;

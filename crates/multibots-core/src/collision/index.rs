@@ -106,6 +106,8 @@ const LISTED_UP_TO: usize = 4;
 /// The slots, kept sorted; each robot's place among them and what the slots last saw of it,
 /// by robot id (so that finding what changed reads memory in order); and what changed since
 /// the collision test, and since the contact count, last looked.
+// Four flags of different readers (rows, both lists, the next refresh), not states of one.
+#[allow(clippy::struct_excessive_bools)]
 #[derive(Clone, Debug, Default)]
 pub(super) struct Index {
     pub(super) slots: Vec<Slot>,
