@@ -45,7 +45,7 @@ impl Collisions {
         if self.space.tiny {
             return self.contacts_tiny(x, y, radius, moved, r_max, slack);
         }
-        self.catch_up_index(x, y);
+        self.catch_up_index();
         self.index.ready_rows(&self.space.grid);
         self.contacts_by_index(x, y, radius, moved, r_max, slack)
     }
@@ -71,14 +71,15 @@ impl Collisions {
         if n < 2 {
             return (0, f64::INFINITY);
         }
-        if !self.space.tiny && self.listed(2.0 * r_max + margin) {
-            self.index_behind = true;
-            let lists = self.lists.as_deref_mut().expect("listed");
-            lists.ready(x, y, 2.0 * r_max + margin);
+        // Lists serve where they can (positions not finite: the index's way). The index is
+        // left as it stands, for `contacts_within` and for the index's next count (a full
+        // one: `count_listed`).
+        if !self.space.tiny && self.listed(r_max, margin) && self.lists.as_deref_mut().expect("listed").ready(x, y, 2.0 * r_max + margin) {
+            let lists = self.lists.as_deref().expect("listed");
             return self.touching.count_listed(&lists.pairs, x, y, &radius[..n], margin);
         }
         if !self.space.tiny {
-            self.catch_up_index(x, y);
+            self.catch_up_index();
             let span = ((2.0 * r_max + margin) + slack) * (1.0 + 1e-6) + 1e-9;
             // The collision test's pairs, if it collected them this step, wide enough.
             let kept = self.graph.near_generation == Some(self.index.generation) && self.graph.near_span >= span;

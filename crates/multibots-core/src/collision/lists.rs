@@ -49,13 +49,19 @@ impl Lists {
     /// Makes [`Lists::pairs`] hold every pair of robots at `x`, `y` whose distance is at most
     /// `reach` (a finite contact distance: the largest `r_i + r_j + margin`), building the
     /// lists again if a robot drifted too far since the last build (or the distance or the
-    /// fleet changed).
-    pub(super) fn ready(&mut self, x: &[f64], y: &[f64], reach: f64) {
+    /// fleet changed). `false` where a position is not finite: no list holds the pairs the
+    /// definition gives it (a NaN distance), and the caller takes the index's way.
+    pub(super) fn ready(&mut self, x: &[f64], y: &[f64], reach: f64) -> bool {
         let n = x.len();
         if self.built_for == Some((reach.to_bits(), n)) && self.within_drift(x, &y[..n]) {
-            return;
+            return true;
+        }
+        if !x.iter().chain(&y[..n]).all(|v| v.is_finite()) {
+            self.built_for = None;
+            return false;
         }
         self.build(x, &y[..n], reach);
+        true
     }
 
     /// Whether every robot stands within the drift of where it stood at the last build (a

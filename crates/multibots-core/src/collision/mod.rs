@@ -92,9 +92,13 @@ pub struct Collisions {
     /// With lists: whether they serve now. They do while most robots move, and the index
     /// (whose kept graph is cheaper where few move: queues, jams) while few do.
     listing: bool,
-    /// With lists: the index has not followed the robots since the lists took over, and the
-    /// bays it is to follow them with ([`Collisions::contacts_within`] reads the index).
+    /// With lists: the index has not followed the robots since the lists took over, and
+    /// where they stood and who stood in a bay at the last [`Collisions::resolve`] or
+    /// [`Collisions::build_grid`], which the index is to follow them to
+    /// ([`Collisions::contacts_within`] reads the index as of then).
     index_behind: bool,
+    seen_x: Vec<f64>,
+    seen_y: Vec<f64>,
     bays_seen: Vec<bool>,
     /// Output: robots that wait this step.
     pub waits: Vec<bool>,
@@ -139,6 +143,8 @@ impl Collisions {
             lists: None,
             listing: false,
             index_behind: false,
+            seen_x: Vec::new(),
+            seen_y: Vec::new(),
             bays_seen: Vec::new(),
             waits: vec![false; robots],
         }
@@ -155,27 +161,30 @@ impl Collisions {
         }
     }
 
-    /// Whether neighbour lists serve now, for a contact distance of `reach` (a finite one).
-    fn listed(&self, reach: f64) -> bool {
-        self.listing && reach.is_finite()
+    /// Whether neighbour lists serve now, for robots of radii up to `r_max` and this
+    /// `margin` (a finite contact distance, and no margin below zero: the lists' reach is
+    /// reckoned from the contact distance).
+    fn listed(&self, r_max: f64, margin: f64) -> bool {
+        self.listing && margin >= 0.0 && (2.0 * r_max + margin).is_finite()
     }
 
-    /// With lists, the index is left behind: the bays it is to follow the robots with when
-    /// [`Collisions::contacts_within`] reads it.
-    fn leave_index(&mut self, bay: &[bool]) {
+    /// With lists, the index is left behind: where the robots stand and who stands in a bay,
+    /// for the index to follow them to when [`Collisions::contacts_within`] reads it.
+    fn leave_index(&mut self, x: &[f64], y: &[f64], bay: &[bool]) {
         self.index_behind = true;
+        self.seen_x.clear();
+        self.seen_x.extend_from_slice(x);
+        self.seen_y.clear();
+        self.seen_y.extend_from_slice(y);
         self.bays_seen.clear();
         self.bays_seen.extend_from_slice(bay);
     }
 
-    /// Where the lists served and the index was left behind, it follows the robots to `x`,
-    /// `y` now (positions after the moves find the same pairs as the index's readers look
-    /// for: they test distances at the positions given them).
-    fn catch_up_index(&mut self, x: &[f64], y: &[f64]) {
+    /// Where the lists served and the index was left behind, it follows the robots to where
+    /// they stood then (before the moves, as without lists).
+    fn catch_up_index(&mut self) {
         if std::mem::take(&mut self.index_behind) {
-            let bay = std::mem::take(&mut self.bays_seen);
-            self.index.refresh(&self.space.grid, x, y, Some(&bay), None);
-            self.bays_seen = bay;
+            self.index.refresh(&self.space.grid, &self.seen_x, &self.seen_y, Some(&self.bays_seen), None);
         }
     }
 
@@ -190,8 +199,8 @@ impl Collisions {
         let uniform = radius.iter().all(|&r| r == radius[0]);
         if self.space.tiny {
             self.tiny_places(x, y, radius, bay, uniform);
-        } else if self.lists.is_some() {
-            self.leave_index(bay);
+        } else if self.listing {
+            self.leave_index(x, &y[..n], bay);
         } else {
             self.index.refresh(&self.space.grid, x, y, Some(bay), None);
         }
@@ -288,8 +297,9 @@ impl Collisions {
         let nobody = n < 2 || !wants.contains(&true);
         let uniform = radius.iter().all(|&r| r == radius[0]);
         let r_max = if uniform { radius.first().copied().unwrap_or(0.0) } else { max_radius(radius) };
-        if !self.space.tiny && self.listed(2.0 * r_max + margin) {
-            self.leave_index(bay);
+        // Lists serve where they can (positions not finite: the index's way).
+        if !self.space.tiny && self.listed(r_max, margin) && (nobody || self.lists.as_deref_mut().expect("listed").ready(x, y, 2.0 * r_max + margin)) {
+            self.leave_index(x, y, bay);
             if nobody {
                 self.waits[..n].fill(false);
                 return;
@@ -298,8 +308,7 @@ impl Collisions {
             if self.graph.start.len() != n + 1 {
                 self.graph.reset(n);
             }
-            let lists = self.lists.as_deref_mut().expect("listed");
-            lists.ready(x, y, 2.0 * r_max + margin);
+            let lists = self.lists.as_deref().expect("listed");
             let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
             self.graph.rows_of_pairs(&lists.pairs, &ask);
             self.graph.release_spans(&mut self.waits[..n]);

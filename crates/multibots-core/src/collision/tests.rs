@@ -433,8 +433,8 @@ fn lists_decide_and_count_as_a_fresh_index_does() {
                     moved[i] = true;
                 }
             }
-            let (got, want) = (kept.contacts(&x, &y, &radius, &moved, 8.0).0, fresh.contacts(&x, &y, &radius, &moved, 8.0).0);
-            assert_eq!(got, want, "{n} robots, step {step}: contacts of the moved");
+            let (got, want) = (kept.contacts(&x, &y, &radius, &moved, 8.0), fresh.contacts(&x, &y, &radius, &moved, 8.0));
+            assert_eq!((got.0, got.1.to_bits()), (want.0, want.1.to_bits()), "{n} robots, step {step}: contacts of the moved");
             let got = kept.contacts_of_every_pair(&x, &y, &radius, 12.5, 8.0, 0.0);
             let want = fresh.contacts_of_every_pair(&x, &y, &radius, 12.5, 8.0, 0.0);
             (kept_closest, fresh_closest) = (kept_closest.min(got.1), fresh_closest.min(want.1));
@@ -447,4 +447,50 @@ fn lists_decide_and_count_as_a_fresh_index_does() {
         indexed += 150 - listed_here;
     }
     assert!(listed > 100 && indexed > 100, "lists served {listed} steps, the index {indexed}");
+}
+
+#[test]
+fn lists_answer_as_the_index_on_odd_inputs() {
+    // With lists on, what the public API gives is what it gives without them: the contacts of
+    // the moved robots, closest approach included, read the places before the moves (two
+    // robots that closed in on each other); a robot at a NaN position (the lists stand aside
+    // for the index); a margin below zero (likewise).
+    let n = 40;
+    let bounds = [0.0, 0.0, 2000.0, 2000.0];
+    let mut x: Vec<f64> = (0..n).map(|i| 100.0 + 45.0 * i as f64).collect();
+    let mut y = vec![1000.0; n];
+    (x[0], y[0], x[1], y[1]) = (100.0, 100.0, 134.0, 100.0);
+    let radius = vec![12.5; n];
+    let wants: Vec<bool> = (0..n).map(|i| i < 2).collect();
+    let alpha: Vec<f64> = (0..n).map(|i| if i == 1 { PI } else { 0.0 }).collect();
+    let both = || {
+        let mut kept = Collisions::new(bounds, 25.0, n);
+        kept.keep_lists(bounds);
+        (kept, Collisions::new(bounds, 25.0, n))
+    };
+    let (mut kept, mut fresh) = both();
+    kept.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
+    fresh.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
+    let moved: Vec<bool> = (0..n).map(|i| i < 2).collect();
+    (x[0], x[1]) = (104.0, 130.0);
+    let (got, want) = (kept.contacts(&x, &y, &radius, &moved, 8.0), fresh.contacts(&x, &y, &radius, &moved, 8.0));
+    assert_eq!((got.0, got.1.to_bits()), (want.0, want.1.to_bits()), "contacts of the moved");
+    // A robot at a NaN height, another at its column heading towards it.
+    let (mut x, mut y): (Vec<f64>, Vec<f64>) = ((0..n).map(|i| 20.0 * i as f64).collect(), vec![600.0; n]);
+    (x[5], y[5], x[6]) = (300.0, f64::NAN, 300.0);
+    let (wants, alpha) = (vec![true; n], vec![FRAC_PI_2; n]);
+    for y6 in [40.0, 50.2, 60.0, 500.0] {
+        y[6] = y6;
+        let (mut kept, mut fresh) = both();
+        kept.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
+        fresh.resolve(&x, &y, &radius, &wants, &alpha, &[], 0.0, ANGLE);
+        assert_eq!(kept.waits, fresh.waits, "a NaN neighbour, y {y6}");
+    }
+    // Robots 20 px apart in a row, a margin of -15 px.
+    let (x, y): (Vec<f64>, Vec<f64>) = ((0..n).map(|i| 100.0 + 20.0 * i as f64).collect(), vec![100.0; n]);
+    let (mut kept, mut fresh) = both();
+    kept.build_grid(&x, &y, &radius, &[]);
+    fresh.build_grid(&x, &y, &radius, &[]);
+    let (got, want) = (kept.contacts_of_every_pair(&x, &y, &radius, 12.5, 8.0, -15.0), fresh.contacts_of_every_pair(&x, &y, &radius, 12.5, 8.0, -15.0));
+    assert_eq!((got.0, got.1.to_bits()), (want.0, want.1.to_bits()), "a margin below zero");
 }
