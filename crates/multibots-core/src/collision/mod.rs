@@ -298,28 +298,10 @@ impl Collisions {
         let uniform = radius.iter().all(|&r| r == radius[0]);
         let r_max = if uniform { radius.first().copied().unwrap_or(0.0) } else { max_radius(radius) };
         // Lists serve where they can (positions not finite: the index's way).
-        if !self.space.tiny && self.listed(r_max, margin) && (nobody || self.lists.as_deref_mut().expect("listed").ready(x, y, 2.0 * r_max + margin)) {
+        let listed = !self.space.tiny && self.listed(r_max, margin) && (nobody || self.lists.as_deref_mut().expect("listed").ready(x, y, 2.0 * r_max + margin));
+        if listed {
             self.leave_index(x, y, bay);
-            if nobody {
-                self.waits[..n].fill(false);
-                return;
-            }
-            self.margin = margin;
-            if self.graph.start.len() != n + 1 {
-                self.graph.reset(n);
-            }
-            let lists = self.lists.as_deref().expect("listed");
-            let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
-            self.graph.rows_of_pairs(&lists.pairs, &ask);
-            self.graph.release_spans(&mut self.waits[..n]);
-            // Back to the index once fewer than one robot in eight moves (robots in bays
-            // that want to move count as moving: it only decides which way is cheaper).
-            let wanting = wants.iter().filter(|&&w| w).count();
-            let waiting = self.graph.blocked.len() - self.graph.released.len();
-            self.listing = (wanting - waiting) * SWITCH > n;
-            return;
-        }
-        if !self.space.tiny {
+        } else if !self.space.tiny {
             self.index_behind = false;
             // The index follows every step, so that the next step sees what moved since; the
             // wishes only where the graph follows them too.
@@ -335,6 +317,17 @@ impl Collisions {
             self.graph.reset(n);
         }
         let ask = Ask { x, y, radius, wants, alpha, bay, margin, angle, r_max, uniform };
+        if listed {
+            let lists = self.lists.as_deref().expect("listed");
+            self.graph.rows_of_pairs(&lists.pairs, &ask);
+            self.graph.release_spans(&mut self.waits[..n]);
+            // Back to the index once fewer than one robot in eight moves (robots in bays
+            // that want to move count as moving: it only decides which way is cheaper).
+            let wanting = wants.iter().filter(|&&w| w).count();
+            let waiting = self.graph.blocked.len() - self.graph.released.len();
+            self.listing = (wanting - waiting) * SWITCH > n;
+            return;
+        }
         if self.space.tiny {
             self.tiny_places(x, y, radius, bay, uniform);
             self.tiny_rows(&ask);

@@ -295,6 +295,19 @@ fn odd_inputs_of_the_public_api_decide_as_the_definition() {
     assert_eq!(c.waits, brute(&x[..few], &y[..few], &radius[..few], &wants[..few], &alpha[..few], f64::NAN));
 }
 
+/// Headings of the crowded floors: the four axes and one diagonal.
+const HEADINGS: [f64; 5] = [0.0, PI, FRAC_PI_2, -FRAC_PI_2, 0.7];
+
+/// `n` robots on a crowded floor `side` wide, on rows 50 px apart: positions, headings, and
+/// who wants to move (nine in ten).
+fn crowded(rnd: &mut impl FnMut() -> f64, n: usize, side: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>, Vec<bool>) {
+    let x = (0..n).map(|_| (rnd() * side).round()).collect();
+    let y = (0..n).map(|_| (rnd() * side / 50.0).floor() * 50.0).collect();
+    let alpha = (0..n).map(|_| HEADINGS[(rnd() * 5.0) as usize]).collect();
+    let wants = (0..n).map(|_| rnd() < 0.9).collect();
+    (x, y, alpha, wants)
+}
+
 #[test]
 fn a_kept_graph_finds_again_only_what_changed_and_decides_as_a_fresh_one() {
     // Many steps of a crowded floor in which a few robots move, turn or stop wanting to move
@@ -306,19 +319,15 @@ fn a_kept_graph_finds_again_only_what_changed_and_decides_as_a_fresh_one() {
         let side = (n as f64 * 3.0).sqrt() * 50.0;
         let bounds = [0.0, 0.0, side, side];
         let mut kept = Collisions::new(bounds, 25.0, n);
-        let mut x: Vec<f64> = (0..n).map(|_| (rnd() * side).round()).collect();
-        let mut y: Vec<f64> = (0..n).map(|_| (rnd() * side / 50.0).floor() * 50.0).collect();
+        let (mut x, mut y, mut alpha, mut wants) = crowded(&mut rnd, n, side);
         let radius = vec![12.5; n];
-        let headings = [0.0, PI, FRAC_PI_2, -FRAC_PI_2, 0.7];
-        let mut alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() * 5.0) as usize]).collect();
-        let mut wants: Vec<bool> = (0..n).map(|_| rnd() < 0.9).collect();
         let mut bay = vec![false; n];
         for step in 0..80 {
             let share = if step % 9 == 0 { 0.8 } else { 0.01 };
             for i in 0..n {
                 if rnd() < share {
                     match (rnd() * 4.0) as usize {
-                        0 => alpha[i] = headings[(rnd() * 5.0) as usize],
+                        0 => alpha[i] = HEADINGS[(rnd() * 5.0) as usize],
                         1 => wants[i] = !wants[i],
                         2 => bay[i] = !bay[i],
                         _ => x[i] = (x[i] + 4.0 * alpha[i].cos()).clamp(0.0, side),
@@ -386,12 +395,8 @@ fn lists_decide_and_count_as_a_fresh_index_does() {
         let bounds = [0.0, 0.0, side, side];
         let mut kept = Collisions::new(bounds, 25.0, n);
         kept.keep_lists(bounds);
-        let mut x: Vec<f64> = (0..n).map(|_| (rnd() * side).round()).collect();
-        let mut y: Vec<f64> = (0..n).map(|_| (rnd() * side / 50.0).floor() * 50.0).collect();
+        let (mut x, mut y, mut alpha, mut wants) = crowded(&mut rnd, n, side);
         let radius = vec![12.5; n];
-        let headings = [0.0, PI, FRAC_PI_2, -FRAC_PI_2, 0.7];
-        let mut alpha: Vec<f64> = (0..n).map(|_| headings[(rnd() * 5.0) as usize]).collect();
-        let mut wants: Vec<bool> = (0..n).map(|_| rnd() < 0.9).collect();
         let mut bay = vec![false; n];
         let (mut kept_closest, mut fresh_closest) = (f64::INFINITY, f64::INFINITY);
         let builds = kept.lists.as_ref().map_or(0, |l| l.builds);
@@ -410,7 +415,7 @@ fn lists_decide_and_count_as_a_fresh_index_does() {
                 // About one change in five steps of each kind, whatever the fleet's size.
                 if rnd() < 0.6 / n as f64 {
                     match (rnd() * 3.0) as usize {
-                        0 => alpha[i] = headings[(rnd() * 5.0) as usize],
+                        0 => alpha[i] = HEADINGS[(rnd() * 5.0) as usize],
                         1 => wants[i] = !wants[i],
                         _ => {
                             bay[i] = !bay[i];

@@ -186,12 +186,13 @@ impl Scheduler for Soonest {
             }
         }
         let approach = self.approach;
+        let sale = Sale { approach, robots: &robots, tasks: &tasks, shape: &shape };
         if self.reopen {
-            by_cells(view, dist, &mut budget, approach, &robots, &tasks, &shape, proposal);
+            by_cells(view, dist, &mut budget, &sale, proposal);
             return;
         }
         if robots.len() * tasks.len() > RINGS_FROM {
-            by_tasks(view, dist, &mut budget, approach, &robots, &tasks, &shape, proposal);
+            by_tasks(view, dist, &mut budget, &sale, proposal);
             return;
         }
         let mut taken = vec![false; tasks.len()];
@@ -339,19 +340,20 @@ impl Near {
     }
 }
 
+/// What an auction sells and to whom: the robots (fleet indices), the tasks (ids), each
+/// task's first errand and length (`shape`), and the weight of a robot's approach.
+#[derive(Clone, Copy)]
+struct Sale<'a> {
+    approach: u32,
+    robots: &'a [usize],
+    tasks: &'a [u32],
+    shape: &'a [(u32, u32)],
+}
+
 /// The auction from the tasks' side; the same rule (the least bid over all pairs wins, round
 /// after round), each task's bids coming from the robots nearest its first errand.
-#[allow(clippy::too_many_arguments)]
-fn by_tasks(
-    view: &ScheduleView<'_>,
-    dist: &mut Distances,
-    budget: &mut u64,
-    approach: u32,
-    robots: &[usize],
-    tasks: &[u32],
-    shape: &[(u32, u32)],
-    proposal: &mut [i64],
-) {
+fn by_tasks(view: &ScheduleView<'_>, dist: &mut Distances, budget: &mut u64, sale: &Sale<'_>, proposal: &mut [i64]) {
+    let Sale { approach, robots, tasks, shape } = *sale;
     let mut near = Near::new(view, robots.iter().map(|&k| view.loc[k]));
     let mut heap: BinaryHeap<Reverse<(u32, u32, u32)>> = BinaryHeap::new();
     let mut pending = vec![0usize; tasks.len()];
@@ -398,17 +400,8 @@ fn by_tasks(
 /// looks again only once those are all empty, so the queue moves a robot among those cells,
 /// not beyond. (From the cells' side, 620 cells competing for the same robots on
 /// `MR24-SORTATION`, the searches took as long as the planner.)
-#[allow(clippy::too_many_arguments)]
-fn by_cells(
-    view: &ScheduleView<'_>,
-    dist: &mut Distances,
-    budget: &mut u64,
-    approach: u32,
-    robots: &[usize],
-    tasks: &[u32],
-    shape: &[(u32, u32)],
-    proposal: &mut [i64],
-) {
+fn by_cells(view: &ScheduleView<'_>, dist: &mut Distances, budget: &mut u64, sale: &Sale<'_>, proposal: &mut [i64]) {
+    let Sale { approach, robots, tasks, shape } = *sale;
     let stay = approach.saturating_mul(STAY);
     let mut order: Vec<u32> = (0..tasks.len() as u32).collect();
     order.sort_unstable_by_key(|&i| (shape[i as usize].0, shape[i as usize].1, tasks[i as usize]));
